@@ -1,0 +1,31 @@
+# The two commands of the README: `make run` and `make test`. Everything else is a helper.
+BUILD ?= build
+ARCH ?= native
+JOBS ?= $(shell nproc)
+CMAKE_FLAGS ?=
+
+.PHONY: all deps test-deps build run test clean
+
+all: build
+
+deps:
+	@scripts/install-deps.sh build
+
+test-deps:
+	@scripts/install-deps.sh test
+
+$(BUILD)/CMakeCache.txt:
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=$(ARCH) $(CMAKE_FLAGS)
+
+build: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+# The default sweep: a table on the console and results/latest.json.
+run: build
+	./suite --out=results/latest.json
+
+test: test-deps build
+	cd $(BUILD) && ctest --output-on-failure -j 2
+
+clean:
+	rm -rf $(BUILD) suite

@@ -1,0 +1,105 @@
+#pragma once
+// The contract between the harness and a kernel. A kernel allocates through the Arena and
+// touches its memory first from the computing threads, runs one repetition per run() call,
+// and checks its own answer in verify(). A Kernel never reads a clock, pins a thread or
+// prints: the runner does all of that, at the same points for every kernel.
+//
+// Two kinds of kernel share this interface:
+//  - streaming kernels (stream/): sized by their memory footprint in bytes, walking memory
+//    in an access *pattern* (sequential, random, strided:S);
+//  - application kernels (kernels/): sized by a count (mesh elements, particles), their data
+//    laid out in an *ordering* (natural, random, morton, hilbert, rcm).
+// KernelInfo says which; the CLI, runner and reports only look at that data.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/placement.hpp"
+
+namespace suite {
+
+enum class AccessAxis { pattern, ordering };
+enum class SizeKind { bytes, count };
+enum class Metric { bandwidth, latency };
+
+// One access pattern or data ordering, e.g. {"strided", 8} or {"morton", 0}.
+struct Access {
+    std::string name;
+    std::uint64_t stride = 0;  // only for "strided"
+    std::string label() const { return name == "strided" ? name + ":" + std::to_string(stride) : name; }
+};
+
+struct KernelConfig {
+    Access access;
+    std::string variant;     // "" for the plain kernel, "nt" for non-temporal stores
+    std::uint64_t size = 0;  // footprint in bytes (SizeKind::bytes) or a count (SizeKind::count)
+    std::uint64_t seed = 1;
+    int threads = 1;
+};
+
+// What one repetition does, counted once, from which the runner derives every rate.
+struct Work {
+    double units = 0;           // elements updated, loads chased, triangles assembled, ...
+    double stream_bytes = 0;    // bytes by the STREAM convention (each array access once, 8 B a double)
+    double hardware_bytes = 0;  // estimate of what the memory system moves (write-allocate, index
+                                // arrays, whole 64 B lines for scattered accesses)
+    double flops = 0;
+    std::uint64_t footprint_bytes = 0;  // all of the kernel's arrays together
+};
+
+struct Verification {
+    bool passed = false;
+    std::string detail;     // what was checked, and the first mismatch if any
+    double max_error = 0;   // largest |computed - expected| seen
+};
+
+class Kernel {
+public:
+    virtual ~Kernel() = default;
+    // Allocate through `arena` and initialise in parallel (OpenMP team already sized and pinned).
+    virtual void setup(Arena& arena) = 0;
+    // One repetition. Never reads a clock.
+    virtual void run() = 0;
+    // Checks the state after any number of run() calls against the analytic answer.
+    virtual Verification verify() = 0;
+    // Work of one repetition; valid after setup().
+    virtual Work work() const = 0;
+};
+
+// Facts about a kernel, as data.
+struct KernelInfo {
+    std::string name;     // "add", "sin-add", "latency", "fem-spmv"
+    std::string group;    // "stream", "latency", "fem", ...
+    std::string formula;  // the reference loop in one line
+    std::string unit;     // what Work::units counts: "element", "load", "triangle"
+    AccessAxis axis = AccessAxis::pattern;
+    std::vector<std::string> accesses;  // patterns or orderings supported ("strided" stands for strided:S)
+    std::vector<std::string> variants = {""};
+    SizeKind size_kind = SizeKind::bytes;
+    Metric metric = Metric::bandwidth;
+    // STREAM-convention bytes and flops per unit, as documentation (Work is authoritative).
+    double read_bytes_per_unit = 0;
+    double write_bytes_per_unit = 0;
+    double flops_per_unit = 0;
+    std::string notes;
+};
+
+using KernelFactory = std::function<std::unique_ptr<Kernel>(const KernelConfig&)>;
+
+struct KernelEntry {
+    KernelInfo info;
+    KernelFactory make;
+    // Smallest sensible size (bytes or count), used by the registry test and for validation.
+    std::uint64_t tiny_size = 0;
+};
+
+// The registry: kernels add themselves from their own .cpp with
+//   static const bool registered = register_kernel({...});
+bool register_kernel(KernelEntry entry);
+const std::vector<KernelEntry>& kernels();
+const KernelEntry* find_kernel(const std::string& name);
+std::vector<std::string> kernel_names();
+
+}  // namespace suite

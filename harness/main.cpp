@@ -1,0 +1,145 @@
+// suite: the command line. main() only picks the command and maps errors to exit statuses:
+// 0 success, 1 a kernel failed verification or the run failed, 2 a usage error, 128+N a signal.
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "harness/cli_run.hpp"
+#include "harness/kernel.hpp"
+#include "harness/topology.hpp"
+#include "harness/units.hpp"
+
+namespace suite {
+namespace {
+
+const char* const examples = R"(
+Commands:
+  run (default)   measure kernels: ./suite [run] --kernel=... [options]
+  list            kernels, patterns, placements: ./suite list [--json]
+  info            topology, caches, NUMA nodes: ./suite info [--json]
+
+Examples:
+  ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
+  ./suite --kernel=add,sin-add --pattern=sequential,random --size=256MiB --threads=1,2
+  ./suite --kernel=triad --sizes=16KiB:1GiB --threads=1-2 --out=results/triad.json
+  ./suite --kernel=copy,triad --stores=nt --size=1GiB      # non-temporal stores
+  ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
+  ./suite --kernel=triad --placement=node:0 --pin=0,1      # arrays on node 0, threads on CPUs 0 and 1
+  ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
+
+Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
+result file then holds the finished points and says "complete": false).
+)";
+
+// Parses `args` into `app`; prints the help and returns false for --help.
+bool parse(CLI::App& app, const char* name, const std::vector<std::string>& args) {
+    std::vector<const char*> argv{name};
+    for (const auto& a : args) argv.push_back(a.c_str());
+    try {
+        app.parse(static_cast<int>(argv.size()), argv.data());
+    } catch (const CLI::CallForHelp&) {
+        std::cout << app.help();
+        return false;
+    }
+    return true;
+}
+
+std::string accesses_text(const KernelInfo& info) {
+    std::string out;
+    for (const auto& a : info.accesses) out += (out.empty() ? "" : ",") + (a == "strided" ? std::string("strided:S") : a);
+    return out;
+}
+
+int cmd_list(const std::vector<std::string>& args) {
+    CLI::App app{"suite list: the kernels and what they accept"};
+    bool json = false;
+    app.add_flag("--json", json, "machine-readable output");
+    if (!parse(app, "suite list", args)) return 0;
+    if (json) {
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto& e : kernels()) {
+            const auto& i = e.info;
+            j.push_back({{"name", i.name}, {"group", i.group}, {"formula", i.formula}, {"unit", i.unit},
+                         {"axis", i.axis == AccessAxis::pattern ? "pattern" : "ordering"}, {"accesses", i.accesses},
+                         {"variants", i.variants}, {"size", i.size_kind == SizeKind::bytes ? "bytes" : "count"},
+                         {"metric", i.metric == Metric::bandwidth ? "bandwidth" : "latency"},
+                         {"read_bytes_per_unit", i.read_bytes_per_unit}, {"write_bytes_per_unit", i.write_bytes_per_unit},
+                         {"flops_per_unit", i.flops_per_unit}, {"notes", i.notes}});
+        }
+        std::cout << j.dump(2) << "\n";
+        return 0;
+    }
+    std::printf("%-9s %-8s %-30s %-28s %-6s %-12s %s\n", "kernel", "group", "formula", "patterns/orderings", "nt", "B/unit r+w", "flops");
+    for (const auto& e : kernels()) {
+        const auto& i = e.info;
+        char bytes[32];
+        std::snprintf(bytes, sizeof bytes, "%g+%g", i.read_bytes_per_unit, i.write_bytes_per_unit);
+        const bool nt = std::find(i.variants.begin(), i.variants.end(), "nt") != i.variants.end();
+        std::printf("%-9s %-8s %-30s %-28s %-6s %-12s %g\n", i.name.c_str(), i.group.c_str(), i.formula.c_str(),
+                    accesses_text(i).c_str(), nt ? "yes" : "-", bytes, i.flops_per_unit);
+    }
+    std::printf("\nPlacements: local (first touch by the computing threads), node:N, remote (a node none of the threads\n"
+                "runs on), interleave (pages round-robin over all nodes).  Pinning: compact, scatter, none, CPU list.\n"
+                "Counters and energy: not available in this build (see ./suite info).\n");
+    return 0;
+}
+
+int cmd_info(const std::vector<std::string>& args) {
+    CLI::App app{"suite info: the machine as hwloc sees it"};
+    bool json = false;
+    app.add_flag("--json", json, "machine-readable output");
+    if (!parse(app, "suite info", args)) return 0;
+    const Topology topo = Topology::load();
+    if (json) std::cout << to_json(topo).dump(2) << "\n";
+    else std::cout << format_table(topo);
+    return 0;
+}
+
+int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {
+    CLI::App app{"suite: NUMA/cache micro-benchmarks with verified results"};
+    app.footer(examples);
+    app.get_formatter()->column_width(28);
+    RunOptions opts;
+    setup_run_options(app, opts);
+    if (!parse(app, "suite", args)) return 0;
+    const Topology topo = Topology::load();
+    Plan plan = make_plan(opts, topo);
+    return execute_plan(plan, topo, full_argv);
+}
+
+}  // namespace
+}  // namespace suite
+
+int main(int argc, char** argv) {
+    using namespace suite;
+    std::vector<std::string> all(argv, argv + argc);
+    std::vector<std::string> args(all.begin() + 1, all.end());
+    std::string command = "run";
+    if (!args.empty() && !args[0].empty() && args[0][0] != '-') {
+        command = args[0];
+        args.erase(args.begin());
+    }
+    try {
+        if (command == "run") return cmd_run(args, all);
+        if (command == "list") return cmd_list(args);
+        if (command == "info") return cmd_info(args);
+        std::string hint = nearest(command, {"run", "list", "info"});
+        throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                         "; commands: run, list, info (see ./suite --help)");
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return 0;
+        std::string msg = e.what();
+        std::cerr << "suite: error: " << msg << " (see ./suite --help)\n";
+        return 2;
+    } catch (const UsageError& e) {
+        std::cerr << "suite: error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "suite: error: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,160 @@
+#include "harness/placement.hpp"
+
+#include <numa.h>
+#include <numaif.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <new>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/units.hpp"
+
+namespace suite {
+
+PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
+    PlacementSpec spec;
+    spec.text = std::string(text);
+    const std::string accepted = "accepted: local, node:N, remote, interleave";
+    if (text == "local") spec.kind = PlacementKind::local;
+    else if (text == "interleave") spec.kind = PlacementKind::interleave;
+    else if (text == "remote") {
+        spec.kind = PlacementKind::remote;
+        if (topo.nodes.size() < 2)
+            throw UsageError("--placement=remote needs at least 2 NUMA nodes, and this machine has " +
+                             std::to_string(topo.nodes.size()) + "; use local, node:N or interleave");
+    } else if (text.rfind("node:", 0) == 0) {
+        spec.kind = PlacementKind::node;
+        std::string n(text.substr(5));
+        if (n.empty() || !std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }) || n.size() > 6)
+            throw UsageError("invalid --placement '" + std::string(text) + "': expected node:N with N a node number, e.g. node:0");
+        spec.node = std::stoi(n);
+        if (!topo.find_node(spec.node)) {
+            std::string have;
+            for (const auto& node : topo.nodes) have += (have.empty() ? "" : ",") + std::to_string(node.os_index);
+            throw UsageError("--placement=node:" + n + ": this machine has no NUMA node " + n + " (its nodes are " + have + ")");
+        }
+    } else {
+        std::string hint = nearest(text, {"local", "remote", "interleave", "node:0"});
+        throw UsageError("unknown --placement '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                         "; " + accepted);
+    }
+    return spec;
+}
+
+int choose_remote_node(const Topology& topo, const std::vector<int>& thread_nodes) {
+    int best = -1;
+    long best_distance = std::numeric_limits<long>::max();
+    for (std::size_t i = 0; i < topo.nodes.size(); ++i) {
+        int candidate = topo.nodes[i].os_index;
+        if (std::find(thread_nodes.begin(), thread_nodes.end(), candidate) != thread_nodes.end()) continue;
+        long distance = 0;  // summed distance from the threads' nodes
+        if (!topo.distances.empty()) {
+            for (int tn : thread_nodes)
+                for (std::size_t k = 0; k < topo.nodes.size(); ++k)
+                    if (topo.nodes[k].os_index == tn) distance += topo.distances[k][i];
+        }
+        if (distance < best_distance) { best_distance = distance; best = candidate; }
+    }
+    return best;
+}
+
+Arena::Arena(MemoryPolicy policy) : policy_(std::move(policy)) {}
+
+Arena::Arena(Arena&& other) noexcept : policy_(std::move(other.policy_)), blocks_(std::move(other.blocks_)) {
+    other.blocks_.clear();
+}
+
+Arena::~Arena() {
+    for (const auto& b : blocks_) munmap(b.ptr, b.bytes);
+}
+
+void* Arena::allocate_bytes(const std::string& name, std::size_t bytes) {
+    const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+    std::size_t len = std::max<std::size_t>(page, (bytes + page - 1) / page * page);
+    void* p = mmap(nullptr, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    if (numa_available() >= 0) {
+        // The policy is set on the still-untouched range; the first touch then obeys it.
+        if (policy_.kind == PlacementKind::node || policy_.kind == PlacementKind::remote) {
+            numa_tonode_memory(p, len, policy_.node);
+        } else if (policy_.kind == PlacementKind::interleave) {
+            struct bitmask* mask = numa_allocate_nodemask();
+            for (int n : policy_.nodes) numa_bitmask_setbit(mask, static_cast<unsigned>(n));
+            numa_interleave_memory(p, len, mask);
+            numa_free_nodemask(mask);
+        }
+    }
+    blocks_.push_back({name, p, len});
+    return p;
+}
+
+std::uint64_t Arena::bytes() const {
+    std::uint64_t total = 0;
+    for (const auto& b : blocks_) total += b.bytes;
+    return total;
+}
+
+std::vector<ArrayPlacement> Arena::observe() const {
+    const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+    std::vector<ArrayPlacement> out;
+    constexpr std::size_t chunk = 4096;
+    std::vector<void*> pages(chunk);
+    std::vector<int> status(chunk);
+    for (const auto& b : blocks_) {
+        ArrayPlacement a;
+        a.name = b.name;
+        a.bytes = b.bytes;
+        a.pages = b.bytes / page;
+        for (std::size_t first = 0; first < a.pages; first += chunk) {
+            std::size_t n = std::min(chunk, a.pages - first);
+            for (std::size_t k = 0; k < n; ++k) pages[k] = static_cast<char*>(b.ptr) + (first + k) * page;
+            // nodes == nullptr: move nothing, only report each page's node in `status`.
+            if (move_pages(0, n, pages.data(), nullptr, status.data(), 0) != 0) {
+                a.error = std::string("move_pages: ") + std::strerror(errno);
+                a.pages_not_present += n;
+                continue;
+            }
+            for (std::size_t k = 0; k < n; ++k) {
+                if (status[k] >= 0) a.pages_per_node[status[k]] += 1;
+                else a.pages_not_present += 1;
+            }
+        }
+        out.push_back(std::move(a));
+    }
+    return out;
+}
+
+nlohmann::json to_json(const ArrayPlacement& a) {
+    nlohmann::json nodes = nlohmann::json::object();
+    for (const auto& [node, count] : a.pages_per_node) nodes[std::to_string(node)] = count;
+    nlohmann::json j = {{"array", a.name}, {"bytes", a.bytes}, {"pages", a.pages}, {"pages_per_node", nodes},
+                        {"pages_not_present", a.pages_not_present}};
+    if (!a.error.empty()) j["error"] = a.error;
+    return j;
+}
+
+std::uint64_t available_memory_bytes(const MemoryPolicy& policy) {
+    if ((policy.kind == PlacementKind::node || policy.kind == PlacementKind::remote) && numa_available() >= 0) {
+        long long free_bytes = 0;
+        numa_node_size64(policy.node, &free_bytes);
+        return static_cast<std::uint64_t>(std::max(0LL, free_bytes));
+    }
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    std::uint64_t kb = 0;
+    std::string unit;
+    while (meminfo >> key >> kb >> unit)
+        if (key == "MemAvailable:") return kb * 1024;
+    return std::numeric_limits<std::uint64_t>::max();
+}
+
+}  // namespace suite

@@ -1,0 +1,91 @@
+#pragma once
+// Where an array's pages live. A PlacementSpec is what the user asked for; resolve() turns it,
+// given the nodes the team runs on, into the one policy an Arena applies to every array it
+// hands out. After the kernel's first touch, Arena::observe() asks the kernel (move_pages)
+// where each page really is, so the result records what happened, not just what was asked.
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "harness/topology.hpp"
+
+namespace suite {
+
+enum class PlacementKind { local, node, remote, interleave };
+
+struct PlacementSpec {
+    PlacementKind kind = PlacementKind::local;
+    int node = -1;     // for PlacementKind::node
+    std::string text;  // as given
+};
+
+// "local" | "node:N" | "remote" | "interleave". Throws UsageError for a node that does not
+// exist and for "remote" on a machine with one NUMA node.
+PlacementSpec parse_placement(std::string_view text, const Topology& topo);
+
+// The node that "remote" places arrays on: one that none of `thread_nodes` is, the nearest of
+// those by NUMA distance to the threads (the usual one-hop "scenario A"), lowest index on ties.
+// -1 when the threads cover every node.
+int choose_remote_node(const Topology& topo, const std::vector<int>& thread_nodes);
+
+// What an Arena does with fresh pages: nothing (first touch decides), bind to one node, or
+// interleave over a set of nodes.
+struct MemoryPolicy {
+    PlacementKind kind = PlacementKind::local;
+    int node = -1;
+    std::vector<int> nodes;  // interleave set
+};
+
+struct ArrayPlacement {
+    std::string name;
+    std::uint64_t bytes = 0;
+    std::uint64_t pages = 0;
+    std::map<int, std::uint64_t> pages_per_node;
+    std::uint64_t pages_not_present = 0;  // never touched, or the query failed
+    std::string error;                    // why the query failed, if it did
+};
+
+// Owns the arrays of one measured point: page-aligned mmap memory, with the point's policy
+// applied before any page is touched. Move-only; frees everything on destruction.
+class Arena {
+public:
+    explicit Arena(MemoryPolicy policy);
+    ~Arena();
+    Arena(Arena&& other) noexcept;
+    Arena& operator=(Arena&&) = delete;
+    Arena(const Arena&) = delete;
+    Arena& operator=(const Arena&) = delete;
+
+    // Untouched memory for `count` objects of T: the kernel's setup touches it first, from the
+    // threads and with the schedule that compute on it.
+    template <class T>
+    T* allocate(const std::string& name, std::size_t count) {
+        return static_cast<T*>(allocate_bytes(name, count * sizeof(T)));
+    }
+    void* allocate_bytes(const std::string& name, std::size_t bytes);
+
+    std::uint64_t bytes() const;
+    std::vector<ArrayPlacement> observe() const;
+
+private:
+    struct Block {
+        std::string name;
+        void* ptr;
+        std::size_t bytes;
+    };
+    MemoryPolicy policy_;
+    std::vector<Block> blocks_;
+};
+
+nlohmann::json to_json(const ArrayPlacement& a);
+
+// Bytes of memory this process could still get: MemAvailable for local/interleave, the
+// target node's free memory for node/remote.
+std::uint64_t available_memory_bytes(const MemoryPolicy& policy);
+
+}  // namespace suite

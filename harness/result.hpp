@@ -1,0 +1,58 @@
+#pragma once
+// One measured point, as a plain struct. The runner fills it; reporters only render it.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/kernel.hpp"
+#include "harness/placement.hpp"
+#include "harness/stats.hpp"
+#include "harness/team.hpp"
+
+namespace suite {
+
+// Rates derived from Work and the time statistics, in one place (derive_rates in runner.cpp).
+struct Rates {
+    // Metric::bandwidth: GB/s with 1 GB = 1e9 B, from the best (minimum) and the median time.
+    std::optional<double> stream_gbps_best, stream_gbps_median;
+    std::optional<double> hardware_gbps_best, hardware_gbps_median;
+    // Metric::latency: nanoseconds per dependent load of one thread.
+    std::optional<double> ns_per_load_best, ns_per_load_median;
+    double units_per_second_best = 0;
+    std::optional<double> gflops_best;
+};
+
+struct Record {
+    std::string kernel;
+    std::string variant;       // "" or "nt"
+    std::string name;          // kernel plus variant, e.g. "copy-nt": the name reports use
+    AccessAxis axis = AccessAxis::pattern;
+    std::string access;        // "sequential", "random", "strided:8", "morton", ...
+    SizeKind size_kind = SizeKind::bytes;
+    std::uint64_t size_requested = 0;
+    Work work;                 // per repetition
+    std::string unit;
+    Metric metric = Metric::bandwidth;
+    int threads = 1;
+    std::string pin;
+    std::vector<ThreadBinding> bindings;
+    std::string placement;     // as asked
+    int placement_node = -1;   // node chosen for node:N / remote
+    std::vector<int> interleave_nodes;
+    std::vector<ArrayPlacement> pages;  // as observed after first touch
+    int repetitions = 0;       // counted ones, after the warm-up
+    int warmup = 1;
+    int batch = 1;             // kernel calls per timed sample (tiny sizes); times are per call
+    std::vector<double> samples_s;  // per call, one per counted repetition
+    TimeStats time;
+    Rates rates;
+    Verification verification;
+    std::uint64_t seed = 0;
+};
+
+inline std::string display_name(const std::string& kernel, const std::string& variant) {
+    return variant.empty() ? kernel : kernel + "-" + variant;
+}
+
+}  // namespace suite

@@ -1,0 +1,129 @@
+#include "harness/runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "harness/units.hpp"
+
+namespace suite {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC on Linux
+static_assert(Clock::is_steady);
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void check_stop(const RunSettings& s) {
+    if (s.stop && s.stop->load() != 0) throw Interrupted();
+}
+
+}  // namespace
+
+MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, const std::vector<ThreadBinding>& team) {
+    MemoryPolicy policy;
+    policy.kind = spec.kind;
+    switch (spec.kind) {
+        case PlacementKind::local: break;
+        case PlacementKind::node: policy.node = spec.node; break;
+        case PlacementKind::interleave:
+            for (const auto& n : topo.nodes) policy.nodes.push_back(n.os_index);
+            break;
+        case PlacementKind::remote: {
+            // Every node any thread may run on counts as the threads' own.
+            std::set<int> used;
+            for (const auto& b : team)
+                for (int cpu : b.allowed)
+                    if (const Pu* pu = topo.find_pu(cpu)) used.insert(pu->numa_node);
+            policy.node = choose_remote_node(topo, {used.begin(), used.end()});
+            if (policy.node < 0)
+                throw UsageError("--placement=remote: the " + std::to_string(team.size()) +
+                                 " thread(s) may run on every NUMA node, so no node is remote to them; pin fewer threads "
+                                 "(e.g. --pin=compact with the threads of one node)");
+            break;
+        }
+    }
+    return policy;
+}
+
+Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads) {
+    Rates r;
+    if (time.min <= 0) return r;
+    r.units_per_second_best = work.units / time.min;
+    if (work.flops > 0) r.gflops_best = work.flops / time.min / 1e9;
+    if (metric == Metric::bandwidth) {
+        r.stream_gbps_best = work.stream_bytes / time.min / 1e9;
+        r.stream_gbps_median = work.stream_bytes / time.median / 1e9;
+        r.hardware_gbps_best = work.hardware_bytes / time.min / 1e9;
+        r.hardware_gbps_median = work.hardware_bytes / time.median / 1e9;
+    } else {
+        // Each thread chases units/threads loads one after another.
+        const double loads_per_thread = work.units / threads;
+        r.ns_per_load_best = time.min / loads_per_thread * 1e9;
+        r.ns_per_load_median = time.median / loads_per_thread * 1e9;
+    }
+    return r;
+}
+
+Record run_point(const Point& point, const RunSettings& settings, const Topology& topo) {
+    const KernelInfo& info = point.kernel->info;
+    Record rec;
+    rec.kernel = info.name;
+    rec.variant = point.variant;
+    rec.name = display_name(info.name, point.variant);
+    rec.axis = info.axis;
+    rec.access = point.access.label();
+    rec.size_kind = info.size_kind;
+    rec.size_requested = point.size;
+    rec.unit = info.unit;
+    rec.metric = info.metric;
+    rec.threads = point.threads;
+    rec.pin = settings.pin.text;
+    rec.placement = settings.placement.text;
+    rec.seed = settings.seed;
+
+    rec.bindings = bind_team(topo, settings.pin, point.threads);
+    const MemoryPolicy policy = resolve_policy(settings.placement, topo, rec.bindings);
+    rec.placement_node = policy.node;
+    rec.interleave_nodes = policy.nodes;
+
+    KernelConfig cfg;
+    cfg.access = point.access;
+    cfg.variant = point.variant;
+    cfg.size = point.size;
+    cfg.seed = settings.seed;
+    cfg.threads = point.threads;
+
+    Arena arena(policy);
+    auto kernel = point.kernel->make(cfg);
+    kernel->setup(arena);
+    rec.pages = arena.observe();
+    rec.work = kernel->work();
+    check_stop(settings);
+
+    // Warm-up: not counted; it also tells how long one call takes.
+    auto t0 = Clock::now();
+    kernel->run();
+    const double first = std::max(seconds_since(t0), 1e-9);
+    rec.batch = first >= settings.min_sample_s ? 1 : static_cast<int>(std::ceil(settings.min_sample_s / first));
+    const double per_sample = first * rec.batch;
+    rec.repetitions = settings.reps > 0
+                          ? settings.reps
+                          : std::clamp(static_cast<int>(std::ceil(settings.min_time_s / per_sample)), settings.min_reps, 1000000);
+
+    rec.samples_s.reserve(static_cast<std::size_t>(rec.repetitions));
+    for (int r = 0; r < rec.repetitions; ++r) {
+        check_stop(settings);
+        t0 = Clock::now();
+        for (int b = 0; b < rec.batch; ++b) kernel->run();
+        rec.samples_s.push_back(seconds_since(t0) / rec.batch);
+    }
+    rec.verification = kernel->verify();
+    rec.time = summarise(rec.samples_s);
+    rec.rates = derive_rates(rec.work, rec.time, rec.metric, rec.threads);
+    return rec;
+}
+
+}  // namespace suite

@@ -1,0 +1,52 @@
+#pragma once
+// The runner measures one point of a sweep: pin the team, apply the memory policy, let the
+// kernel set up (first touch), record where the pages went, warm up, time the repetitions,
+// verify, summarise. It is the only code that reads the clock around a kernel.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "harness/kernel.hpp"
+#include "harness/placement.hpp"
+#include "harness/result.hpp"
+#include "harness/team.hpp"
+#include "harness/topology.hpp"
+
+namespace suite {
+
+struct Point {
+    const KernelEntry* kernel = nullptr;
+    Access access;
+    std::string variant;
+    std::uint64_t size = 0;
+    int threads = 1;
+};
+
+struct RunSettings {
+    PinSpec pin;
+    PlacementSpec placement;
+    int reps = 0;               // counted repetitions; 0: adaptive (>= min_time in total, >= min_reps)
+    int min_reps = 5;
+    double min_time_s = 0.2;
+    double min_sample_s = 100e-6;  // shorter kernel calls are batched so a sample spans many clock ticks
+    std::uint64_t seed = 1;
+    const std::atomic<int>* stop = nullptr;  // set by a signal handler: abandon the point
+};
+
+// Thrown when RunSettings::stop is raised during a point; the point yields no record.
+struct Interrupted : std::exception {
+    const char* what() const noexcept override { return "interrupted"; }
+};
+
+// The memory policy of `spec` for a team whose threads may run on `team` CPUs. Throws
+// UsageError when "remote" has no node left that the threads do not use.
+MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, const std::vector<ThreadBinding>& team);
+
+Record run_point(const Point& point, const RunSettings& settings, const Topology& topo);
+
+// Fills Record::rates from work, time statistics and threads.
+Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads);
+
+}  // namespace suite

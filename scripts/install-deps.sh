@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the suite needs, if any is missing. As root it runs apt-get;
+# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test]
+set -euo pipefail
+want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libcli11-dev nlohmann-json3-dev libgtest-dev)
+if [ "${1:-build}" = test ]; then
+  # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results.
+  want+=(binutils python3 python3-jsonschema)
+fi
+missing=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+if [ "$(id -u)" -ne 0 ]; then
+  echo "suite: missing Debian packages; install them with:" >&2
+  echo "  sudo apt-get update && sudo apt-get install -y ${missing[*]}" >&2
+  exit 2
+fi
+echo "installing: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,20 @@
+// STREAM copy:      for (i = 0; i < n; ++i) a[i] = b[i];
+// 16 B per element by the STREAM convention (8 read, 8 written), no flops.
+#include "stream/stream_kernel.hpp"
+
+namespace suite::stream {
+namespace {
+struct Copy {
+    static constexpr const char* name = "copy";
+    static constexpr const char* formula = "a[i] = b[i]";
+    static constexpr const char* notes = "STREAM copy";
+    static constexpr int reads = 1;
+    static constexpr double flops = 0;
+    static constexpr bool has_nt = true;
+    static constexpr double tolerance = 0;
+    template <class T>
+    static T apply(T b, T) { return b; }
+};
+const bool registered = register_stream_kernel<Copy>();
+}  // namespace
+}  // namespace suite::stream
