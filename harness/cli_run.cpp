@@ -64,7 +64,9 @@ void check_output_path(const std::string& path) {
 
 std::vector<std::uint64_t> default_sizes(const Topology& topo) {
     const std::uint64_t llc = topo.last_level_cache_bytes();
-    const std::uint64_t dram = std::max<std::uint64_t>(64ULL << 20, 3 * 4 * llc);
+    // Capped at 1 GiB so the default sweep stays short where a VM reports a huge LLC it does not
+    // really give (ask for larger sizes with --size/--sizes).
+    const std::uint64_t dram = std::clamp<std::uint64_t>(3 * 4 * llc, 64ULL << 20, 1ULL << 30);
     return {32ULL << 10, 1ULL << 20, dram};
 }
 
@@ -221,6 +223,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
 int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv) {
     struct sigaction sa{};
     sa.sa_handler = on_signal;
+    sa.sa_flags = SA_RESETHAND;  // a second Ctrl-C ends the program at once; the file on disk stays valid
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);

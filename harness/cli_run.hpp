@@ -47,7 +47,7 @@ Plan make_plan(const RunOptions& opts, const Topology& topo);
 int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv);
 
 // The sizes used when none are given: one in L1, one in L2, one DRAM-sized (every array of a
-// three-array kernel at least 4x the last-level cache).
+// three-array kernel at least 4x the last-level cache, between 64 MiB and 1 GiB).
 std::vector<std::uint64_t> default_sizes(const Topology& topo);
 
 }  // namespace suite

@@ -1,0 +1,169 @@
+// End-to-end tests of the real binary: non-temporal stores in the machine code, nothing lost
+// on SIGINT/SIGTERM, random slower than sequential at DRAM size, what a result records.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <filesystem>
+#include <thread>
+
+#include "harness/cli_run.hpp"
+#include "harness/topology.hpp"
+#include "process.hpp"
+
+using namespace suite;
+using namespace suite::test;
+using nlohmann::json;
+
+namespace {
+
+// objdump's disassembly of the suite binary, split into (demangled function name, body).
+std::vector<std::pair<std::string, std::string>> disassembly() {
+    Outcome r;
+    {
+        int o, e;
+        pid_t pid = spawn({"/usr/bin/objdump", "-d", "-C", "--no-show-raw-insn", SUITE_BINARY}, o, e);
+        r = finish(pid, o, e, 120);
+    }
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::vector<std::pair<std::string, std::string>> functions;
+    std::istringstream in(r.out);
+    std::string line;
+    while (std::getline(in, line)) {
+        auto lt = line.find(" <"), end = line.rfind(">:");
+        if (lt != std::string::npos && end != std::string::npos && end > lt && line[0] != ' ')
+            functions.push_back({line.substr(lt + 2, end - lt - 2), ""});
+        else if (!functions.empty())
+            functions.back().second += line + "\n";
+    }
+    return functions;
+}
+
+bool has_nt_store(const std::string& body) { return body.find("movntpd") != std::string::npos; }
+
+json load_json(const std::string& path) { return json::parse(slurp(path)); }
+
+}  // namespace
+
+TEST(E2E, NonTemporalVariantsEmitStreamingStoresAndPlainOnesDoNot) {
+    const auto functions = disassembly();
+    ASSERT_FALSE(functions.empty());
+    for (const std::string op : {"Copy", "Scale", "Add", "Triad"}) {
+        bool nt_found = false, plain_has_nt = false, plain_seen = false;
+        for (const auto& [name, body] : functions) {
+            if (name.find("nt_store_loop<suite::stream::(anonymous namespace)::" + op + ">") != std::string::npos)
+                nt_found = nt_found || has_nt_store(body);
+            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::run_sequential") != std::string::npos) {
+                plain_seen = true;
+                plain_has_nt = plain_has_nt || has_nt_store(body);
+            }
+        }
+        EXPECT_TRUE(nt_found) << op << ": no movntpd in its nt_store_loop (or its OpenMP body)";
+        EXPECT_TRUE(plain_seen) << op << ": sequential loop not found in the binary";
+        EXPECT_FALSE(plain_has_nt) << op << ": the plain sequential loop should use ordinary stores";
+    }
+}
+
+// SIGINT (Ctrl-C) and SIGTERM mid-sweep: the finished points are kept, the file is valid JSON
+// saying "complete": false, and the exit status is 128 + the signal.
+class Interrupt : public testing::TestWithParam<int> {};
+
+TEST_P(Interrupt, KeepsFinishedRecordsInAValidIncompleteFile) {
+    const int sig = GetParam();
+    const std::string dir = make_temp_dir();
+    const std::string out = dir + "/r.json";
+    int o, e;
+    pid_t pid = spawn({SUITE_BINARY, "--kernel=latency", "--sizes=64KiB,128KiB,256KiB,512KiB,1MiB,2MiB,4MiB,8MiB,16MiB,32MiB",
+                       "--threads=1", "--min-time=0.5", "--out=" + out},
+                      o, e);
+    // Wait for the first record on disk, then interrupt.
+    std::size_t seen = 0;
+    for (int i = 0; i < 600 && seen == 0; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        if (access(out.c_str(), R_OK) == 0) seen = load_json(out)["results"].size();
+    }
+    ASSERT_GE(seen, 1u) << "no record was written within 30 s";
+    kill(pid, sig);
+    Outcome r = finish(pid, o, e, 120);
+    EXPECT_EQ(r.status, 128 + sig) << r.err;
+    EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+    json doc = load_json(out);
+    EXPECT_EQ(doc["complete"], false);
+    EXPECT_GE(doc["results"].size(), seen);
+    EXPECT_LT(doc["results"].size(), 10u);
+    Outcome v = validate_against_schema(out);
+    EXPECT_EQ(v.status, 0) << v.out << v.err;
+    // No temporary file is left behind: the directory holds the result and nothing else.
+    std::vector<std::string> entries;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) entries.push_back(entry.path().filename());
+    EXPECT_EQ(entries, std::vector<std::string>{"r.json"});
+    std::system(("rm -rf " + dir).c_str());
+}
+
+INSTANTIATE_TEST_SUITE_P(Signals, Interrupt, testing::Values(SIGINT, SIGTERM),
+                         [](const testing::TestParamInfo<int>& i) { return i.param == SIGINT ? std::string("SIGINT") : std::string("SIGTERM"); });
+
+TEST(E2E, RandomAddIsSlowerThanSequentialAtDramSize) {
+    // DRAM-sized: every one of add's arrays at least 4x the last-level cache hwloc reports.
+    const std::uint64_t size = default_sizes(Topology::load()).back();
+    const std::string dir = make_temp_dir();
+    const std::string out = dir + "/dram.json";
+    Outcome r = run_suite({"--kernel=add", "--pattern=sequential,random", "--size=" + std::to_string(size), "--threads=all",
+                           "--reps=3", "--quiet", "--out=" + out});
+    ASSERT_EQ(r.status, 0) << r.err;
+    json doc = load_json(out);
+    ASSERT_EQ(doc["results"].size(), 2u);
+    double seq = 0, rnd = 0;
+    for (const auto& rec : doc["results"]) {
+        EXPECT_TRUE(rec["verification"]["passed"].get<bool>());
+        double gbps = rec["bandwidth_gbps"]["stream"]["best"];
+        (rec["pattern"] == "random" ? rnd : seq) = gbps;
+    }
+    std::printf("add at %s: sequential %.2f GB/s, random %.2f GB/s (ratio %.2f)\n", std::to_string(size).c_str(), seq, rnd, seq / rnd);
+    EXPECT_GT(seq, 0);
+    EXPECT_LT(rnd, seq);
+    std::system(("rm -rf " + dir).c_str());
+}
+
+TEST(E2E, ResultRecordsPinningAndPagesAsObserved) {
+    const std::string dir = make_temp_dir();
+    const std::string out = dir + "/r.json";
+    const Topology topo = Topology::load();
+    Outcome r = run_suite({"--kernel=triad", "--size=8MiB", "--threads=1", "--pin=0", "--reps=2", "--quiet", "--out=" + out});
+    ASSERT_EQ(r.status, 0) << r.err;
+    json rec = load_json(out)["results"][0];
+    EXPECT_EQ(rec["pin"]["requested"], "0");
+    ASSERT_EQ(rec["pin"]["threads"].size(), 1u);
+    EXPECT_EQ(rec["pin"]["threads"][0]["requested_cpu"], 0);
+    EXPECT_EQ(rec["pin"]["threads"][0]["allowed_cpus"], json::array({0}));
+    EXPECT_EQ(rec["pin"]["threads"][0]["cpu"], 0);
+    // a, b, c; every page present and counted on an existing node (node 0 on a one-node machine).
+    ASSERT_EQ(rec["placement"]["arrays"].size(), 3u);
+    for (const auto& a : rec["placement"]["arrays"]) {
+        EXPECT_EQ(a["pages_not_present"], 0);
+        std::uint64_t sum = 0;
+        for (auto& [node, count] : a["pages_per_node"].items()) {
+            EXPECT_NE(topo.find_node(std::stoi(node)), nullptr);
+            sum += count.get<std::uint64_t>();
+        }
+        EXPECT_EQ(sum, a["pages"].get<std::uint64_t>());
+        if (topo.nodes.size() == 1) EXPECT_EQ(a["pages_per_node"][std::to_string(topo.nodes[0].os_index)], a["pages"]);
+    }
+    std::system(("rm -rf " + dir).c_str());
+}
+
+TEST(E2E, CsvOutputHasAHeaderAndOneRowPerPoint) {
+    const std::string dir = make_temp_dir();
+    Outcome r = run_suite({"--kernel=copy,latency", "--size=256KiB", "--threads=1", "--reps=2", "--quiet", "--out=" + dir + "/r.csv"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::istringstream in(slurp(dir + "/r.csv"));
+    std::string header, line;
+    std::getline(in, header);
+    EXPECT_EQ(header.rfind("kernel,variant,name,", 0), 0u);
+    int rows = 0;
+    while (std::getline(in, line)) {
+        ++rows;
+        EXPECT_NE(line.find(",true"), std::string::npos) << line;
+    }
+    EXPECT_EQ(rows, 2);
+    std::system(("rm -rf " + dir).c_str());
+}
