@@ -1,11 +1,14 @@
 #include "harness/cli_run.hpp"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <iostream>
 #include <set>
@@ -56,8 +59,14 @@ void check_output_path(const std::string& path) {
     std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
     if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
         throw UsageError("--out=" + path + ": the directory '" + dir + "' does not exist");
-    if (access(dir.c_str(), W_OK) != 0)
-        throw UsageError("--out=" + path + ": the directory '" + dir + "' is not writable");
+    // Create and remove a probe file: access(W_OK) says yes to root even where nothing can be
+    // created (e.g. /proc), and the result file is written through a temporary file beside it.
+    const std::string probe = path + ".probe." + std::to_string(getpid());
+    int fd = open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0)
+        throw UsageError("--out=" + path + ": the directory '" + dir + "' is not writable (" + std::strerror(errno) + ")");
+    close(fd);
+    unlink(probe.c_str());
 }
 
 }  // namespace
@@ -86,11 +95,13 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
     app.add_option("--format", o.format, "table | json | csv: format of --out, or of stdout without --out");
     app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
+    app.add_flag("--dry-run", o.dry_run, "check the options, list the points that would run, and stop");
 }
 
 Plan make_plan(const RunOptions& o, const Topology& topo) {
     Plan plan;
     plan.quiet = o.quiet;
+    plan.dry_run = o.dry_run;
 
     // Kernels.
     std::vector<const KernelEntry*> ks;
@@ -221,6 +232,15 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
 }
 
 int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv) {
+    if (plan.dry_run) {
+        std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text << ", placement=" << plan.settings.placement.text
+                  << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + plan.format + ")") << "\n";
+        for (const auto& p : plan.points)
+            std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
+                      << (p.kernel->info.size_kind == SizeKind::bytes ? format_bytes(p.size) : std::to_string(p.size))
+                      << " threads=" << p.threads << "\n";
+        return 0;
+    }
     struct sigaction sa{};
     sa.sa_handler = on_signal;
     sa.sa_flags = SA_RESETHAND;  // a second Ctrl-C ends the program at once; the file on disk stays valid

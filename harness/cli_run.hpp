@@ -28,6 +28,7 @@ struct RunOptions {
     std::string out;
     std::string format;  // table | json | csv; "" = from --out's extension, table on the console
     bool quiet = false;
+    bool dry_run = false;
 };
 
 struct Plan {
@@ -36,6 +37,7 @@ struct Plan {
     std::string out_path;
     std::string format;  // json | csv (for out_path), and what goes to stdout
     bool quiet = false;
+    bool dry_run = false;  // print the points and stop
 };
 
 void setup_run_options(CLI::App& app, RunOptions& opts);

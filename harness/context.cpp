@@ -79,11 +79,11 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
     c["sockets"] = topo.packages;
     c["cores"] = topo.cores;
     c["pus"] = topo.pu_count();
-    c["numa_nodes"] = topo.nodes.size();
+    c["numa_node_count"] = topo.nodes.size();
     c["topology"] = to_json(topo);
     utsname u{};
     uname(&u);
-    c["kernel"] = std::string(u.sysname) + " " + u.release;
+    c["os_kernel"] = std::string(u.sysname) + " " + u.release;
     c["memory_bytes"] = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE));
     c["page_size_bytes"] = sysconf(_SC_PAGESIZE);
     c["transparent_hugepages"] = readable("/sys/kernel/mm/transparent_hugepage/enabled", true, "THP setting unknown");

@@ -28,7 +28,7 @@ Examples:
   ./suite --kernel=triad --sizes=16KiB:1GiB --threads=1-2 --out=results/triad.json
   ./suite --kernel=copy,triad --stores=nt --size=1GiB      # non-temporal stores
   ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
-  ./suite --kernel=triad --placement=node:0 --pin=0,1      # arrays on node 0, threads on CPUs 0 and 1
+  ./suite --kernel=triad --placement=node:1 --pin=0,1 --threads=2   # arrays on node 1, threads on CPUs 0, 1
   ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
 
 Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the

@@ -130,9 +130,13 @@ std::vector<int> team_nodes(const std::vector<ThreadBinding>& team) {
 }
 
 nlohmann::json to_json(const ThreadBinding& b) {
-    nlohmann::json j = {{"thread", b.thread}, {"allowed_cpus", b.allowed}, {"cpu", b.cpu}, {"numa_node", b.numa_node}};
-    j["requested_cpu"] = b.requested_cpu >= 0 ? nlohmann::json(b.requested_cpu) : nlohmann::json(nullptr);
-    return j;
+    // Unknown or not applicable is null, never -1.
+    auto known = [](int v) { return v >= 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    return {{"thread", b.thread},
+            {"allowed_cpus", b.allowed},
+            {"requested_cpu", known(b.requested_cpu)},
+            {"cpu", known(b.cpu)},
+            {"numa_node", known(b.numa_node)}};
 }
 
 std::string describe(const PinSpec& spec) { return spec.text; }

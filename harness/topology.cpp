@@ -108,13 +108,18 @@ Topology Topology::load() {
     unsigned nr = 1;
     if (hwloc_distances_get_by_type(t, HWLOC_OBJ_NUMANODE, &nr, &dist, HWLOC_DISTANCES_KIND_MEANS_LATENCY, 0) == 0 &&
         nr >= 1 && dist) {
-        std::map<int, int> pos;  // os index -> row
-        for (unsigned i = 0; i < dist->nbobjs; ++i) pos[static_cast<int>(dist->objs[i]->os_index)] = static_cast<int>(i);
-        topo.distances.assign(topo.nodes.size(), std::vector<int>(topo.nodes.size(), 0));
-        for (std::size_t a = 0; a < topo.nodes.size(); ++a)
-            for (std::size_t b = 0; b < topo.nodes.size(); ++b)
-                topo.distances[a][b] = static_cast<int>(
-                    dist->values[pos[topo.nodes[a].os_index] * dist->nbobjs + pos[topo.nodes[b].os_index]]);
+        std::map<int, unsigned> pos;  // os index -> row
+        for (unsigned i = 0; i < dist->nbobjs; ++i) pos[static_cast<int>(dist->objs[i]->os_index)] = i;
+        // Only a matrix that covers every node is used; a partial one would misplace rows.
+        bool complete = true;
+        for (const auto& n : topo.nodes) complete = complete && pos.count(n.os_index) == 1;
+        if (complete) {
+            topo.distances.assign(topo.nodes.size(), std::vector<int>(topo.nodes.size(), 0));
+            for (std::size_t a = 0; a < topo.nodes.size(); ++a)
+                for (std::size_t b = 0; b < topo.nodes.size(); ++b)
+                    topo.distances[a][b] = static_cast<int>(
+                        dist->values[pos.at(topo.nodes[a].os_index) * dist->nbobjs + pos.at(topo.nodes[b].os_index)]);
+        }
         hwloc_distances_release(t, dist);
     }
     return topo;
@@ -162,7 +167,8 @@ nlohmann::json to_json(const Topology& topo) {
     j["pu_map"] = nlohmann::json::array();
     for (const auto& p : topo.pus)
         j["pu_map"].push_back(
-            {{"os_index", p.os_index}, {"core", p.core}, {"smt_rank", p.smt_rank}, {"package", p.package}, {"numa_node", p.numa_node}});
+            {{"os_index", p.os_index}, {"core", p.core}, {"smt_rank", p.smt_rank}, {"package", p.package},
+             {"numa_node", p.numa_node >= 0 ? nlohmann::json(p.numa_node) : nlohmann::json(nullptr)}});
     j["this_system"] = topo.this_system;
     return j;
 }

@@ -33,6 +33,9 @@ std::vector<Case> all_cases() {
     return cases;
 }
 
+// gtest prints a parameter on failure and in ctest's names; the label says which case it is.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.label; }
+
 class Registry : public testing::TestWithParam<Case> {};
 
 RunSettings tiny_settings(const Topology& topo) {

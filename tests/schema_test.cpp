@@ -1,0 +1,313 @@
+// The result file against its published schema (results/schema/v1.json): the real binary
+// writes files for every registered kernel and for the non-temporal variants, and each must
+// pass tests/validate_result.py (Debian's python3 with jsonschema). A few facts the schema
+// cannot express are checked here directly, and broken copies of a valid file must fail, so
+// a schema that accepts everything cannot pass.
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Ran {
+    int status = -1;     // exit status, or 128 + signal
+    std::string output;  // stdout and stderr together
+};
+
+// Runs argv (no shell) with stdout and stderr captured; kills it after timeout_s.
+Ran run(const std::vector<std::string>& argv, double timeout_s = 60) {
+    int p[2];
+    if (pipe(p) != 0) return {-1, "pipe failed"};
+    const pid_t pid = fork();
+    if (pid < 0) return {-1, "fork failed"};
+    if (pid == 0) {
+        dup2(p[1], 1);
+        dup2(p[1], 2);
+        close(p[0]);
+        close(p[1]);
+        std::vector<char*> args;
+        for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+        args.push_back(nullptr);
+        execv(args[0], args.data());
+        _exit(127);
+    }
+    close(p[1]);
+    Ran r;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    pollfd pfd{p[0], POLLIN, 0};
+    char buf[4096];
+    for (;;) {
+        if (std::chrono::steady_clock::now() > deadline) {
+            kill(pid, SIGKILL);
+            r.output += "\n[killed after " + std::to_string(timeout_s) + " s]";
+            break;
+        }
+        if (poll(&pfd, 1, 100) <= 0) continue;
+        const ssize_t n = read(p[0], buf, sizeof buf);
+        if (n <= 0) break;
+        r.output.append(buf, static_cast<std::size_t>(n));
+    }
+    close(p[0]);
+    int st = 0;
+    waitpid(pid, &st, 0);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    return r;
+}
+
+std::string join(const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& a : v) s += (s.empty() ? "" : " ") + a;
+    return s;
+}
+
+// A fresh directory under $TMPDIR (or /tmp), removed with everything in it.
+class TempDir {
+public:
+    TempDir() {
+        const char* base = std::getenv("TMPDIR");
+        std::string templ = std::string(base && *base ? base : "/tmp") + "/suite-schema-XXXXXX";
+        if (mkdtemp(templ.data()) != nullptr) path_ = templ;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        if (!path_.empty()) fs::remove_all(path_, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    bool ok() const { return !path_.empty(); }
+    std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+private:
+    std::string path_;
+};
+
+const std::string schema_path = std::string(SUITE_SOURCE_DIR) + "/results/schema/v1.json";
+const std::string validator_path = std::string(SUITE_SOURCE_DIR) + "/tests/validate_result.py";
+
+Ran validate(const std::vector<std::string>& files) {
+    std::vector<std::string> argv{SUITE_PYTHON, validator_path, schema_path};
+    argv.insert(argv.end(), files.begin(), files.end());
+    return run(argv);
+}
+
+Ran suite(const std::vector<std::string>& args) {
+    std::vector<std::string> argv{SUITE_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return run(argv);
+}
+
+json load(const std::string& path) {
+    std::ifstream in(path);
+    return json::parse(in);
+}
+
+void save(const std::string& path, const json& doc) { std::ofstream(path) << doc.dump(1) << "\n"; }
+
+json kernel_list() {
+    Ran r = suite({"list", "--json"});
+    EXPECT_EQ(r.status, 0) << r.output;
+    return json::parse(r.output);
+}
+
+// "1,2" where the machine has two PUs, else "1".
+std::string small_thread_list() {
+    Ran r = suite({"info", "--json"});
+    EXPECT_EQ(r.status, 0) << r.output;
+    return json::parse(r.output).at("pus").get<int>() >= 2 ? "1,2" : "1";
+}
+
+// The checks the schema cannot express. `where` names the file in failure messages.
+void check_content(const json& doc, const std::string& where, int reps) {
+    SCOPED_TRACE(where);
+    EXPECT_EQ(doc.at("schema_version"), 1);
+    EXPECT_EQ(doc.at("complete"), true);
+    ASSERT_TRUE(doc.at("results").is_array());
+    EXPECT_FALSE(doc.at("results").empty());
+    const json& ctx = doc.at("context");
+    EXPECT_EQ(ctx.at("pus"), ctx.at("topology").at("pus"));
+    EXPECT_EQ(ctx.at("numa_node_count").get<std::size_t>(), ctx.at("topology").at("numa_nodes").size());
+    for (const auto& r : doc.at("results")) {
+        SCOPED_TRACE(r.value("name", "?") + " " + r.value(r.value("axis", "pattern"), "?") + " threads=" +
+                     std::to_string(r.value("threads", 0)));
+        EXPECT_EQ(r.at("verification").at("passed"), true) << r.at("verification").dump();
+        EXPECT_EQ(r.at("pin").at("threads").size(), r.at("threads").get<std::size_t>());
+        EXPECT_EQ(r.at("repetitions").at("counted"), reps);
+        EXPECT_EQ(r.at("time_s").at("samples").size(), static_cast<std::size_t>(reps));
+        EXPECT_EQ(r.at("size").at("units"), r.at("work_per_repetition").at("units"));
+        EXPECT_GT(r.at("time_s").at("min").get<double>(), 0.0);
+        EXPECT_GT(r.at("units_per_second_best").get<double>(), 0.0);
+        if (r.at("metric") == "bandwidth") {
+            ASSERT_TRUE(r.at("bandwidth_gbps").is_object());
+            const json& best = r.at("bandwidth_gbps").at("stream").at("best");
+            ASSERT_TRUE(best.is_number()) << best.dump();
+            EXPECT_GT(best.get<double>(), 0.0);
+            EXPECT_TRUE(r.at("latency_ns").is_null());
+        } else {
+            ASSERT_TRUE(r.at("latency_ns").is_object());
+            const json& best = r.at("latency_ns").at("best");
+            ASSERT_TRUE(best.is_number()) << best.dump();
+            EXPECT_GT(best.get<double>(), 0.0);
+            EXPECT_TRUE(r.at("bandwidth_gbps").is_null());
+        }
+    }
+}
+
+TEST(ResultSchema, SchemaAndValidatorArePresent) {
+    EXPECT_TRUE(fs::exists(schema_path)) << schema_path;
+    EXPECT_TRUE(fs::exists(validator_path)) << validator_path;
+    // The schema file is JSON and says what it is.
+    const json schema = load(schema_path);
+    EXPECT_EQ(schema.at("$schema"), "https://json-schema.org/draft/2020-12/schema");
+    EXPECT_EQ(schema.at("properties").at("schema_version").at("const"), 1);
+    // Usage errors are 2, not 0 or 1.
+    Ran usage = run({SUITE_PYTHON, validator_path});
+    EXPECT_EQ(usage.status, 2) << usage.output;
+}
+
+// Every kernel `suite list --json` reports, with all its patterns (orderings), at a tiny size.
+TEST(ResultSchema, EveryKernelWritesAValidFile) {
+    TempDir dir;
+    ASSERT_TRUE(dir.ok());
+    const json kernels = kernel_list();
+    ASSERT_TRUE(kernels.is_array());
+    ASSERT_FALSE(kernels.empty());
+    const std::string threads = small_thread_list();
+    const std::size_t thread_count = threads == "1" ? 1 : 2;
+    const int reps = 2;
+
+    std::vector<std::string> files;
+    for (const auto& k : kernels) {
+        const std::string name = k.at("name");
+        const std::string axis = k.at("axis");
+        std::vector<std::string> accesses;
+        for (const auto& a : k.at("accesses")) accesses.push_back(a == "strided" ? "strided:4" : a.get<std::string>());
+        std::string access_list;
+        for (const auto& a : accesses) access_list += (access_list.empty() ? "" : ",") + a;
+        // Byte-sized kernels get 64 KiB; count-sized (application) kernels a small count.
+        const std::string size = k.at("size") == "bytes" ? "64KiB" : "4096";
+        const std::string out = dir.file(name + ".json");
+        const std::vector<std::string> args{"--kernel=" + name, "--" + axis + "=" + access_list, "--size=" + size,
+                                            "--threads=" + threads, "--reps=" + std::to_string(reps), "-q", "--out=" + out};
+        Ran r = suite(args);
+        ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << r.output;
+        files.push_back(out);
+
+        const json doc = load(out);
+        check_content(doc, name, reps);
+        // One record per access and thread count, each of this kernel, on its axis.
+        ASSERT_EQ(doc.at("results").size(), accesses.size() * thread_count) << doc.at("results").dump(1);
+        std::set<std::pair<std::string, int>> seen;
+        for (const auto& rec : doc.at("results")) {
+            EXPECT_EQ(rec.at("kernel"), name);
+            EXPECT_EQ(rec.at("axis"), axis);
+            EXPECT_EQ(rec.at("metric"), k.at("metric"));
+            EXPECT_EQ(rec.at("size").at("kind"), k.at("size"));
+            EXPECT_EQ(rec.at("variant"), "");
+            seen.insert({rec.at(axis).get<std::string>(), rec.at("threads").get<int>()});
+        }
+        for (const auto& a : accesses)
+            for (int t = 1; t <= static_cast<int>(thread_count); ++t)
+                EXPECT_TRUE(seen.count({a, t})) << name << " has no record for " << a << " with " << t << " thread(s)";
+    }
+    Ran v = validate(files);
+    EXPECT_EQ(v.status, 0) << v.output;
+}
+
+TEST(ResultSchema, NonTemporalStoresWriteAValidFile) {
+    TempDir dir;
+    ASSERT_TRUE(dir.ok());
+    const std::string out = dir.file("nt.json");
+    const std::vector<std::string> args{"--kernel=copy,triad", "--stores=nt", "--size=1MiB", "--reps=2", "-q", "--out=" + out};
+    Ran r = suite(args);
+    ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << r.output;
+    Ran v = validate({out});
+    EXPECT_EQ(v.status, 0) << v.output;
+
+    const json doc = load(out);
+    check_content(doc, "copy,triad --stores=nt", 2);
+    std::set<std::string> kernels;
+    for (const auto& rec : doc.at("results")) {
+        kernels.insert(rec.at("kernel").get<std::string>());
+        EXPECT_EQ(rec.at("variant"), "nt");
+        EXPECT_EQ(rec.at("name"), rec.at("kernel").get<std::string>() + "-nt");
+        EXPECT_EQ(rec.at("pattern"), "sequential");
+    }
+    EXPECT_EQ(kernels, (std::set<std::string>{"copy", "triad"}));
+}
+
+// Broken copies of a valid file must fail, with the path of the break in the message.
+TEST(ResultSchema, BrokenFilesFailValidation) {
+    TempDir dir;
+    ASSERT_TRUE(dir.ok());
+    const std::string good = dir.file("good.json");
+    Ran r = suite({"--kernel=copy,latency", "--size=64KiB", "--threads=1", "--reps=2", "-q", "--out=" + good});
+    ASSERT_EQ(r.status, 0) << r.output;
+    Ran ok = validate({good});
+    ASSERT_EQ(ok.status, 0) << "the unmodified file must be valid\n" << ok.output;
+
+    const json doc = load(good);
+    ASSERT_GE(doc.at("results").size(), 2u);
+    ASSERT_EQ(doc["results"][0]["metric"], "bandwidth");
+    ASSERT_EQ(doc["results"][1]["metric"], "latency");
+
+    struct Break {
+        std::string name;
+        std::function<void(json&)> apply;
+        std::string expect_in_output;  // the JSON path the validator must name
+    };
+    const std::vector<Break> breaks = {
+        {"no_kernel", [](json& d) { d["results"][0].erase("kernel"); }, "$.results[0]: 'kernel' is a required property"},
+        {"bandwidth_empty", [](json& d) { d["results"][0]["bandwidth_gbps"] = json::object(); }, "$.results[0].bandwidth_gbps"},
+        {"bandwidth_garbage", [](json& d) { d["results"][0]["bandwidth_gbps"] = "fast"; }, "$.results[0].bandwidth_gbps"},
+        {"bandwidth_on_latency", [](json& d) { d["results"][1]["bandwidth_gbps"] = d["results"][0]["bandwidth_gbps"]; },
+         "$.results[1].bandwidth_gbps"},
+        {"latency_null", [](json& d) { d["results"][1]["latency_ns"] = nullptr; }, "$.results[1].latency_ns"},
+        {"bad_axis", [](json& d) { d["results"][0]["axis"] = "diagonal"; }, "$.results[0].axis"},
+        {"ordering_on_pattern", [](json& d) { d["results"][0]["ordering"] = "morton"; }, "$.results[0].ordering"},
+        {"node_string", [](json& d) { d["results"][0]["placement"]["node"] = "0"; }, "$.results[0].placement.node"},
+        {"extra_key", [](json& d) { d["results"][0]["speedup"] = 2; }, "$.results[0]"},
+        {"version_2", [](json& d) { d["schema_version"] = 2; }, "$.schema_version"},
+        {"energy_no_reason", [](json& d) { d["context"]["instruments"]["energy"] = {{"available", false}}; },
+         "$.context.instruments.energy"},
+        {"governor_no_reason", [](json& d) { d["context"]["frequency_governor"] = {{"value", nullptr}}; },
+         "$.context.frequency_governor"},
+    };
+    for (const auto& b : breaks) {
+        SCOPED_TRACE(b.name);
+        json broken = doc;
+        b.apply(broken);
+        const std::string path = dir.file(b.name + ".json");
+        save(path, broken);
+        Ran v = validate({path});
+        EXPECT_EQ(v.status, 1) << v.output;
+        EXPECT_NE(v.output.find(b.expect_in_output), std::string::npos) << v.output;
+    }
+    // Several files at once: one bad one makes the whole run fail, and the good one is still reported.
+    Ran mixed = validate({good, dir.file("no_kernel.json")});
+    EXPECT_EQ(mixed.status, 1) << mixed.output;
+    EXPECT_NE(mixed.output.find(good + ": valid"), std::string::npos) << mixed.output;
+    // Not JSON at all.
+    std::ofstream(dir.file("truncated.json")) << "{\"schema_version\": 1, \"results\": [";
+    Ran truncated = validate({dir.file("truncated.json")});
+    EXPECT_EQ(truncated.status, 1) << truncated.output;
+}
+
+}  // namespace
