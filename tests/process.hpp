@@ -22,12 +22,16 @@ struct Outcome {
     std::string out, err;
 };
 
-// Starts `argv` (argv[0] is the program path); returns the pid and two pipe read ends.
-inline pid_t spawn(const std::vector<std::string>& argv, int& out_fd, int& err_fd) {
+// Starts `argv` (argv[0] is the program path) in directory `cwd` ("" = this one), stdin from
+// /dev/null; returns the pid and the read ends of its stdout and stderr pipes.
+inline pid_t spawn(const std::vector<std::string>& argv, int& out_fd, int& err_fd, const std::string& cwd = "") {
     int o[2], e[2];
     if (pipe(o) != 0 || pipe(e) != 0) throw std::runtime_error("pipe failed");
     pid_t pid = fork();
     if (pid == 0) {
+        if (!cwd.empty() && chdir(cwd.c_str()) != 0) _exit(126);
+        int devnull = open("/dev/null", O_RDONLY);
+        if (devnull >= 0) dup2(devnull, 0);
         dup2(o[1], 1);
         dup2(e[1], 2);
         close(o[0]); close(o[1]); close(e[0]); close(e[1]);
@@ -69,12 +73,12 @@ inline Outcome finish(pid_t pid, int out_fd, int err_fd, double timeout_s = 300)
     return r;
 }
 
-// Runs the suite binary with `args` to completion.
-inline Outcome run_suite(const std::vector<std::string>& args, double timeout_s = 300) {
+// Runs the suite binary with `args` to completion, in `cwd` ("" = this directory).
+inline Outcome run_suite(const std::vector<std::string>& args, double timeout_s = 300, const std::string& cwd = "") {
     std::vector<std::string> argv{SUITE_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
     int o, e;
-    pid_t pid = spawn(argv, o, e);
+    pid_t pid = spawn(argv, o, e, cwd);
     return finish(pid, o, e, timeout_s);
 }
 

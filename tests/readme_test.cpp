@@ -49,7 +49,7 @@ TEST(Readme, ExamplesAreAcceptedAsWritten) {
         args.erase(args.begin());  // ./suite
         const bool info = !args.empty() && (args[0] == "list" || args[0] == "info" || args[0] == "--help");
         if (!info) args.push_back("--dry-run");
-        Outcome r = run_suite(args, 60);
+        Outcome r = run_suite(args, 60, SUITE_SOURCE_DIR);  // the README's commands start at the top of the tree
         const bool needs_nodes = line.find("node:1") != std::string::npos || line.find("remote") != std::string::npos;
         if (needs_nodes && one_node) {
             // On a one-node machine these are refused, clearly, as usage errors.
