@@ -193,7 +193,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
                 std::string hint = nearest(a.name, info.accesses);
                 throw UsageError("kernel '" + info.name + "' has no " + (by_pattern ? "pattern" : "ordering") + " '" + text + "'" +
                                  (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; it accepts: " +
-                                 join(info.accesses) + (a.name == "strided" ? "" : ""));
+                                 join(info.accesses));
             }
             accesses.push_back(a);
         }
@@ -207,9 +207,10 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         for (const auto& a : accesses)
             for (std::uint64_t size : sizes)
                 for (int t : unique_threads) {
-                    if (info.size_kind == SizeKind::bytes && k->tiny_size > 0 && size < k->tiny_size / 8)
-                        throw UsageError("size " + format_bytes(size) + " is too small for kernel '" + info.name + "'; use at least " +
-                                         format_bytes(k->tiny_size / 8));
+                    const std::uint64_t least = k->min_size_per_thread * static_cast<std::uint64_t>(t);
+                    if (info.size_kind == SizeKind::bytes && size < least)
+                        throw UsageError("size " + format_bytes(size) + " is too small for kernel '" + info.name + "' with " +
+                                         std::to_string(t) + " thread(s); use at least " + format_bytes(least));
                     if (a.name == "strided" && info.size_kind == SizeKind::bytes && a.stride * 8 * 4 > size)
                         throw UsageError("--pattern=" + a.label() + " needs a size of at least " + format_bytes(a.stride * 32) +
                                          " (a few elements per stride)");

@@ -91,8 +91,11 @@ using KernelFactory = std::function<std::unique_ptr<Kernel>(const KernelConfig&)
 struct KernelEntry {
     KernelInfo info;
     KernelFactory make;
-    // Smallest sensible size (bytes or count), used by the registry test and for validation.
-    std::uint64_t tiny_size = 0;
+    // The smallest size (bytes or count) each thread needs; smaller requests are usage errors,
+    // refused before anything runs.
+    std::uint64_t min_size_per_thread = 1;
+    // A size at which the kernel runs in milliseconds, for the registry walk.
+    std::uint64_t test_size = 64 << 10;
 };
 
 // The registry: kernels add themselves from their own .cpp with

@@ -124,7 +124,7 @@ const bool registered = [] {
     e.info.read_bytes_per_unit = 8;
     e.info.notes = "ns per dependent load; each thread chases its own cycle over footprint/threads";
     e.make = [](const KernelConfig& cfg) { return std::make_unique<Latency>(cfg); };
-    e.tiny_size = 4096;
+    e.min_size_per_thread = 2 * sizeof(Line);  // a cycle needs two lines
     return register_kernel(std::move(e));
 }();
 

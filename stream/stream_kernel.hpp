@@ -222,7 +222,7 @@ bool register_stream_kernel() {
     e.info.flops_per_unit = Op::flops;
     e.info.notes = Op::notes;
     e.make = [](const KernelConfig& cfg) { return std::make_unique<StreamKernel<Op>>(cfg); };
-    e.tiny_size = 4096;
+    e.min_size_per_thread = 64;  // a couple of elements of every array
     return register_kernel(std::move(e));
 }
 

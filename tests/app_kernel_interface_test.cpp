@@ -57,7 +57,7 @@ const bool registered = [] {
     e.info.accesses = {"natural", "random"};
     e.info.size_kind = SizeKind::count;
     e.make = [](const KernelConfig& c) { return std::make_unique<Gather>(c); };
-    e.tiny_size = 1024;
+    e.test_size = 1024;
     return register_kernel(std::move(e));
 }();
 

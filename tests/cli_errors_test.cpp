@@ -2,181 +2,32 @@
 // exactly one line on stderr that starts with "suite: error: " and names the problem and what is
 // accepted, nothing on stdout, and no file created or clobbered. The binary is run with
 // fork/execv (no shell) in an empty scratch directory, so a stray write shows up there too.
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <cstdlib>
-#include <cstring>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
-#include <sstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "harness/topology.hpp"
+#include "process.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Running the binary.
+using namespace suite::test;
 
-struct RunResult {
-    int exit_code = -1;    // WEXITSTATUS when the child exited normally, else -1
-    int term_signal = 0;   // WTERMSIG when the child was killed by a signal
-    bool timed_out = false;
-    std::string out;
-    std::string err;
-
-    std::string describe() const {
-        std::ostringstream s;
-        s << "exit code " << exit_code;
-        if (term_signal) s << ", killed by signal " << term_signal;
-        if (timed_out) s << " (timed out)";
-        s << "\n--- stdout ---\n" << out << "\n--- stderr ---\n" << err << "\n---";
-        return s.str();
-    }
-};
-
-// Runs SUITE_BINARY with `args` (argv[1..]) in directory `cwd`, stdin from /dev/null, and
-// collects stdout, stderr and the exit status. The child is killed after `timeout`.
-RunResult run_suite(const std::vector<std::string>& args, const fs::path& cwd = {},
-                    std::chrono::milliseconds timeout = std::chrono::seconds(120)) {
-    RunResult r;
-    int out_pipe[2], err_pipe[2];
-    if (pipe2(out_pipe, O_CLOEXEC) != 0 || pipe2(err_pipe, O_CLOEXEC) != 0) {
-        ADD_FAILURE() << "pipe2: " << std::strerror(errno);
-        return r;
-    }
-    std::vector<std::string> storage{SUITE_BINARY};
-    storage.insert(storage.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& s : storage) argv.push_back(s.data());
-    argv.push_back(nullptr);
-    const std::string dir = cwd.string();
-
-    const pid_t pid = fork();
-    if (pid < 0) {
-        ADD_FAILURE() << "fork: " << std::strerror(errno);
-        return r;
-    }
-    if (pid == 0) {
-        // Child: only async-signal-safe calls from here on.
-        int devnull = open("/dev/null", O_RDONLY);
-        if (devnull >= 0) dup2(devnull, STDIN_FILENO);
-        dup2(out_pipe[1], STDOUT_FILENO);
-        dup2(err_pipe[1], STDERR_FILENO);
-        if (!dir.empty() && chdir(dir.c_str()) != 0) _exit(126);
-        execv(argv[0], argv.data());
-        const char msg[] = "cli_errors_test: execv failed\n";
-        (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
-        _exit(127);
-    }
-    close(out_pipe[1]);
-    close(err_pipe[1]);
-
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    pollfd fds[2] = {{out_pipe[0], POLLIN, 0}, {err_pipe[0], POLLIN, 0}};
-    std::string* sinks[2] = {&r.out, &r.err};
-    int open_fds = 2;
-    while (open_fds > 0) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) {
-            r.timed_out = true;
-            kill(pid, SIGKILL);
-            break;
-        }
-        const int n = poll(fds, 2, static_cast<int>(left.count()));
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            ADD_FAILURE() << "poll: " << std::strerror(errno);
-            kill(pid, SIGKILL);
-            break;
-        }
-        for (int i = 0; i < 2; ++i) {
-            if (fds[i].fd < 0 || fds[i].revents == 0) continue;
-            char buf[4096];
-            const ssize_t got = read(fds[i].fd, buf, sizeof buf);
-            if (got > 0) {
-                sinks[i]->append(buf, static_cast<std::size_t>(got));
-            } else if (got == 0 || (errno != EINTR && errno != EAGAIN)) {
-                close(fds[i].fd);
-                fds[i].fd = -1;
-                --open_fds;
-            }
-        }
-    }
-    for (auto& p : fds)
-        if (p.fd >= 0) close(p.fd);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) r.term_signal = WTERMSIG(status);
-    return r;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Scratch directories and files.
-
-class ScratchDir {
-public:
-    ScratchDir() {
-        std::string templ = (fs::temp_directory_path() / "suite-cli-XXXXXX").string();
-        if (!mkdtemp(templ.data())) throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));
-        path_ = templ;
-    }
-    ~ScratchDir() {
-        std::error_code ec;
-        // Make everything writable again (the read-only test chmods a subdirectory) and remove.
-        for (auto it = fs::recursive_directory_iterator(path_, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
-            fs::permissions(it->path(), fs::perms::owner_all, fs::perm_options::add, ec);
-        fs::remove_all(path_, ec);
-    }
-    ScratchDir(const ScratchDir&) = delete;
-    ScratchDir& operator=(const ScratchDir&) = delete;
-
-    const fs::path& path() const { return path_; }
-
-    // Every path under the directory, relative to it, for "nothing was created" checks.
-    std::vector<std::string> entries() const {
-        std::vector<std::string> out;
-        std::error_code ec;
-        for (auto it = fs::recursive_directory_iterator(path_, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
-            out.push_back(fs::relative(it->path(), path_).string());
-        return out;
-    }
-
-private:
-    fs::path path_;
-};
-
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+constexpr double kTimeoutS = 120;  // per run of the binary; the child is killed after this
 
 void write_file(const fs::path& p, const std::string& content) {
     std::ofstream out(p, std::ios::binary | std::ios::trunc);
     out << content;
-}
-
-std::string join(const std::vector<std::string>& v, const std::string& sep) {
-    std::string out;
-    for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
-    return out;
 }
 
 // Replaces every "{tmp}" in `args` with `dir`.
@@ -192,16 +43,16 @@ const suite::Topology& topology() {
 }
 
 // The checks every usage error must pass.
-void expect_usage_error(const RunResult& r, const std::vector<std::string>& expected) {
-    ASSERT_FALSE(r.timed_out) << r.describe();
-    EXPECT_EQ(r.exit_code, 2) << r.describe();
-    EXPECT_TRUE(r.out.empty()) << "a usage error must be found before anything runs or prints\n" << r.describe();
-    EXPECT_EQ(r.err.rfind("suite: error: ", 0), 0u) << r.describe();
-    ASSERT_FALSE(r.err.empty()) << r.describe();
-    EXPECT_EQ(r.err.back(), '\n') << "stderr must end with a newline\n" << r.describe();
+void expect_usage_error(const Outcome& r, const std::vector<std::string>& expected) {
+    ASSERT_FALSE(r.timed_out) << describe(r);
+    EXPECT_EQ(r.status, 2) << describe(r);
+    EXPECT_TRUE(r.out.empty()) << "a usage error must be found before anything runs or prints\n" << describe(r);
+    EXPECT_EQ(r.err.rfind("suite: error: ", 0), 0u) << describe(r);
+    ASSERT_FALSE(r.err.empty()) << describe(r);
+    EXPECT_EQ(r.err.back(), '\n') << "stderr must end with a newline\n" << describe(r);
     const auto lines = std::count(r.err.begin(), r.err.end(), '\n');
-    EXPECT_EQ(lines, 1) << "stderr must be exactly one line\n" << r.describe();
-    for (const auto& s : expected) EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks \"" << s << "\"\n" << r.describe();
+    EXPECT_EQ(lines, 1) << "stderr must be exactly one line\n" << describe(r);
+    for (const auto& s : expected) EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks \"" << s << "\"\n" << describe(r);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -291,10 +142,10 @@ TEST_P(CliErrorTest, ExitsTwoWithOneLineAndWritesNothing) {
             break;
     }
 
-    ScratchDir dir;
+    TempDir dir;
     const auto args = substitute(c.args, dir.path());
     SCOPED_TRACE("suite " + join(args, " "));
-    const RunResult r = run_suite(args, dir.path());
+    const Outcome r = run_suite(args, kTimeoutS, dir.path());
     expect_usage_error(r, c.expected);
     // The scratch directory is both the working directory and where --out points: it must
     // still be empty (no r.json, no r.json.tmp.*, no nosuchdir/).
@@ -313,7 +164,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, CliErrorTest, testing::ValuesIn(cases()),
 // An existing result file given as --out together with a bad option is left byte for byte.
 
 TEST(CliOutputTest, ExistingResultFileUntouchedByUsageErrors) {
-    ScratchDir dir;
+    TempDir dir;
     const fs::path file = dir.path() / "r.json";
     const std::string content = "{\"complete\": true, \"records\": [\"keep me\"]}\n\x01\xff binary tail";
     const std::vector<std::vector<std::string>> bad = {
@@ -330,9 +181,9 @@ TEST(CliOutputTest, ExistingResultFileUntouchedByUsageErrors) {
         const auto mtime = fs::last_write_time(file);
         args.push_back("--out=" + file.string());
         SCOPED_TRACE("suite " + join(args, " "));
-        const RunResult r = run_suite(args, dir.path());
+        const Outcome r = run_suite(args, kTimeoutS, dir.path());
         expect_usage_error(r, {});
-        EXPECT_EQ(read_file(file), content);
+        EXPECT_EQ(slurp(file), content);
         EXPECT_EQ(fs::last_write_time(file), mtime);
         EXPECT_EQ(dir.entries(), std::vector<std::string>{"r.json"}) << "other files were created";
     }
@@ -342,12 +193,13 @@ TEST(CliOutputTest, ExistingResultFileUntouchedByUsageErrors) {
 // this one only runs unprivileged; OutDirectoryNotWritable covers root with /proc).
 TEST(CliOutputTest, ReadOnlyDirectoryRefused) {
     if (geteuid() == 0) GTEST_SKIP() << "running as root, which can write into a mode 0555 directory";
-    ScratchDir dir;
+    TempDir dir;
     const fs::path ro = dir.path() / "ro";
     fs::create_directory(ro);
     fs::permissions(ro, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read | fs::perms::group_exec |
                             fs::perms::others_read | fs::perms::others_exec);
-    const RunResult r = run_suite({"--kernel=add", "--size=1MiB", "--threads=1", "--reps=1", "--out=" + (ro / "r.json").string()}, dir.path());
+    const Outcome r = run_suite({"--kernel=add", "--size=1MiB", "--threads=1", "--reps=1", "--out=" + (ro / "r.json").string()},
+                                kTimeoutS, dir.path());
     expect_usage_error(r, {"not writable"});
     EXPECT_TRUE(fs::is_empty(ro));
 }
@@ -356,48 +208,47 @@ TEST(CliOutputTest, ReadOnlyDirectoryRefused) {
 // The commands that must work.
 
 TEST(CliUsageTest, HelpShowsExamples) {
-    ScratchDir dir;
-    const RunResult r = run_suite({"--help"}, dir.path());
-    ASSERT_FALSE(r.timed_out) << r.describe();
-    EXPECT_EQ(r.exit_code, 0) << r.describe();
-    EXPECT_NE(r.out.find("Examples:"), std::string::npos) << r.describe();
-    EXPECT_NE(r.out.find("--kernel"), std::string::npos) << r.describe();
-    EXPECT_TRUE(r.err.empty()) << r.describe();
+    TempDir dir;
+    const Outcome r = run_suite({"--help"}, kTimeoutS, dir.path());
+    ASSERT_FALSE(r.timed_out) << describe(r);
+    EXPECT_EQ(r.status, 0) << describe(r);
+    EXPECT_NE(r.out.find("Examples:"), std::string::npos) << describe(r);
+    EXPECT_NE(r.out.find("--kernel"), std::string::npos) << describe(r);
+    EXPECT_TRUE(r.err.empty()) << describe(r);
     EXPECT_TRUE(dir.entries().empty());
 }
 
 TEST(CliUsageTest, ListSucceeds) {
-    ScratchDir dir;
-    const RunResult r = run_suite({"list"}, dir.path());
-    ASSERT_FALSE(r.timed_out) << r.describe();
-    EXPECT_EQ(r.exit_code, 0) << r.describe();
-    for (const char* k : {"copy", "triad", "add", "sin-add", "latency"}) EXPECT_NE(r.out.find(k), std::string::npos) << k << "\n" << r.describe();
+    TempDir dir;
+    const Outcome r = run_suite({"list"}, kTimeoutS, dir.path());
+    ASSERT_FALSE(r.timed_out) << describe(r);
+    EXPECT_EQ(r.status, 0) << describe(r);
+    for (const char* k : {"copy", "triad", "add", "sin-add", "latency"}) EXPECT_NE(r.out.find(k), std::string::npos) << k << "\n" << describe(r);
     EXPECT_TRUE(dir.entries().empty());
 }
 
 TEST(CliUsageTest, InfoSucceeds) {
-    ScratchDir dir;
-    const RunResult r = run_suite({"info"}, dir.path());
-    ASSERT_FALSE(r.timed_out) << r.describe();
-    EXPECT_EQ(r.exit_code, 0) << r.describe();
-    EXPECT_NE(r.out.find("NUMA"), std::string::npos) << r.describe();
+    TempDir dir;
+    const Outcome r = run_suite({"info"}, kTimeoutS, dir.path());
+    ASSERT_FALSE(r.timed_out) << describe(r);
+    EXPECT_EQ(r.status, 0) << describe(r);
+    EXPECT_NE(r.out.find("NUMA"), std::string::npos) << describe(r);
     EXPECT_TRUE(dir.entries().empty());
 }
 
 // The helper itself: exit status and streams come back, and a timeout kills the child
 // instead of hanging the test.
 TEST(CliHarnessTest, RunnerReportsStatusAndKillsOnTimeout) {
-    ScratchDir dir;
-    const RunResult quick = run_suite({"lsit"}, dir.path());
+    TempDir dir;
+    const Outcome quick = run_suite({"lsit"}, kTimeoutS, dir.path());
     EXPECT_FALSE(quick.timed_out);
-    EXPECT_EQ(quick.exit_code, 2);
+    EXPECT_EQ(quick.status, 2);
     EXPECT_TRUE(quick.out.empty());
     EXPECT_FALSE(quick.err.empty());
 
-    const RunResult slow = run_suite({"--kernel=add", "--size=64MiB", "--threads=1", "--reps=10000000", "--quiet"}, dir.path(),
-                                     std::chrono::milliseconds(1500));
-    EXPECT_TRUE(slow.timed_out) << slow.describe();
-    EXPECT_EQ(slow.term_signal, SIGKILL) << slow.describe();
+    const Outcome slow = run_suite({"--kernel=add", "--size=64MiB", "--threads=1", "--reps=10000000", "--quiet"}, 1.5, dir.path());
+    EXPECT_TRUE(slow.timed_out) << describe(slow);
+    EXPECT_EQ(slow.term_signal, SIGKILL) << describe(slow);
     EXPECT_TRUE(dir.entries().empty());
 }
 

@@ -57,7 +57,7 @@ TEST_P(Registry, VerifiesAtTinySize) {
     const Case& c = GetParam();
     const Topology topo = Topology::load();
     for (int threads : {1, std::min(2, topo.pu_count())}) {
-        Point p{c.kernel, c.access, c.variant, c.kernel->info.size_kind == SizeKind::bytes ? 64u << 10 : c.kernel->tiny_size, threads};
+        Point p{c.kernel, c.access, c.variant, c.kernel->test_size, threads};
         Record r = run_point(p, tiny_settings(topo), topo);
         EXPECT_TRUE(r.verification.passed) << r.verification.detail;
         EXPECT_EQ(r.repetitions, 2);

@@ -3,116 +3,25 @@
 // pass tests/validate_result.py (Debian's python3 with jsonschema). A few facts the schema
 // cannot express are checked here directly, and broken copies of a valid file must fail, so
 // a schema that accepts everything cannot pass.
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <stdlib.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <fstream>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "process.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using namespace suite::test;
 
-struct Ran {
-    int status = -1;     // exit status, or 128 + signal
-    std::string output;  // stdout and stderr together
-};
-
-// Runs argv (no shell) with stdout and stderr captured; kills it after timeout_s.
-Ran run(const std::vector<std::string>& argv, double timeout_s = 60) {
-    int p[2];
-    if (pipe(p) != 0) return {-1, "pipe failed"};
-    const pid_t pid = fork();
-    if (pid < 0) return {-1, "fork failed"};
-    if (pid == 0) {
-        dup2(p[1], 1);
-        dup2(p[1], 2);
-        close(p[0]);
-        close(p[1]);
-        std::vector<char*> args;
-        for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-        args.push_back(nullptr);
-        execv(args[0], args.data());
-        _exit(127);
-    }
-    close(p[1]);
-    Ran r;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-    pollfd pfd{p[0], POLLIN, 0};
-    char buf[4096];
-    for (;;) {
-        if (std::chrono::steady_clock::now() > deadline) {
-            kill(pid, SIGKILL);
-            r.output += "\n[killed after " + std::to_string(timeout_s) + " s]";
-            break;
-        }
-        if (poll(&pfd, 1, 100) <= 0) continue;
-        const ssize_t n = read(p[0], buf, sizeof buf);
-        if (n <= 0) break;
-        r.output.append(buf, static_cast<std::size_t>(n));
-    }
-    close(p[0]);
-    int st = 0;
-    waitpid(pid, &st, 0);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    return r;
-}
-
-std::string join(const std::vector<std::string>& v) {
-    std::string s;
-    for (const auto& a : v) s += (s.empty() ? "" : " ") + a;
-    return s;
-}
-
-// A fresh directory under $TMPDIR (or /tmp), removed with everything in it.
-class TempDir {
-public:
-    TempDir() {
-        const char* base = std::getenv("TMPDIR");
-        std::string templ = std::string(base && *base ? base : "/tmp") + "/suite-schema-XXXXXX";
-        if (mkdtemp(templ.data()) != nullptr) path_ = templ;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        if (!path_.empty()) fs::remove_all(path_, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    bool ok() const { return !path_.empty(); }
-    std::string file(const std::string& name) const { return path_ + "/" + name; }
-
-private:
-    std::string path_;
-};
-
-const std::string schema_path = std::string(SUITE_SOURCE_DIR) + "/results/schema/v1.json";
-const std::string validator_path = std::string(SUITE_SOURCE_DIR) + "/tests/validate_result.py";
-
-Ran validate(const std::vector<std::string>& files) {
-    std::vector<std::string> argv{SUITE_PYTHON, validator_path, schema_path};
-    argv.insert(argv.end(), files.begin(), files.end());
-    return run(argv);
-}
-
-Ran suite(const std::vector<std::string>& args) {
-    std::vector<std::string> argv{SUITE_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
-    return run(argv);
-}
+constexpr double kTimeoutS = 60;  // per run of the binary or the validator
 
 json load(const std::string& path) {
     std::ifstream in(path);
@@ -122,16 +31,16 @@ json load(const std::string& path) {
 void save(const std::string& path, const json& doc) { std::ofstream(path) << doc.dump(1) << "\n"; }
 
 json kernel_list() {
-    Ran r = suite({"list", "--json"});
-    EXPECT_EQ(r.status, 0) << r.output;
-    return json::parse(r.output);
+    Outcome r = run_suite({"list", "--json"}, kTimeoutS);
+    EXPECT_EQ(r.status, 0) << describe(r);
+    return json::parse(r.combined());
 }
 
 // "1,2" where the machine has two PUs, else "1".
 std::string small_thread_list() {
-    Ran r = suite({"info", "--json"});
-    EXPECT_EQ(r.status, 0) << r.output;
-    return json::parse(r.output).at("pus").get<int>() >= 2 ? "1,2" : "1";
+    Outcome r = run_suite({"info", "--json"}, kTimeoutS);
+    EXPECT_EQ(r.status, 0) << describe(r);
+    return json::parse(r.combined()).at("pus").get<int>() >= 2 ? "1,2" : "1";
 }
 
 // The checks the schema cannot express. `where` names the file in failure messages.
@@ -178,8 +87,8 @@ TEST(ResultSchema, SchemaAndValidatorArePresent) {
     EXPECT_EQ(schema.at("$schema"), "https://json-schema.org/draft/2020-12/schema");
     EXPECT_EQ(schema.at("properties").at("schema_version").at("const"), 1);
     // Usage errors are 2, not 0 or 1.
-    Ran usage = run({SUITE_PYTHON, validator_path});
-    EXPECT_EQ(usage.status, 2) << usage.output;
+    Outcome usage = run_program({SUITE_PYTHON, validator_path}, kTimeoutS);
+    EXPECT_EQ(usage.status, 2) << describe(usage);
 }
 
 // Every kernel `suite list --json` reports, with all its patterns (orderings), at a tiny size.
@@ -206,8 +115,8 @@ TEST(ResultSchema, EveryKernelWritesAValidFile) {
         const std::string out = dir.file(name + ".json");
         const std::vector<std::string> args{"--kernel=" + name, "--" + axis + "=" + access_list, "--size=" + size,
                                             "--threads=" + threads, "--reps=" + std::to_string(reps), "-q", "--out=" + out};
-        Ran r = suite(args);
-        ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << r.output;
+        Outcome r = run_suite(args, kTimeoutS);
+        ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << describe(r);
         files.push_back(out);
 
         const json doc = load(out);
@@ -227,8 +136,8 @@ TEST(ResultSchema, EveryKernelWritesAValidFile) {
             for (int t = 1; t <= static_cast<int>(thread_count); ++t)
                 EXPECT_TRUE(seen.count({a, t})) << name << " has no record for " << a << " with " << t << " thread(s)";
     }
-    Ran v = validate(files);
-    EXPECT_EQ(v.status, 0) << v.output;
+    Outcome v = validate_against_schema(files);
+    EXPECT_EQ(v.status, 0) << describe(v);
 }
 
 TEST(ResultSchema, NonTemporalStoresWriteAValidFile) {
@@ -236,10 +145,10 @@ TEST(ResultSchema, NonTemporalStoresWriteAValidFile) {
     ASSERT_TRUE(dir.ok());
     const std::string out = dir.file("nt.json");
     const std::vector<std::string> args{"--kernel=copy,triad", "--stores=nt", "--size=1MiB", "--reps=2", "-q", "--out=" + out};
-    Ran r = suite(args);
-    ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << r.output;
-    Ran v = validate({out});
-    EXPECT_EQ(v.status, 0) << v.output;
+    Outcome r = run_suite(args, kTimeoutS);
+    ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << describe(r);
+    Outcome v = validate_against_schema({out});
+    EXPECT_EQ(v.status, 0) << describe(v);
 
     const json doc = load(out);
     check_content(doc, "copy,triad --stores=nt", 2);
@@ -258,10 +167,10 @@ TEST(ResultSchema, BrokenFilesFailValidation) {
     TempDir dir;
     ASSERT_TRUE(dir.ok());
     const std::string good = dir.file("good.json");
-    Ran r = suite({"--kernel=copy,latency", "--size=64KiB", "--threads=1", "--reps=2", "-q", "--out=" + good});
-    ASSERT_EQ(r.status, 0) << r.output;
-    Ran ok = validate({good});
-    ASSERT_EQ(ok.status, 0) << "the unmodified file must be valid\n" << ok.output;
+    Outcome r = run_suite({"--kernel=copy,latency", "--size=64KiB", "--threads=1", "--reps=2", "-q", "--out=" + good}, kTimeoutS);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    Outcome ok = validate_against_schema({good});
+    ASSERT_EQ(ok.status, 0) << "the unmodified file must be valid\n" << describe(ok);
 
     const json doc = load(good);
     ASSERT_GE(doc.at("results").size(), 2u);
@@ -296,18 +205,18 @@ TEST(ResultSchema, BrokenFilesFailValidation) {
         b.apply(broken);
         const std::string path = dir.file(b.name + ".json");
         save(path, broken);
-        Ran v = validate({path});
-        EXPECT_EQ(v.status, 1) << v.output;
-        EXPECT_NE(v.output.find(b.expect_in_output), std::string::npos) << v.output;
+        Outcome v = validate_against_schema({path});
+        EXPECT_EQ(v.status, 1) << describe(v);
+        EXPECT_NE(v.combined().find(b.expect_in_output), std::string::npos) << describe(v);
     }
     // Several files at once: one bad one makes the whole run fail, and the good one is still reported.
-    Ran mixed = validate({good, dir.file("no_kernel.json")});
-    EXPECT_EQ(mixed.status, 1) << mixed.output;
-    EXPECT_NE(mixed.output.find(good + ": valid"), std::string::npos) << mixed.output;
+    Outcome mixed = validate_against_schema({good, dir.file("no_kernel.json")});
+    EXPECT_EQ(mixed.status, 1) << describe(mixed);
+    EXPECT_NE(mixed.combined().find(good + ": valid"), std::string::npos) << describe(mixed);
     // Not JSON at all.
     std::ofstream(dir.file("truncated.json")) << "{\"schema_version\": 1, \"results\": [";
-    Ran truncated = validate({dir.file("truncated.json")});
-    EXPECT_EQ(truncated.status, 1) << truncated.output;
+    Outcome truncated = validate_against_schema({dir.file("truncated.json")});
+    EXPECT_EQ(truncated.status, 1) << describe(truncated);
 }
 
 }  // namespace
