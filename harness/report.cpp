@@ -45,7 +45,7 @@ nlohmann::json to_json(const Record& r) {
     j["threads"] = r.threads;
     nlohmann::json bindings = nlohmann::json::array();
     for (const auto& b : r.bindings) bindings.push_back(to_json(b));
-    j["pin"] = {{"requested", r.pin}, {"threads", bindings}};
+    j["pin"] = {{"requested", r.pin}, {"threads", bindings}, {"held_during_run", r.binding_held}};
     nlohmann::json pages = nlohmann::json::array();
     for (const auto& a : r.pages) pages.push_back(to_json(a));
     j["placement"] = {{"requested", r.placement},

@@ -37,6 +37,7 @@ struct Record {
     int threads = 1;
     std::string pin;
     std::vector<ThreadBinding> bindings;
+    bool binding_held = false;  // every thread still had its CPU set after the timed repetitions
     std::string placement;     // as asked
     int placement_node = -1;   // node chosen for node:N / remote
     std::vector<int> interleave_nodes;

@@ -120,6 +120,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         for (int b = 0; b < rec.batch; ++b) kernel->run();
         rec.samples_s.push_back(seconds_since(t0) / rec.batch);
     }
+    rec.binding_held = team_still_bound(rec.bindings);
     rec.verification = kernel->verify();
     rec.time = summarise(rec.samples_s);
     rec.rates = derive_rates(rec.work, rec.time, rec.metric, rec.threads);

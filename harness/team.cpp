@@ -31,6 +31,17 @@ cpu_set_t initial_cpuset() {
     return set;
 }
 
+// The calling thread's CPU affinity, as OS CPU numbers.
+std::vector<int> current_cpuset() {
+    cpu_set_t got;
+    CPU_ZERO(&got);
+    pthread_getaffinity_np(pthread_self(), sizeof got, &got);
+    std::vector<int> cpus;
+    for (int c = 0; c < CPU_SETSIZE; ++c)
+        if (CPU_ISSET(c, &got)) cpus.push_back(c);
+    return cpus;
+}
+
 }  // namespace
 
 PinSpec parse_pin(std::string_view text, const Topology& topo) {
@@ -107,11 +118,7 @@ std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, 
         if (int rc = pthread_setaffinity_np(pthread_self(), sizeof set, &set); rc != 0)
             errors[t] = "cannot pin thread " + std::to_string(t) + " to CPU " + std::to_string(order.empty() ? -1 : order[t]) + ": " + std::strerror(rc);
         sched_yield();  // let the scheduler move us before reading back where we are
-        cpu_set_t got;
-        CPU_ZERO(&got);
-        pthread_getaffinity_np(pthread_self(), sizeof got, &got);
-        for (int c = 0; c < CPU_SETSIZE; ++c)
-            if (CPU_ISSET(c, &got)) team[t].allowed.push_back(c);
+        team[t].allowed = current_cpuset();
         team[t].thread = t;
         team[t].cpu = sched_getcpu();
     }
@@ -122,11 +129,15 @@ std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, 
     return team;
 }
 
-std::vector<int> team_nodes(const std::vector<ThreadBinding>& team) {
-    std::set<int> nodes;
-    for (const auto& b : team)
-        if (b.numa_node >= 0) nodes.insert(b.numa_node);
-    return {nodes.begin(), nodes.end()};
+bool team_still_bound(const std::vector<ThreadBinding>& team) {
+    const int threads = static_cast<int>(team.size());
+    int moved = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : moved)
+    {
+        const int t = omp_get_thread_num();
+        if (t >= threads || current_cpuset() != team[t].allowed) moved += 1;
+    }
+    return moved == 0;
 }
 
 nlohmann::json to_json(const ThreadBinding& b) {
@@ -139,6 +150,5 @@ nlohmann::json to_json(const ThreadBinding& b) {
             {"numa_node", known(b.numa_node)}};
 }
 
-std::string describe(const PinSpec& spec) { return spec.text; }
 
 }  // namespace suite

@@ -44,10 +44,11 @@ struct ThreadBinding {
 // when the OS refuses a binding.
 std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, int threads);
 
-// The NUMA nodes the team's threads ran on, without duplicates.
-std::vector<int> team_nodes(const std::vector<ThreadBinding>& team);
+// Whether every thread of the current OpenMP team of team.size() threads still has the CPU set
+// bind_team() read back: run after the timed repetitions, it shows that the kernels ran on the
+// pinned threads (and not on threads the OpenMP runtime created afterwards).
+bool team_still_bound(const std::vector<ThreadBinding>& team);
 
 nlohmann::json to_json(const ThreadBinding& b);
-std::string describe(const PinSpec& spec);
 
 }  // namespace suite

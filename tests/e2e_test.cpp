@@ -136,6 +136,7 @@ TEST(E2E, ResultRecordsPinningAndPagesAsObserved) {
     EXPECT_EQ(rec["pin"]["threads"][0]["requested_cpu"], 0);
     EXPECT_EQ(rec["pin"]["threads"][0]["allowed_cpus"], json::array({0}));
     EXPECT_EQ(rec["pin"]["threads"][0]["cpu"], 0);
+    EXPECT_EQ(rec["pin"]["held_during_run"], true);
     // a, b, c; every page present and counted on an existing node (node 0 on a one-node machine).
     ASSERT_EQ(rec["placement"]["arrays"].size(), 3u);
     for (const auto& a : rec["placement"]["arrays"]) {
@@ -146,7 +147,9 @@ TEST(E2E, ResultRecordsPinningAndPagesAsObserved) {
             sum += count.get<std::uint64_t>();
         }
         EXPECT_EQ(sum, a["pages"].get<std::uint64_t>());
-        if (topo.nodes.size() == 1) EXPECT_EQ(a["pages_per_node"][std::to_string(topo.nodes[0].os_index)], a["pages"]);
+        if (topo.nodes.size() == 1) {
+            EXPECT_EQ(a["pages_per_node"][std::to_string(topo.nodes[0].os_index)], a["pages"]);
+        }
     }
     std::system(("rm -rf " + dir).c_str());
 }

@@ -144,7 +144,9 @@ TEST(Placement, HistogramFindsEveryTouchedPageOnItsNode) {
             counted += count;
         }
         EXPECT_EQ(counted, pages[0].pages);
-        if (topo.nodes.size() == 1) EXPECT_EQ(pages[0].pages_per_node[topo.nodes[0].os_index], pages[0].pages) << where;
+        if (topo.nodes.size() == 1) {
+            EXPECT_EQ(pages[0].pages_per_node[topo.nodes[0].os_index], pages[0].pages) << where;
+        }
         // Never-touched pages are not present: the histogram reports what happened, not what was asked.
         EXPECT_EQ(pages[1].pages_not_present, pages[1].pages) << where;
     }

@@ -64,6 +64,7 @@ TEST_P(Registry, VerifiesAtTinySize) {
         EXPECT_GT(r.work.units, 0);
         EXPECT_GT(r.time.min, 0);
         EXPECT_EQ(r.bindings.size(), static_cast<std::size_t>(threads));
+        EXPECT_TRUE(r.binding_held) << "a thread lost its binding during the repetitions";
     }
 }
 
