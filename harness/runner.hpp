@@ -30,7 +30,9 @@ struct RunSettings {
     int reps = 0;               // counted repetitions; 0: adaptive (>= min_time in total, >= min_reps)
     int min_reps = 5;
     double min_time_s = 0.2;
-    double min_sample_s = 100e-6;  // shorter kernel calls are batched so a sample spans many clock ticks
+    // Shorter kernel calls are batched so that a sample spans many clock ticks and the default
+    // 0.2 s of repetitions stays at most ~200 samples (every one of them is written to the result).
+    double min_sample_s = 1e-3;
     std::uint64_t seed = 1;
     const std::atomic<int>* stop = nullptr;  // set by a signal handler: abandon the point
 };
