@@ -14,10 +14,9 @@ deps:
 test-deps:
 	@scripts/install-deps.sh test
 
-$(BUILD)/CMakeCache.txt:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=$(ARCH) $(CMAKE_FLAGS)
-
-build: deps $(BUILD)/CMakeCache.txt
+# Configured every time, so ARCH=... and CMAKE_FLAGS=... take effect on an existing build too.
+build: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=$(ARCH) $(CMAKE_FLAGS) > /dev/null
 	cmake --build $(BUILD) -j $(JOBS)
 
 # The default sweep: a table on the console and results/latest.json.

@@ -60,8 +60,10 @@ public:
     virtual ~Kernel() = default;
     // Allocate through `arena` and initialise in parallel (OpenMP team already sized and pinned).
     virtual void setup(Arena& arena) = 0;
-    // One repetition. Never reads a clock.
-    virtual void run() = 0;
+    // `calls` repetitions back to back, each complete (barrier included) before the next
+    // starts, inside one parallel region so that short calls do not measure fork and join.
+    // Never reads a clock.
+    virtual void run(int calls) = 0;
     // Checks the state after any number of run() calls against the analytic answer.
     virtual Verification verify() = 0;
     // Work of one repetition; valid after setup().
@@ -91,9 +93,9 @@ using KernelFactory = std::function<std::unique_ptr<Kernel>(const KernelConfig&)
 struct KernelEntry {
     KernelInfo info;
     KernelFactory make;
-    // The smallest size (bytes or count) each thread needs; smaller requests are usage errors,
-    // refused before anything runs.
-    std::uint64_t min_size_per_thread = 1;
+    // Throws UsageError for a configuration the kernel cannot run (too small, too large, a
+    // variant that does not fit the pattern); called for every point before anything runs.
+    std::function<void(const KernelConfig&)> validate = [](const KernelConfig&) {};
     // A size at which the kernel runs in milliseconds, for the registry walk.
     std::uint64_t test_size = 64 << 10;
 };

@@ -67,6 +67,30 @@ int choose_remote_node(const Topology& topo, const std::vector<int>& thread_node
     return best;
 }
 
+MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, const std::vector<int>& thread_cpus) {
+    MemoryPolicy policy;
+    policy.kind = spec.kind;
+    switch (spec.kind) {
+        case PlacementKind::local: break;
+        case PlacementKind::node: policy.node = spec.node; break;
+        case PlacementKind::interleave:
+            for (const auto& n : topo.nodes) policy.nodes.push_back(n.os_index);
+            break;
+        case PlacementKind::remote: {
+            std::vector<int> used;  // every node a thread may run on counts as the threads' own
+            for (int cpu : thread_cpus)
+                if (const Pu* pu = topo.find_pu(cpu); pu && std::find(used.begin(), used.end(), pu->numa_node) == used.end())
+                    used.push_back(pu->numa_node);
+            policy.node = choose_remote_node(topo, used);
+            if (policy.node < 0)
+                throw UsageError("--placement=remote: the threads may run on every NUMA node, so no node is remote to them; "
+                                 "use fewer threads or pin them to one node's CPUs (--pin=compact or a CPU list)");
+            break;
+        }
+    }
+    return policy;
+}
+
 Arena::Arena(MemoryPolicy policy) : policy_(std::move(policy)) {}
 
 Arena::Arena(Arena&& other) noexcept : policy_(std::move(other.policy_)), blocks_(std::move(other.blocks_)) {
@@ -81,26 +105,24 @@ void* Arena::allocate_bytes(const std::string& name, std::size_t bytes) {
     const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
     std::size_t len = std::max<std::size_t>(page, (bytes + page - 1) / page * page);
     void* p = mmap(nullptr, len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (p == MAP_FAILED) throw std::bad_alloc();
-    if (numa_available() >= 0) {
-        // The policy is set on the still-untouched range; the first touch then obeys it.
-        if (policy_.kind == PlacementKind::node || policy_.kind == PlacementKind::remote) {
-            numa_tonode_memory(p, len, policy_.node);
-        } else if (policy_.kind == PlacementKind::interleave) {
-            struct bitmask* mask = numa_allocate_nodemask();
-            for (int n : policy_.nodes) numa_bitmask_setbit(mask, static_cast<unsigned>(n));
-            numa_interleave_memory(p, len, mask);
-            numa_free_nodemask(mask);
-        }
-    }
+    if (p == MAP_FAILED)
+        throw std::runtime_error("cannot map " + format_bytes(len) + " for array '" + name + "': " + std::strerror(errno));
     blocks_.push_back({name, p, len});
+    if (policy_.kind == PlacementKind::local) return p;
+    // The policy is set on the still-untouched range, so the first touch obeys it. mbind is
+    // called directly (not through libnuma's helpers, which only print a failure) so that a
+    // binding that did not take stops the run instead of mislabelling its result.
+    const bool bind = policy_.kind != PlacementKind::interleave;
+    std::vector<unsigned long> mask(16, 0);  // room for 1024 nodes
+    for (int n : bind ? std::vector<int>{policy_.node} : policy_.nodes) {
+        if (n < 0 || n >= static_cast<int>(mask.size() * 64)) throw std::runtime_error("NUMA node " + std::to_string(n) + " out of range");
+        mask[static_cast<std::size_t>(n) / 64] |= 1UL << (n % 64);
+    }
+    if (mbind(p, len, bind ? MPOL_BIND : MPOL_INTERLEAVE, mask.data(), mask.size() * 64, 0) != 0)
+        throw std::runtime_error("cannot bind array '" + name + "' (" + format_bytes(len) + ") to " +
+                                 (bind ? "node " + std::to_string(policy_.node) : std::string("the interleave nodes")) + ": mbind: " +
+                                 std::strerror(errno));
     return p;
-}
-
-std::uint64_t Arena::bytes() const {
-    std::uint64_t total = 0;
-    for (const auto& b : blocks_) total += b.bytes;
-    return total;
 }
 
 std::vector<ArrayPlacement> Arena::observe() const {
@@ -145,8 +167,8 @@ nlohmann::json to_json(const ArrayPlacement& a) {
 std::uint64_t available_memory_bytes(const MemoryPolicy& policy) {
     if ((policy.kind == PlacementKind::node || policy.kind == PlacementKind::remote) && numa_available() >= 0) {
         long long free_bytes = 0;
-        numa_node_size64(policy.node, &free_bytes);
-        return static_cast<std::uint64_t>(std::max(0LL, free_bytes));
+        if (numa_node_size64(policy.node, &free_bytes) >= 0 && free_bytes >= 0) return static_cast<std::uint64_t>(free_bytes);
+        return std::numeric_limits<std::uint64_t>::max();  // unknown: let the allocation decide
     }
     std::ifstream meminfo("/proc/meminfo");
     std::string key;

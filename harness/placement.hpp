@@ -1,7 +1,7 @@
 #pragma once
-// Where an array's pages live. A PlacementSpec is what the user asked for; resolve() turns it,
-// given the nodes the team runs on, into the one policy an Arena applies to every array it
-// hands out. After the kernel's first touch, Arena::observe() asks the kernel (move_pages)
+// Where an array's pages live. A PlacementSpec is what the user asked for; resolve_policy()
+// turns it, given the CPUs the team may run on, into the one policy an Arena applies to every
+// array it hands out. After the kernel's first touch, Arena::observe() asks the kernel (move_pages)
 // where each page really is, so the result records what happened, not just what was asked.
 #include <cstddef>
 #include <cstdint>
@@ -41,6 +41,10 @@ struct MemoryPolicy {
     std::vector<int> nodes;  // interleave set
 };
 
+// The policy of `spec` for threads that may run on `thread_cpus` (OS CPU numbers). Throws
+// UsageError when "remote" has no node left that the threads do not use.
+MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, const std::vector<int>& thread_cpus);
+
 struct ArrayPlacement {
     std::string name;
     std::uint64_t bytes = 0;
@@ -69,7 +73,6 @@ public:
     }
     void* allocate_bytes(const std::string& name, std::size_t bytes);
 
-    std::uint64_t bytes() const;
     std::vector<ArrayPlacement> observe() const;
 
 private:

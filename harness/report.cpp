@@ -41,6 +41,7 @@ nlohmann::json to_json(const Record& r) {
     j["size"] = {{"kind", r.size_kind == SizeKind::bytes ? "bytes" : "count"},
                  {"requested", r.size_requested},
                  {"footprint_bytes", r.work.footprint_bytes},
+                 {"smallest_array_over_llc", opt(r.smallest_array_over_llc)},
                  {"units", r.work.units}};
     j["threads"] = r.threads;
     nlohmann::json bindings = nlohmann::json::array();
@@ -102,17 +103,16 @@ std::string table_header() {
 }
 
 std::string table_row(std::size_t index, std::size_t total, const Record& r) {
-    std::string best, median, hw;
-    if (r.metric == Metric::bandwidth) {
+    std::string best = "-", median = "-", hw = "-";
+    if (r.metric == Metric::bandwidth && r.rates.stream_gbps_best) {
         best = fmt("%.2f GB/s", *r.rates.stream_gbps_best);
         median = fmt("%.2f", *r.rates.stream_gbps_median);
         hw = fmt("%.2f", *r.rates.hardware_gbps_best);
-    } else {
+    } else if (r.metric == Metric::latency && r.rates.ns_per_load_best) {
         best = fmt("%.2f ns", *r.rates.ns_per_load_best);
         median = fmt("%.2f", *r.rates.ns_per_load_median);
-        hw = "-";
     }
-    std::string size = r.size_kind == SizeKind::bytes ? format_bytes(r.size_requested) : std::to_string(r.size_requested);
+    const std::string size = size_label(r.size_kind, r.size_requested);
     std::string pos = std::to_string(index) + "/" + std::to_string(total);
     char buf[320];
     std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3d %-10s %10s %10s %10s %6.1f %6d %s\n", pos.c_str(), r.name.c_str(),
@@ -121,27 +121,20 @@ std::string table_row(std::size_t index, std::size_t total, const Record& r) {
     return buf;
 }
 
-ResultFile::ResultFile(std::string path, FileFormat format, nlohmann::json context)
-    : path_(std::move(path)), format_(format), context_(std::move(context)) {}
-
-void ResultFile::add(const Record& r) { records_.push_back(r); }
-
-std::string ResultFile::render(bool complete) const {
-    if (format_ == FileFormat::csv) {
+std::string ResultDocument::render(FileFormat format, bool complete) const {
+    if (format == FileFormat::csv) {
         std::string out = csv_header();
-        for (const auto& r : records_) out += to_csv_row(r);
+        for (const auto& r : records) out += to_csv_row(r);
         return out;
     }
     nlohmann::json doc;
     doc["schema_version"] = schema_version;
     doc["complete"] = complete;
-    doc["context"] = context_;
+    doc["context"] = context;
     doc["results"] = nlohmann::json::array();
-    for (const auto& r : records_) doc["results"].push_back(to_json(r));
+    for (const auto& r : records) doc["results"].push_back(to_json(r));
     return doc.dump(1) + "\n";
 }
-
-void ResultFile::save(bool complete) { write_atomically(path_, render(complete)); }
 
 void write_atomically(const std::string& path, const std::string& content) {
     const std::string tmp = path + ".tmp." + std::to_string(getpid());

@@ -1,6 +1,6 @@
 #pragma once
-// Reporters render Records; they compute nothing. JSON and CSV go to files through
-// ResultFile, which replaces the target atomically so a reader never sees half a file.
+// Reporters render Records; they compute nothing. Files are replaced atomically
+// (write_atomically), so a reader never sees half a file.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -23,27 +23,17 @@ std::string table_row(std::size_t index, std::size_t total, const Record& r);
 
 enum class FileFormat { json, csv };
 
-// A result file that is valid at every moment: each save() writes a temporary file beside the
-// target, flushes it to disk and renames it over the target. Nothing is created until the
-// first save(); a failed save leaves the previous file as it was and throws std::runtime_error.
-class ResultFile {
-public:
-    ResultFile(std::string path, FileFormat format, nlohmann::json context);
-    void add(const Record& r);
-    void save(bool complete);
-    std::size_t size() const { return records_.size(); }
-    const std::string& path() const { return path_; }
-    // The whole document as it would be saved.
-    std::string render(bool complete) const;
-
-private:
-    std::string path_;
-    FileFormat format_;
-    nlohmann::json context_;
-    std::vector<Record> records_;
+// A run's results in memory: the context and the records measured so far.
+struct ResultDocument {
+    nlohmann::json context;
+    std::vector<Record> records;
+    // JSON: {schema_version, complete, context, results}; CSV: a header and one row per record.
+    std::string render(FileFormat format, bool complete) const;
 };
 
-// Writes `content` to `path` atomically (temporary file + fsync + rename).
+// Writes `content` to `path` so that `path` is valid at every moment: a temporary file beside
+// it, flushed to disk, renamed over it. On failure the previous file is left as it was, the
+// temporary file is removed, and std::runtime_error says why.
 void write_atomically(const std::string& path, const std::string& content);
 
 }  // namespace suite

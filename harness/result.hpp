@@ -9,6 +9,7 @@
 #include "harness/placement.hpp"
 #include "harness/stats.hpp"
 #include "harness/team.hpp"
+#include "harness/units.hpp"
 
 namespace suite {
 
@@ -31,6 +32,8 @@ struct Record {
     std::string access;        // "sequential", "random", "strided:8", "morton", ...
     SizeKind size_kind = SizeKind::bytes;
     std::uint64_t size_requested = 0;
+    // The smallest array over all last-level cache instances together: a DRAM figure wants >= 4.
+    std::optional<double> smallest_array_over_llc;
     Work work;                 // per repetition
     std::string unit;
     Metric metric = Metric::bandwidth;
@@ -43,7 +46,7 @@ struct Record {
     std::vector<int> interleave_nodes;
     std::vector<ArrayPlacement> pages;  // as observed after first touch
     int repetitions = 0;       // counted ones, after the warm-up
-    int warmup = 1;
+    int warmup = 0;            // uncounted calls before the repetitions (the runner sets it)
     int batch = 1;             // kernel calls per timed sample (tiny sizes); times are per call
     std::vector<double> samples_s;  // per call, one per counted repetition
     TimeStats time;
@@ -51,6 +54,11 @@ struct Record {
     Verification verification;
     std::uint64_t seed = 0;
 };
+
+// A size as people read it: "64MiB" for a footprint, "1000000" for a count.
+inline std::string size_label(SizeKind kind, std::uint64_t size) {
+    return kind == SizeKind::bytes ? format_bytes(size) : std::to_string(size);
+}
 
 inline std::string display_name(const std::string& kernel, const std::string& variant) {
     return variant.empty() ? kernel : kernel + "-" + variant;

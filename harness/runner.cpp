@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <set>
 
 #include "harness/units.hpp"
 
@@ -21,32 +20,6 @@ void check_stop(const RunSettings& s) {
 }
 
 }  // namespace
-
-MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, const std::vector<ThreadBinding>& team) {
-    MemoryPolicy policy;
-    policy.kind = spec.kind;
-    switch (spec.kind) {
-        case PlacementKind::local: break;
-        case PlacementKind::node: policy.node = spec.node; break;
-        case PlacementKind::interleave:
-            for (const auto& n : topo.nodes) policy.nodes.push_back(n.os_index);
-            break;
-        case PlacementKind::remote: {
-            // Every node any thread may run on counts as the threads' own.
-            std::set<int> used;
-            for (const auto& b : team)
-                for (int cpu : b.allowed)
-                    if (const Pu* pu = topo.find_pu(cpu)) used.insert(pu->numa_node);
-            policy.node = choose_remote_node(topo, {used.begin(), used.end()});
-            if (policy.node < 0)
-                throw UsageError("--placement=remote: the " + std::to_string(team.size()) +
-                                 " thread(s) may run on every NUMA node, so no node is remote to them; pin fewer threads "
-                                 "(e.g. --pin=compact with the threads of one node)");
-            break;
-        }
-    }
-    return policy;
-}
 
 Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads) {
     Rates r;
@@ -85,7 +58,9 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     rec.seed = settings.seed;
 
     rec.bindings = bind_team(topo, settings.pin, point.threads);
-    const MemoryPolicy policy = resolve_policy(settings.placement, topo, rec.bindings);
+    std::vector<int> cpus;  // every CPU a thread of the team may run on
+    for (const auto& b : rec.bindings) cpus.insert(cpus.end(), b.allowed.begin(), b.allowed.end());
+    const MemoryPolicy policy = resolve_policy(settings.placement, topo, cpus);
     rec.placement_node = policy.node;
     rec.interleave_nodes = policy.nodes;
 
@@ -100,12 +75,18 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     auto kernel = point.kernel->make(cfg);
     kernel->setup(arena);
     rec.pages = arena.observe();
+    if (const std::uint64_t llc = topo.last_level_cache_total_bytes(); llc > 0 && !rec.pages.empty()) {
+        std::uint64_t smallest = rec.pages.front().bytes;
+        for (const auto& a : rec.pages) smallest = std::min(smallest, a.bytes);
+        rec.smallest_array_over_llc = static_cast<double>(smallest) / static_cast<double>(llc);
+    }
     rec.work = kernel->work();
     check_stop(settings);
 
     // Warm-up: not counted; it also tells how long one call takes.
+    rec.warmup = 1;
     auto t0 = Clock::now();
-    kernel->run();
+    kernel->run(rec.warmup);
     const double first = std::max(seconds_since(t0), 1e-9);
     rec.batch = first >= settings.min_sample_s ? 1 : static_cast<int>(std::ceil(settings.min_sample_s / first));
     const double per_sample = first * rec.batch;
@@ -117,7 +98,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     for (int r = 0; r < rec.repetitions; ++r) {
         check_stop(settings);
         t0 = Clock::now();
-        for (int b = 0; b < rec.batch; ++b) kernel->run();
+        kernel->run(rec.batch);
         rec.samples_s.push_back(seconds_since(t0) / rec.batch);
     }
     rec.binding_held = team_still_bound(rec.bindings);

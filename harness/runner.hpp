@@ -42,10 +42,6 @@ struct Interrupted : std::exception {
     const char* what() const noexcept override { return "interrupted"; }
 };
 
-// The memory policy of `spec` for a team whose threads may run on `team` CPUs. Throws
-// UsageError when "remote" has no node left that the threads do not use.
-MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, const std::vector<ThreadBinding>& team);
-
 Record run_point(const Point& point, const RunSettings& settings, const Topology& topo);
 
 // Fills Record::rates from work, time statistics and threads.

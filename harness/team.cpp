@@ -54,7 +54,7 @@ PinSpec parse_pin(std::string_view text, const Topology& topo) {
         spec.mode = PinMode::list;
         spec.cpus = parse_cpu_list(text);
         for (int c : spec.cpus)
-            if (!topo.find_pu(c))
+            if (!topo.find_pu(c) || c >= CPU_SETSIZE)
                 throw UsageError("--pin list names CPU " + std::to_string(c) + ", which this machine does not have (it has " +
                                  std::to_string(topo.pu_count()) + " PUs; see ./suite info)");
     } else {
@@ -104,9 +104,12 @@ std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, 
     std::vector<ThreadBinding> team(threads);
     std::vector<std::string> errors(threads);
     const cpu_set_t original = initial_cpuset();
+    int team_size = 0;
 #pragma omp parallel num_threads(threads)
     {
         const int t = omp_get_thread_num();
+#pragma omp single
+        team_size = omp_get_num_threads();
         cpu_set_t set;
         if (spec.mode == PinMode::none) {
             set = original;
@@ -122,6 +125,9 @@ std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, 
         team[t].thread = t;
         team[t].cpu = sched_getcpu();
     }
+    if (team_size != threads)
+        throw std::runtime_error("OpenMP gave " + std::to_string(team_size) + " thread(s) where " + std::to_string(threads) +
+                                 " were asked for (is OMP_THREAD_LIMIT set?)");
     for (const auto& e : errors)
         if (!e.empty()) throw std::runtime_error(e);
     for (auto& b : team)

@@ -137,12 +137,29 @@ const NumaNode* Topology::find_node(int os_index) const {
     return nullptr;
 }
 
-std::uint64_t Topology::last_level_cache_bytes() const {
-    std::uint64_t best = 0;
-    int level = 0;
+const Cache* Topology::find_cache(int level) const {
     for (const auto& c : caches)
-        if (c.type != "instruction" && c.level >= level) { level = c.level; best = c.size_bytes; }
-    return best;
+        if (c.level == level && c.type != "instruction") return &c;
+    return nullptr;
+}
+
+namespace {
+const Cache* last_level(const std::vector<Cache>& caches) {
+    const Cache* last = nullptr;
+    for (const auto& c : caches)
+        if (c.type != "instruction" && (!last || c.level > last->level)) last = &c;
+    return last;
+}
+}  // namespace
+
+std::uint64_t Topology::last_level_cache_bytes() const {
+    const Cache* c = last_level(caches);
+    return c ? c->size_bytes : 0;
+}
+
+std::uint64_t Topology::last_level_cache_total_bytes() const {
+    const Cache* c = last_level(caches);
+    return c ? c->size_bytes * static_cast<std::uint64_t>(c->instances) : 0;
 }
 
 nlohmann::json to_json(const Topology& topo) {

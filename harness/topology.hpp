@@ -51,8 +51,12 @@ struct Topology {
     int pu_count() const { return static_cast<int>(pus.size()); }
     const Pu* find_pu(int os_index) const;
     const NumaNode* find_node(int os_index) const;
-    // Size of the largest data or unified cache, 0 if hwloc reports none.
+    // The data or unified cache of `level`, nullptr if hwloc reports none.
+    const Cache* find_cache(int level) const;
+    // One instance of the last level (data or unified), and all its instances together; 0 if
+    // hwloc reports none. A DRAM-sized array must be larger than the total, not one slice.
     std::uint64_t last_level_cache_bytes() const;
+    std::uint64_t last_level_cache_total_bytes() const;
 };
 
 nlohmann::json to_json(const Topology& topo);

@@ -122,6 +122,9 @@ std::vector<int> parse_thread_list(std::string_view text, int max_threads) {
             long long hi = parse_int(std::string_view(part).substr(dash + 1, colon == std::string::npos ? std::string::npos : colon - dash - 1), "thread count");
             long long step = colon == std::string::npos ? 1 : parse_int(std::string_view(part).substr(colon + 1), "thread step");
             if (step < 1 || lo > hi) throw UsageError("invalid thread range '" + part + "': expected " + accepted);
+            if (hi > max_threads)  // checked before expanding, so a huge range costs nothing
+                throw UsageError("thread count " + std::to_string(hi) + " is more than the " + std::to_string(max_threads) +
+                                 " processing units (PUs) available here; use at most " + std::to_string(max_threads) + " or 'all'");
             for (long long t = lo; t <= hi; t += step) out.push_back(static_cast<int>(t));
         }
     }
@@ -142,6 +145,7 @@ std::vector<int> parse_cpu_list(std::string_view text) {
         long long lo = parse_int(std::string_view(part).substr(0, dash), "CPU number");
         long long hi = dash == std::string::npos ? lo : parse_int(std::string_view(part).substr(dash + 1), "CPU number");
         if (lo > hi) throw UsageError("invalid CPU range '" + part + "': expected e.g. 0-3");
+        if (hi - lo > 1000000) throw UsageError("CPU range '" + part + "' is implausibly large");  // before expanding it
         for (long long c = lo; c <= hi; ++c) {
             if (!seen.insert(static_cast<int>(c)).second)
                 throw UsageError("CPU " + std::to_string(c) + " appears twice in --pin list '" + std::string(text) + "'");
@@ -156,10 +160,16 @@ std::string format_bytes(std::uint64_t bytes) {
     double v = static_cast<double>(bytes);
     int u = 0;
     while (v >= 1024.0 && u < 4) { v /= 1024.0; ++u; }
+    // Whole numbers as they are; otherwise up to 3 significant digits, never in e-notation.
     char buf[32];
-    if (std::fabs(v - std::round(v)) < 1e-9) std::snprintf(buf, sizeof buf, "%.0f%s", v, names[u]);
-    else std::snprintf(buf, sizeof buf, "%.3g%s", v, names[u]);
-    return buf;
+    const int decimals = std::fabs(v - std::round(v)) < 1e-9 ? 0 : v < 10 ? 2 : v < 100 ? 1 : 0;
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+    std::string text = buf;
+    if (text.find('.') != std::string::npos) {
+        while (text.back() == '0') text.pop_back();
+        if (text.back() == '.') text.pop_back();
+    }
+    return text + names[u];
 }
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {

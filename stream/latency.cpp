@@ -1,13 +1,16 @@
-// latency (pointer chase):   for (k = 0; k < L; ++k) p = p->next;
+// latency (pointer chase):   for (k = 0; k < steps; ++k) p = p->next;
 // Each thread owns footprint/threads bytes of 64 B lines linked into one cycle; `random` links
-// them in a seeded random cyclic order (Sattolo's algorithm), so every load depends on the one
-// before and no prefetcher can guess the next line; `sequential` links each line to the next,
-// the prefetcher-friendly reference. One repetition walks the whole cycle once. The headline is
-// nanoseconds per load; with several threads it is the loaded latency each thread sees.
+// them in a uniformly random cyclic order (a Fisher-Yates shuffle of the lines, each linked to
+// the next in shuffled order), so every load depends on the one before and no prefetcher can
+// guess the next line; `sequential` links each line to the next, the prefetcher-friendly
+// reference. One repetition takes one step more than the cycle has lines, so that each
+// repetition ends somewhere else and verify() can tell how many steps were really taken. The
+// headline is nanoseconds per load; with several threads it is the loaded latency each sees.
 #include <omp.h>
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "harness/kernel.hpp"
@@ -18,7 +21,8 @@ namespace {
 
 struct alignas(64) Line {
     Line* next;
-    char pad[64 - sizeof(Line*)];
+    std::uint64_t order;  // scratch for building the cycle, so setup needs no extra memory
+    char pad[64 - sizeof(Line*) - sizeof(std::uint64_t)];
 };
 static_assert(sizeof(Line) == 64);
 
@@ -26,63 +30,71 @@ class Latency final : public Kernel {
 public:
     explicit Latency(const KernelConfig& cfg) : cfg_(cfg) {}
 
+    static std::uint64_t lines_per_thread(const KernelConfig& cfg) {
+        return cfg.size / sizeof(Line) / static_cast<std::uint64_t>(cfg.threads);
+    }
+
     void setup(Arena& arena) override {
-        lines_ = cfg_.size / sizeof(Line);
         const int nt = cfg_.threads;
-        per_thread_ = lines_ / static_cast<std::uint64_t>(nt);
-        if (per_thread_ < 2)
-            throw UsageError("size " + format_bytes(cfg_.size) + " is too small for latency with " + std::to_string(nt) +
-                             " threads: each thread needs at least 2 cache lines (128 B)");
+        per_thread_ = lines_per_thread(cfg_);
         lines_ = per_thread_ * static_cast<std::uint64_t>(nt);
         mem_ = arena.allocate<Line>("lines", lines_);
         pos_.assign(static_cast<std::size_t>(nt), nullptr);
         start_.assign(static_cast<std::size_t>(nt), nullptr);
         const bool random = cfg_.access.name == "random";
-#pragma omp parallel num_threads(nt)
+        int team = 0;
+#pragma omp parallel num_threads(nt) reduction(max : team)
         {
+            team = omp_get_num_threads();
             // Each thread links (and so first-touches) its own region.
             const int t = omp_get_thread_num();
             Line* base = mem_ + per_thread_ * static_cast<std::uint64_t>(t);
-            std::vector<std::uint64_t> order(per_thread_);
-            for (std::uint64_t k = 0; k < per_thread_; ++k) order[k] = k;
+            const std::uint64_t L = per_thread_;
+            for (std::uint64_t k = 0; k < L; ++k) base[k].order = k;
             if (random) {
                 std::mt19937_64 rng(cfg_.seed * 1000003u + static_cast<std::uint64_t>(t));
-                // Sattolo: a uniformly random permutation that is a single cycle.
-                for (std::uint64_t i = per_thread_ - 1; i > 0; --i) {
-                    const auto j = static_cast<std::uint64_t>((static_cast<unsigned __int128>(rng()) * i) >> 64);
-                    std::swap(order[i], order[j]);
+                for (std::uint64_t i = L - 1; i > 0; --i) {
+                    const auto j = static_cast<std::uint64_t>((static_cast<unsigned __int128>(rng()) * (i + 1)) >> 64);
+                    std::swap(base[i].order, base[j].order);
                 }
             }
-            for (std::uint64_t k = 0; k < per_thread_; ++k) base[order[k]].next = &base[order[(k + 1) % per_thread_]];
-            start_[t] = pos_[t] = &base[order[0]];
+            // base[k].order is the k-th line of the walk: link each to the one after it.
+            for (std::uint64_t k = 0; k < L; ++k) base[base[k].order].next = &base[base[(k + 1) % L].order];
+            start_[t] = pos_[t] = &base[base[0].order];
         }
+        if (team != nt)
+            throw std::runtime_error("OpenMP gave " + std::to_string(team) + " threads where " + std::to_string(nt) +
+                                     " were asked for (is OMP_THREAD_LIMIT set?)");
     }
 
-    void run() override {
-        const std::uint64_t steps = per_thread_;
+    void run(int calls) override {
+        const std::uint64_t steps = per_thread_ + 1;
 #pragma omp parallel num_threads(cfg_.threads)
         {
             const int t = omp_get_thread_num();
             Line* p = pos_[t];
-            for (std::uint64_t k = 0; k < steps; ++k) p = p->next;
+            for (int c = 0; c < calls; ++c)
+                for (std::uint64_t k = 0; k < steps; ++k) p = p->next;
             pos_[t] = p;  // stored, so the chase cannot be optimised away
         }
+        calls_ += static_cast<std::uint64_t>(calls);
     }
 
     Verification verify() override {
         Verification v;
         v.passed = true;
-        v.detail = "each thread's chain is one cycle over its " + std::to_string(per_thread_) +
-                   " lines and every repetition ended where it started";
+        // After `calls_` repetitions of L+1 steps on a cycle of L lines, each thread stands
+        // calls_ mod L lines after its start; and the cycle has exactly L lines.
+        if (calls_ == 0) return {false, "the chase never ran", 0};
+        const std::uint64_t offset = calls_ % per_thread_;
+        v.detail = "each thread's chain is one cycle over its " + std::to_string(per_thread_) + " lines and, after " +
+                   std::to_string(calls_) + " repetitions, stands where that many steps lead";
         for (std::size_t t = 0; t < pos_.size() && v.passed; ++t) {
-            if (pos_[t] != start_[t]) {
-                v.passed = false;
-                v.detail = "thread " + std::to_string(t) + " did not end a repetition at its start line";
-                break;
-            }
-            std::uint64_t length = 0;
             const Line* p = start_[t];
+            std::uint64_t length = 0;
+            const Line* expect = nullptr;
             do {
+                if (length == offset) expect = p;
                 p = p->next;
                 ++length;
             } while (p != start_[t] && length <= per_thread_);
@@ -90,6 +102,10 @@ public:
                 v.passed = false;
                 v.detail = "thread " + std::to_string(t) + "'s chain has a cycle of " + std::to_string(length) + " lines, not " +
                            std::to_string(per_thread_);
+            } else if (pos_[t] != expect) {
+                v.passed = false;
+                v.detail = "thread " + std::to_string(t) + " does not stand where " + std::to_string(calls_) +
+                           " repetitions of the chase lead";
             }
         }
         return v;
@@ -97,16 +113,17 @@ public:
 
     Work work() const override {
         Work w;
-        w.units = static_cast<double>(lines_);  // loads, all threads together
-        w.stream_bytes = static_cast<double>(lines_) * sizeof(Line*);
-        w.hardware_bytes = static_cast<double>(lines_) * sizeof(Line);
+        const double loads = static_cast<double>((per_thread_ + 1) * static_cast<std::uint64_t>(cfg_.threads));
+        w.units = loads;  // all threads together
+        w.stream_bytes = loads * sizeof(Line*);
+        w.hardware_bytes = loads * sizeof(Line);
         w.footprint_bytes = lines_ * sizeof(Line);
         return w;
     }
 
 private:
     KernelConfig cfg_;
-    std::uint64_t lines_ = 0, per_thread_ = 0;
+    std::uint64_t lines_ = 0, per_thread_ = 0, calls_ = 0;
     Line* mem_ = nullptr;
     std::vector<Line*> pos_, start_;
 };
@@ -124,7 +141,12 @@ const bool registered = [] {
     e.info.read_bytes_per_unit = 8;
     e.info.notes = "ns per dependent load; each thread chases its own cycle over footprint/threads";
     e.make = [](const KernelConfig& cfg) { return std::make_unique<Latency>(cfg); };
-    e.min_size_per_thread = 2 * sizeof(Line);  // a cycle needs two lines
+    e.validate = [](const KernelConfig& cfg) {
+        if (Latency::lines_per_thread(cfg) < 2)
+            throw UsageError("size " + format_bytes(cfg.size) + " is too small for latency with " + std::to_string(cfg.threads) +
+                             " thread(s): each thread needs at least 2 cache lines; use at least " +
+                             format_bytes(2 * sizeof(Line) * static_cast<std::uint64_t>(cfg.threads)));
+    };
     return register_kernel(std::move(e));
 }();
 

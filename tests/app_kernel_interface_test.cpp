@@ -26,9 +26,11 @@ public:
             order_[i] = cfg_.access.name == "natural" ? i : (i * 2654435761u) % n_;
         }
     }
-    void run() override {
+    void run(int calls) override {
+        for (int c = 0; c < calls; ++c) {
 #pragma omp parallel for schedule(static)
-        for (std::int64_t i = 0; i < static_cast<std::int64_t>(n_); ++i) y_[i] = x_[order_[i]];
+            for (std::int64_t i = 0; i < static_cast<std::int64_t>(n_); ++i) y_[i] = x_[order_[i]];
+        }
     }
     Verification verify() override {
         Verification v{true, "y[i] == order[i]", 0};

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <thread>
 
-#include "harness/cli_run.hpp"
+#include "harness/plan.hpp"
 #include "harness/topology.hpp"
 #include "process.hpp"
 
@@ -50,14 +52,14 @@ TEST(E2E, NonTemporalVariantsEmitStreamingStoresAndPlainOnesDoNot) {
     for (const std::string op : {"Copy", "Scale", "Add", "Triad"}) {
         bool nt_found = false, plain_has_nt = false, plain_seen = false;
         for (const auto& [name, body] : functions) {
-            if (name.find("nt_store_loop<suite::stream::(anonymous namespace)::" + op + ">") != std::string::npos)
+            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::nt_store_loop") != std::string::npos)
                 nt_found = nt_found || has_nt_store(body);
-            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::run_sequential") != std::string::npos) {
+            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::sequential_loop") != std::string::npos) {
                 plain_seen = true;
                 plain_has_nt = plain_has_nt || has_nt_store(body);
             }
         }
-        EXPECT_TRUE(nt_found) << op << ": no movntpd in its nt_store_loop (or its OpenMP body)";
+        EXPECT_TRUE(nt_found) << op << ": no movntpd in StreamKernel<" << op << ">::nt_store_loop (or its OpenMP body)";
         EXPECT_TRUE(plain_seen) << op << ": sequential loop not found in the binary";
         EXPECT_FALSE(plain_has_nt) << op << ": the plain sequential loop should use ordinary stores";
     }
@@ -169,4 +171,18 @@ TEST(E2E, CsvOutputHasAHeaderAndOneRowPerPoint) {
     }
     EXPECT_EQ(rows, 2);
     std::system(("rm -rf " + dir).c_str());
+}
+
+TEST(E2E, OutputThatIsNotARegularFileIsRefusedAndLeftAlone) {
+    TempDir dir;
+    const std::string target = dir.file("real.json"), link = dir.file("link.json");
+    { std::ofstream(target) << "keep me\n"; }
+    ASSERT_EQ(symlink(target.c_str(), link.c_str()), 0);
+    Outcome r = run_suite({"--kernel=copy", "--size=64KiB", "--reps=1", "--out=" + link});
+    EXPECT_EQ(r.status, 2) << describe(r);
+    EXPECT_NE(r.err.find("not a regular file"), std::string::npos) << r.err;
+    struct stat st{};
+    ASSERT_EQ(lstat(link.c_str(), &st), 0);
+    EXPECT_TRUE(S_ISLNK(st.st_mode));
+    EXPECT_EQ(slurp(target), "keep me\n");
 }

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "harness/placement.hpp"
+#include "harness/plan.hpp"
 #include "harness/runner.hpp"
 #include "harness/stats.hpp"
 #include "harness/team.hpp"
@@ -126,8 +127,7 @@ TEST(Placement, HistogramFindsEveryTouchedPageOnItsNode) {
     Topology topo = Topology::load();
     for (const char* where : {"local", "node:0", "interleave"}) {
         PlacementSpec spec = parse_placement(where, topo);
-        auto team = bind_team(topo, parse_pin("compact", topo), 1);
-        Arena arena(resolve_policy(spec, topo, team));
+        Arena arena(resolve_policy(spec, topo, {0}));
         const std::size_t n = 1 << 20;  // 8 MiB
         double* a = arena.allocate<double>("a", n);
         double* untouched = arena.allocate<double>("untouched", n);
@@ -150,4 +150,47 @@ TEST(Placement, HistogramFindsEveryTouchedPageOnItsNode) {
         // Never-touched pages are not present: the histogram reports what happened, not what was asked.
         EXPECT_EQ(pages[1].pages_not_present, pages[1].pages) << where;
     }
+}
+
+TEST(Plan, RemoteIsResolvedForEveryTeamBeforeAnythingRuns) {
+    Topology t = two_socket();
+    RunOptions o;
+    o.kernels = "triad";
+    o.size = "1MiB";
+    o.placement = "remote";
+    o.threads = "1-2";  // compact: CPUs 0 and 1, both on node 0, so node 1 is remote
+    EXPECT_EQ(make_plan(o, t).points.size(), 2u);
+    o.pin = "scatter";  // CPUs 0 and 2: the two threads cover both nodes
+    try {
+        make_plan(o, t);
+        FAIL() << "remote with threads on every node was accepted";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("no node is remote"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Plan, KernelsValidateTheirConfigurationUpFront) {
+    Topology t = two_socket();
+    RunOptions o;
+    o.kernels = "latency";
+    o.size = "1KiB";
+    o.threads = "8";  // 16 lines for 8 threads is enough ...
+    EXPECT_EQ(make_plan(o, t).points.size(), 1u);
+    o.size = "512B";  // ... 8 lines are not
+    EXPECT_THROW(make_plan(o, t), UsageError);
+    o.kernels = "add";
+    o.size = "200TiB";  // random indices are 32-bit
+    o.patterns = "random";
+    EXPECT_THROW(make_plan(o, t), UsageError);
+    o.size = "1MiB";
+    o.stores = "nt";  // non-temporal stores are for the sequential pattern
+    EXPECT_THROW(make_plan(o, t), UsageError);
+}
+
+TEST(Plan, DefaultSizesFollowTheCaches) {
+    Topology t = two_socket();
+    t.caches = {{1, "data", 48 << 10, 64, 4, 1}, {2, "unified", 2 << 20, 64, 4, 1}, {3, "unified", 32 << 20, 64, 2, 4}};
+    // Half an L1d, half an L2, and 16x the two L3 instances together (1 GiB).
+    EXPECT_EQ(default_sizes(t), (std::vector<std::uint64_t>{24 << 10, 1 << 20, 1ull << 30}));
+    EXPECT_EQ(t.last_level_cache_total_bytes(), 64ull << 20);
 }

@@ -46,7 +46,7 @@ TEST(ParseThreadList, ListsRangesStepsAndAll) {
     EXPECT_EQ(parse_thread_list("2-8:3", 8), (std::vector<int>{2, 5, 8}));
     EXPECT_EQ(parse_thread_list("all", 8), (std::vector<int>{8}));
     EXPECT_EQ(parse_thread_list("1,all", 8), (std::vector<int>{1, 8}));
-    for (const char* bad : {"0", "9", "", "a", "4-2", "1-4:0", "-1"}) EXPECT_THROW(parse_thread_list(bad, 8), UsageError) << bad;
+    for (const char* bad : {"0", "9", "", "a", "4-2", "1-4:0", "-1", "1-999999999"}) EXPECT_THROW(parse_thread_list(bad, 8), UsageError) << bad;
 }
 
 TEST(ParseCpuList, RangesAndDuplicates) {
@@ -54,12 +54,15 @@ TEST(ParseCpuList, RangesAndDuplicates) {
     EXPECT_THROW(parse_cpu_list("3-1"), UsageError);
     EXPECT_THROW(parse_cpu_list("1,1"), UsageError);
     EXPECT_THROW(parse_cpu_list("x"), UsageError);
+    EXPECT_THROW(parse_cpu_list("0-99999999"), UsageError);  // refused before expanding
 }
 
 TEST(FormatBytes, ReadableUnits) {
     EXPECT_EQ(format_bytes(64ull << 20), "64MiB");
     EXPECT_EQ(format_bytes(1000), "1000B");
     EXPECT_EQ(format_bytes(3ull << 29), "1.5GiB");
+    EXPECT_EQ(format_bytes(1024500), "1000KiB");  // not 1e+03KiB
+    EXPECT_EQ(format_bytes(1300), "1.27KiB");
 }
 
 TEST(Nearest, SuggestsCloseNamesOnly) {

@@ -1,0 +1,50 @@
+#pragma once
+// From the options of `suite run`, as given, to a Plan: every point of the sweep, validated
+// completely (kernels, patterns, sizes, threads, pinning, placement, memory, output path)
+// before anything runs or any file is written. Every problem is a UsageError.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "harness/runner.hpp"
+#include "harness/topology.hpp"
+
+namespace suite {
+
+struct RunOptions {
+    std::string kernels;  // empty: the default sweep
+    std::string patterns;
+    std::string orderings;
+    std::string stores = "default";
+    std::string size;
+    std::string sizes;
+    std::string threads;
+    std::string pin = "compact";
+    std::string placement = "local";
+    int reps = -1;  // -1: adaptive
+    double min_time = 0.2;
+    std::uint64_t seed = 1;
+    std::string out;
+    std::string format;  // table | json | csv; "" = from --out's extension, table on the console
+    bool quiet = false;
+    bool dry_run = false;  // print the points and stop
+};
+
+struct Plan {
+    std::vector<Point> points;
+    RunSettings settings;
+    std::string out_path;
+    std::string format;  // json | csv (for out_path), or what goes to stdout: table | json | csv
+    bool quiet = false;
+    bool dry_run = false;
+    std::vector<std::string> notes;  // things the user should know before trusting the numbers
+};
+
+Plan make_plan(const RunOptions& opts, const Topology& topo);
+
+// The sizes used when none are given: half an L1 data cache, half an L2, and a DRAM size of
+// 16x the last level's total (so each array of a three-array kernel is at least 4x, with room
+// for an index array), between 64 MiB and 1 GiB.
+std::vector<std::uint64_t> default_sizes(const Topology& topo);
+
+}  // namespace suite
