@@ -70,6 +70,39 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
     c["compiler"] = build::compiler;
     c["compiler_flags"] = build::flags;
     c["build_type"] = build::build_type;
+    // What -march resolved to, as the compiler saw it when it built the kernels.
+    c["instruction_set"] = {
+        {"avx512f",
+#ifdef __AVX512F__
+         true
+#else
+         false
+#endif
+        },
+        {"avx2",
+#ifdef __AVX2__
+         true
+#else
+         false
+#endif
+        },
+        {"fma",
+#ifdef __FMA__
+         true
+#else
+         false
+#endif
+        },
+        {"nt_store_bits",
+#if defined(__AVX512F__)
+         512
+#elif defined(__AVX__)
+         256
+#else
+         128
+#endif
+        },
+    };
     c["date"] = utc_now();
     char host[256] = {0};
     gethostname(host, sizeof host - 1);

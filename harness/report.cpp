@@ -161,6 +161,13 @@ void write_atomically(const std::string& path, const std::string& content) {
     if (fsync(fd) != 0) { close(fd); fail("fsync failed"); }
     if (close(fd) != 0) fail("close failed");
     if (rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed");
+    // The rename itself reaches the disk only when the directory is synced.
+    const auto slash = path.rfind('/');
+    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    if (int dfd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+        fsync(dfd);
+        close(dfd);
+    }
 }
 
 }  // namespace suite
