@@ -31,7 +31,7 @@ namespace {
 // A setting that may be unreadable: {"value": ...} or {"value": null, "reason": ...}.
 nlohmann::json readable(const std::string& path, bool bracketed, const std::string& why_missing) {
     std::string line = read_first_line(path);
-    if (line.empty()) return {{"value", nullptr}, {"reason", why_missing + " (" + path + " is not readable)"}};
+    if (line.empty()) return {{"value", nullptr}, {"reason", why_missing + "; " + path + " is not readable"}};
     return {{"value", bracketed ? bracketed_choice(line) : line}, {"source", path}};
 }
 

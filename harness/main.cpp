@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli_run.hpp"
+#include "harness/context.hpp"
 #include "harness/kernel.hpp"
 #include "harness/topology.hpp"
 #include "harness/units.hpp"
@@ -94,8 +95,25 @@ int cmd_info(const std::vector<std::string>& args) {
     app.add_flag("--json", json, "machine-readable output");
     if (!parse(app, "suite info", args)) return 0;
     const Topology topo = Topology::load();
-    if (json) std::cout << to_json(topo).dump(2) << "\n";
-    else std::cout << format_table(topo);
+    // What a result's context would say about measuring here.
+    const nlohmann::json context = build_context(topo, {});
+    if (json) {
+        nlohmann::json j = to_json(topo);
+        for (const char* key : {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set"}) j[key] = context[key];
+        std::cout << j.dump(2) << "\n";
+        return 0;
+    }
+    std::cout << format_table(topo) << "\nWhat can be measured here\n";
+    for (const auto& [name, inst] : context["instruments"].items())
+        std::cout << "  " << name << ": "
+                  << (inst["available"].get<bool>() ? "available" : "not available (" + inst["reason"].get<std::string>() + ")") << "\n";
+    for (const char* key : {"transparent_hugepages", "frequency_governor"}) {
+        const auto& v = context[key];
+        std::cout << "  " << key << ": " << (v["value"].is_null() ? "unknown (" + v["reason"].get<std::string>() + ")" : v["value"].get<std::string>())
+                  << "\n";
+    }
+    std::cout << "  built for: " << (context["instruction_set"]["avx512f"].get<bool>() ? "AVX-512" : context["instruction_set"]["avx2"].get<bool>() ? "AVX2" : "SSE2")
+              << ", " << context["instruction_set"]["nt_store_bits"].get<int>() << "-bit streaming stores\n";
     return 0;
 }
 

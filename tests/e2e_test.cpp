@@ -186,3 +186,21 @@ TEST(E2E, OutputThatIsNotARegularFileIsRefusedAndLeftAlone) {
     EXPECT_TRUE(S_ISLNK(st.st_mode));
     EXPECT_EQ(slurp(target), "keep me\n");
 }
+
+TEST(E2E, InfoSaysWhatCanBeMeasuredAndWhyNot) {
+    Outcome r = run_suite({"info", "--json"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    json info = json::parse(r.out);
+    EXPECT_GE(info["pus"].get<int>(), 1);
+    EXPECT_EQ(info["instruments"]["timer"]["available"], true);
+    for (const char* name : {"perf_counters", "energy"}) {
+        const auto& inst = info["instruments"][name];
+        ASSERT_TRUE(inst.is_object()) << name;
+        // Not measured is never 0: either available, or unavailable with a reason.
+        if (!inst["available"].get<bool>()) EXPECT_FALSE(inst["reason"].get<std::string>().empty()) << name;
+    }
+    Outcome table = run_suite({"info"});
+    ASSERT_EQ(table.status, 0);
+    EXPECT_NE(table.out.find("What can be measured here"), std::string::npos);
+    EXPECT_NE(table.out.find("Caches (as reported by hwloc)"), std::string::npos);
+}
