@@ -204,3 +204,52 @@ TEST(E2E, InfoSaysWhatCanBeMeasuredAndWhyNot) {
     EXPECT_NE(table.out.find("What can be measured here"), std::string::npos);
     EXPECT_NE(table.out.find("Caches (as reported by hwloc)"), std::string::npos);
 }
+
+TEST(E2E, JsonAndCsvOnStdoutWithoutAFile) {
+    Outcome j = run_suite({"--kernel=scale,latency", "--size=128KiB", "--threads=1", "--reps=2", "--format=json"});
+    ASSERT_EQ(j.status, 0) << describe(j);
+    json doc = json::parse(j.out);  // stdout is the document and nothing else
+    EXPECT_EQ(doc["complete"], true);
+    EXPECT_EQ(doc["results"].size(), 2u);
+    TempDir dir;
+    { std::ofstream(dir.file("stdout.json")) << j.out; }
+    Outcome v = validate_against_schema(dir.file("stdout.json"));
+    EXPECT_EQ(v.status, 0) << describe(v);
+    Outcome c = run_suite({"--kernel=scale", "--size=128KiB", "--threads=1", "--reps=2", "--format=csv"});
+    ASSERT_EQ(c.status, 0) << describe(c);
+    EXPECT_EQ(c.out.rfind("kernel,variant,name,", 0), 0u) << c.out;
+}
+
+TEST(E2E, InfoReadsAnotherMachineThroughHwloc) {
+    // hwloc's own variable: a two-package, two-node machine described instead of detected.
+    setenv("HWLOC_SYNTHETIC", "pack:2 numa:1 l3:1 core:4 pu:2", 1);
+    Outcome r = run_suite({"info", "--json"});
+    Outcome table = run_suite({"info"});
+    Outcome run = run_suite({"--kernel=copy", "--size=64KiB", "--reps=1"});
+    unsetenv("HWLOC_SYNTHETIC");
+    ASSERT_EQ(r.status, 0) << describe(r);
+    json info = json::parse(r.out);
+    EXPECT_EQ(info["packages"], 2);
+    EXPECT_EQ(info["numa_nodes"].size(), 2u);
+    EXPECT_EQ(info["pus"], 16);
+    EXPECT_EQ(info["this_system"], false);
+    EXPECT_NE(table.out.find("2 NUMA node(s)"), std::string::npos) << table.out;
+    EXPECT_NE(table.out.find("not this machine's"), std::string::npos) << table.out;
+    // Pinning to CPUs of a machine that is not this one is refused, not faked.
+    EXPECT_EQ(run.status, 2) << describe(run);
+    EXPECT_NE(run.err.find("--pin=none"), std::string::npos) << run.err;
+}
+
+TEST(E2E, CommittedExampleResultsStillValidate) {
+    // Result files kept in the repository (results/examples, later baselines) are read by other
+    // tools; they must stay valid as the schema evolves.
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(std::string(SUITE_SOURCE_DIR) + "/results"))
+        if (e.path().extension() == ".json" && e.path().parent_path().filename() != "schema" && e.path().filename() != "latest.json")
+            files.push_back(e.path());
+    ASSERT_FALSE(files.empty());
+    for (const auto& f : files) {
+        Outcome v = validate_against_schema(f);
+        EXPECT_EQ(v.status, 0) << f << "\n" << describe(v);
+    }
+}
