@@ -81,6 +81,11 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
             rec = run_point(p, plan.settings, topo);
         } catch (const Interrupted&) {
             break;
+        } catch (...) {
+            // The finished points are kept: in the file (already saved) or on stdout.
+            if (progress) std::fprintf(stderr, "\r\033[K");
+            if (!to_file && plan.format != "table") std::cout << doc.render(format, false) << std::flush;
+            throw;
         }
         if (progress) std::fprintf(stderr, "\r\033[K");
         if (!rec.verification.passed) {

@@ -39,7 +39,10 @@ PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
         spec.node = std::stoi(n);
         if (!topo.find_node(spec.node)) {
             std::string have;
-            for (const auto& node : topo.nodes) have += (have.empty() ? "" : ",") + std::to_string(node.os_index);
+            for (const auto& node : topo.nodes) {
+                if (!have.empty()) have += ',';
+                have += std::to_string(node.os_index);
+            }
             throw UsageError("--placement=node:" + n + ": this machine has no NUMA node " + n + " (its nodes are " + have + ")");
         }
     } else {
@@ -118,7 +121,8 @@ void* Arena::allocate_bytes(const std::string& name, std::size_t bytes) {
         if (n < 0 || n >= static_cast<int>(mask.size() * 64)) throw std::runtime_error("NUMA node " + std::to_string(n) + " out of range");
         mask[static_cast<std::size_t>(n) / 64] |= 1UL << (n % 64);
     }
-    if (mbind(p, len, bind ? MPOL_BIND : MPOL_INTERLEAVE, mask.data(), mask.size() * 64, 0) != 0)
+    // maxnode is one more than the bits to read: the kernel reads maxnode - 1 of them.
+    if (mbind(p, len, bind ? MPOL_BIND : MPOL_INTERLEAVE, mask.data(), mask.size() * 64 + 1, 0) != 0)
         throw std::runtime_error("cannot bind array '" + name + "' (" + format_bytes(len) + ") to " +
                                  (bind ? "node " + std::to_string(policy_.node) : std::string("the interleave nodes")) + ": mbind: " +
                                  std::strerror(errno));

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <map>
 
+#include <omp.h>
+
 #include "harness/units.hpp"
 
 namespace suite {
@@ -92,11 +94,12 @@ std::vector<int> planned_cpus(const Topology& topo, const PinSpec& pin, int thre
 
 }  // namespace
 
-std::vector<std::uint64_t> default_sizes(const Topology& topo) {
+std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads) {
     const Cache* l1 = topo.find_cache(1);
     const Cache* l2 = topo.find_cache(2);
-    const std::uint64_t small = l1 ? l1->size_bytes / 2 : 16ULL << 10;
-    const std::uint64_t medium = l2 ? l2->size_bytes / 2 : 512ULL << 10;
+    const auto t = static_cast<std::uint64_t>(threads);
+    const std::uint64_t small = t * (l1 ? l1->size_bytes / 2 : 16ULL << 10);
+    const std::uint64_t medium = t * (l2 ? l2->size_bytes / 2 : 512ULL << 10);
     // Capped at 1 GiB so the default sweep stays short where a VM reports a huge LLC that it
     // does not really give; each result records how its arrays compare with the LLC.
     const std::uint64_t dram = std::clamp<std::uint64_t>(16 * topo.last_level_cache_total_bytes(), 64ULL << 20, 1ULL << 30);
@@ -129,7 +132,6 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     if (!o.format.empty() && o.format != "table" && o.format != "json" && o.format != "csv")
         throw UsageError("unknown --format '" + o.format + "'; accepted: table, json, csv");
     if (!o.out.empty()) {
-        check_output_path(o.out);
         if (o.format == "table") throw UsageError("--format=table cannot be written to a file; use json or csv with --out");
         plan.out_path = o.out;
         const bool csv_name = o.out.size() > 4 && o.out.substr(o.out.size() - 4) == ".csv";
@@ -144,6 +146,9 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         if (std::find(threads.begin(), threads.end(), t) == threads.end()) threads.push_back(t);
     plan.settings.pin = parse_pin(o.pin, topo);
     const int most_threads = *std::max_element(threads.begin(), threads.end());
+    if (most_threads > omp_get_thread_limit())
+        throw UsageError(std::to_string(most_threads) + " threads were asked for but OpenMP allows at most " +
+                         std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT); ask for fewer or unset it");
     if (plan.settings.pin.mode == PinMode::list && static_cast<int>(plan.settings.pin.cpus.size()) < most_threads)
         throw UsageError("--pin=" + o.pin + " lists " + std::to_string(plan.settings.pin.cpus.size()) + " CPU(s) but up to " +
                          std::to_string(most_threads) + " threads were asked for; list at least one CPU per thread");
@@ -165,10 +170,13 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
 
     // Sizes.
     if (!o.size.empty() && !o.sizes.empty()) throw UsageError("--size and --sizes cannot be used together; give one of them");
+    // Without a size, the cache-level sizes are per thread (each thread's share stays in its
+    // cache whatever the team), so they are chosen with the thread count, point by point.
+    const bool default_size = o.size.empty() && o.sizes.empty();
     std::vector<std::uint64_t> sizes;
     if (!o.size.empty()) sizes = {parse_bytes(o.size)};
     else if (!o.sizes.empty()) sizes = parse_size_list(o.sizes);
-    else sizes = default_sizes(topo);
+    auto sizes_for = [&](int t) { return default_size ? default_sizes(topo, t) : sizes; };
 
     // Stores.
     if (o.stores != "default" && o.stores != "nt") throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt");
@@ -200,8 +208,9 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
                 throw UsageError("kernel '" + info.name + "' has no " + axis + " '" + text + "'" +
                                  (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; it accepts: " + join(info.accesses));
             }
-            for (std::uint64_t size : sizes)
+            for (std::size_t s = 0; s < sizes_for(1).size(); ++s)
                 for (int t : threads) {
+                    const std::uint64_t size = sizes_for(t)[s];
                     KernelConfig cfg{a, variant, size, plan.settings.seed, t};
                     k->validate(cfg);
                     plan.points.push_back({k, a, variant, size, t});
@@ -222,11 +231,13 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     // A DRAM figure needs every array well beyond the last-level cache; say so when the largest
     // size cannot give that (the default size is capped at 1 GiB).
     const std::uint64_t llc = topo.last_level_cache_total_bytes();
-    const std::uint64_t largest = *std::max_element(sizes.begin(), sizes.end());
-    if (use_default_sweep || o.size.empty() && o.sizes.empty())
-        if (llc > 0 && largest < 12 * llc)
-            plan.notes.push_back("the largest size, " + format_bytes(largest) + ", is less than 4x the reported last-level cache (" +
-                                 format_bytes(llc) + ") per array; it may not measure DRAM (see each record's size.smallest_array_over_llc)");
+    const std::uint64_t largest = default_sizes(topo, 1).back();
+    if (default_size && llc > 0 && largest < 12 * llc)
+        plan.notes.push_back("the largest default size, " + format_bytes(largest) + ", is less than 4x the reported last-level cache (" +
+                             format_bytes(llc) + ") per array; it may not measure DRAM (see each record's size.smallest_array_over_llc)");
+
+    // Last, as it creates (and removes) a probe file: nothing is written before all else is checked.
+    if (!o.out.empty()) check_output_path(o.out);
     return plan;
 }
 

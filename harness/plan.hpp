@@ -42,9 +42,9 @@ struct Plan {
 
 Plan make_plan(const RunOptions& opts, const Topology& topo);
 
-// The sizes used when none are given: half an L1 data cache, half an L2, and a DRAM size of
-// 16x the last level's total (so each array of a three-array kernel is at least 4x, with room
-// for an index array), between 64 MiB and 1 GiB.
-std::vector<std::uint64_t> default_sizes(const Topology& topo);
+// The sizes used when none are given, for a team of `threads`: half an L1 data cache and half
+// an L2 per thread, and a DRAM size of 16x the last level's total (so each array of a
+// three-array kernel is at least 4x, with room for an index array), between 64 MiB and 1 GiB.
+std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads);
 
 }  // namespace suite

@@ -81,15 +81,15 @@ public:
     }
 
     Verification verify() override {
-        Verification v;
-        v.passed = true;
-        // After `calls_` repetitions of L+1 steps on a cycle of L lines, each thread stands
-        // calls_ mod L lines after its start; and the cycle has exactly L lines.
         if (calls_ == 0) return {false, "the chase never ran", 0};
+        // After `calls_` repetitions of L+1 steps on a cycle of L lines, each thread stands
+        // calls_ mod L lines after its start; and the cycle has exactly L lines. The cycles are
+        // walked in parallel, one per thread, as long as a repetition.
         const std::uint64_t offset = calls_ % per_thread_;
-        v.detail = "each thread's chain is one cycle over its " + std::to_string(per_thread_) + " lines and, after " +
-                   std::to_string(calls_) + " repetitions, stands where that many steps lead";
-        for (std::size_t t = 0; t < pos_.size() && v.passed; ++t) {
+        const int nt = static_cast<int>(pos_.size());
+        std::vector<std::string> problems(static_cast<std::size_t>(nt));
+#pragma omp parallel for num_threads(nt) schedule(static, 1)
+        for (int t = 0; t < nt; ++t) {
             const Line* p = start_[t];
             std::uint64_t length = 0;
             const Line* expect = nullptr;
@@ -98,17 +98,19 @@ public:
                 p = p->next;
                 ++length;
             } while (p != start_[t] && length <= per_thread_);
-            if (length != per_thread_) {
-                v.passed = false;
-                v.detail = "thread " + std::to_string(t) + "'s chain has a cycle of " + std::to_string(length) + " lines, not " +
-                           std::to_string(per_thread_);
-            } else if (pos_[t] != expect) {
-                v.passed = false;
-                v.detail = "thread " + std::to_string(t) + " does not stand where " + std::to_string(calls_) +
-                           " repetitions of the chase lead";
-            }
+            if (length != per_thread_)
+                problems[t] = "thread " + std::to_string(t) + "'s chain has a cycle of " + std::to_string(length) + " lines, not " +
+                              std::to_string(per_thread_);
+            else if (pos_[t] != expect)
+                problems[t] = "thread " + std::to_string(t) + " does not stand where " + std::to_string(calls_) +
+                              " repetitions of the chase lead";
         }
-        return v;
+        for (const auto& problem : problems)
+            if (!problem.empty()) return {false, problem, 0};
+        return {true,
+                "each thread's chain is one cycle over its " + std::to_string(per_thread_) + " lines and, after " +
+                    std::to_string(calls_) + " repetitions, stands where that many steps lead",
+                0};
     }
 
     Work work() const override {

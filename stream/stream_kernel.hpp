@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -140,7 +141,8 @@ public:
             // Written so that a NaN result fails: every comparison with NaN is false.
             if (!(err <= Op::tolerance * std::max(1.0, std::fabs(expect)))) {
                 first_bad = std::min(first_bad, i);
-                max_err = std::max(max_err, std::isnan(err) ? HUGE_VAL : err);
+                // A NaN is recorded as the largest double: JSON has no NaN or infinity.
+                max_err = std::max(max_err, std::isnan(err) ? std::numeric_limits<double>::max() : err);
             } else {
                 max_err = std::max(max_err, err);
             }

@@ -106,7 +106,7 @@ INSTANTIATE_TEST_SUITE_P(Signals, Interrupt, testing::Values(SIGINT, SIGTERM),
 
 TEST(E2E, RandomAddIsSlowerThanSequentialAtDramSize) {
     // DRAM-sized: every one of add's arrays at least 4x the last-level cache hwloc reports.
-    const std::uint64_t size = default_sizes(Topology::load()).back();
+    const std::uint64_t size = default_sizes(Topology::load(), 1).back();
     const std::string dir = make_temp_dir();
     const std::string out = dir + "/dram.json";
     Outcome r = run_suite({"--kernel=add", "--pattern=sequential,random", "--size=" + std::to_string(size), "--threads=all",
@@ -197,7 +197,9 @@ TEST(E2E, InfoSaysWhatCanBeMeasuredAndWhyNot) {
         const auto& inst = info["instruments"][name];
         ASSERT_TRUE(inst.is_object()) << name;
         // Not measured is never 0: either available, or unavailable with a reason.
-        if (!inst["available"].get<bool>()) EXPECT_FALSE(inst["reason"].get<std::string>().empty()) << name;
+        if (!inst["available"].get<bool>()) {
+            EXPECT_FALSE(inst["reason"].get<std::string>().empty()) << name;
+        }
     }
     Outcome table = run_suite({"info"});
     ASSERT_EQ(table.status, 0);
