@@ -13,6 +13,9 @@
 
 namespace suite {
 
+namespace {
+
+// Reads one line of a sysfs/procfs file; "" when it cannot be read.
 std::string read_first_line(const std::string& path) {
     std::ifstream in(path);
     std::string line;
@@ -20,13 +23,12 @@ std::string read_first_line(const std::string& path) {
     return line;
 }
 
+// "always [madvise] never" -> "madvise".
 std::string bracketed_choice(const std::string& line) {
     auto open = line.find('['), close = line.find(']');
     if (open == std::string::npos || close == std::string::npos || close < open) return line;
     return line.substr(open + 1, close - open - 1);
 }
-
-namespace {
 
 // A setting that may be unreadable: {"value": ...} or {"value": null, "reason": ...}.
 nlohmann::json readable(const std::string& path, bool bracketed, const std::string& why_missing) {

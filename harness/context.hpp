@@ -10,12 +10,6 @@
 
 namespace suite {
 
-// Reads one line of a sysfs/procfs file; "" when it cannot be read.
-std::string read_first_line(const std::string& path);
-
-// "always [madvise] never" -> "madvise".
-std::string bracketed_choice(const std::string& line);
-
 nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv);
 
 }  // namespace suite

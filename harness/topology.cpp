@@ -152,11 +152,6 @@ const Cache* last_level(const std::vector<Cache>& caches) {
 }
 }  // namespace
 
-std::uint64_t Topology::last_level_cache_bytes() const {
-    const Cache* c = last_level(caches);
-    return c ? c->size_bytes : 0;
-}
-
 std::uint64_t Topology::last_level_cache_total_bytes() const {
     const Cache* c = last_level(caches);
     return c ? c->size_bytes * static_cast<std::uint64_t>(c->instances) : 0;

@@ -53,9 +53,8 @@ struct Topology {
     const NumaNode* find_node(int os_index) const;
     // The data or unified cache of `level`, nullptr if hwloc reports none.
     const Cache* find_cache(int level) const;
-    // One instance of the last level (data or unified), and all its instances together; 0 if
-    // hwloc reports none. A DRAM-sized array must be larger than the total, not one slice.
-    std::uint64_t last_level_cache_bytes() const;
+    // All instances of the last level (data or unified) together, 0 if hwloc reports none: a
+    // DRAM-sized array must be larger than the total, not than one slice.
     std::uint64_t last_level_cache_total_bytes() const;
 };
 
