@@ -40,6 +40,10 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--format", o.format, "table | json | csv: format of --out, or of stdout without --out");
     app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
     app.add_flag("--dry-run", o.dry_run, "check the options, list the points that would run, and stop");
+    app.add_option("--counters", o.counters,
+                   "default | none | events, e.g. cycles,instructions,LLC-load-misses,page-faults (see ./suite list --counters)");
+    app.add_option("--energy", o.energy, "auto | sysfs | perf | none: where RAPL energy is read (default auto; root: SUITE_SYSFS_ROOT)");
+    app.add_option("--energy-baseline", o.energy_baseline, "measure idle power for SECONDS first and report energy above idle");
 }
 
 int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv) {
@@ -59,12 +63,17 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
     plan.settings.stop = &g_signal;
+    plan.settings.instruments = &plan.instruments;
+    if (plan.instruments.energy_baseline_s > 0 && plan.instruments.energy.available()) {
+        if (!plan.quiet) std::cerr << "measuring idle power for " << plan.instruments.energy_baseline_s << " s ...\n";
+        plan.instruments.energy.measure_idle(plan.instruments.energy_baseline_s);
+    }
 
     const bool to_file = !plan.out_path.empty();
     const bool console_table = !plan.quiet && (to_file || plan.format == "table");
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
     const FileFormat format = plan.format == "csv" ? FileFormat::csv : FileFormat::json;
-    ResultDocument doc{build_context(topo, argv), {}};
+    ResultDocument doc{build_context(topo, argv, plan.instruments), {}};
 
     if (console_table) std::cout << table_header() << std::flush;
     int status = 0;

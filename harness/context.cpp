@@ -65,7 +65,7 @@ std::string cpu_model_fallback() {
 
 }  // namespace
 
-nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv) {
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments) {
     nlohmann::json c;
     c["suite_version"] = build::version;
     c["git_revision"] = build::git_revision;
@@ -124,11 +124,7 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
     c["transparent_hugepages"] = readable("/sys/kernel/mm/transparent_hugepage/enabled", true, "THP setting unknown");
     c["frequency_governor"] = readable("/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor", false,
                                        "no cpufreq driver exposes a governor here (common in VMs)");
-    c["instruments"] = {
-        {"timer", {{"available", true}, {"clock", "CLOCK_MONOTONIC (std::chrono::steady_clock)"}, {"resolution_ns", timer_resolution_ns()}}},
-        {"perf_counters", {{"available", false}, {"reason", "this build of suite does not read hardware counters yet"}}},
-        {"energy", {{"available", false}, {"reason", "this build of suite does not read RAPL energy yet"}}},
-    };
+    c["instruments"] = instruments_context(instruments, timer_resolution_ns());
     c["conventions"] = {
         {"bandwidth", "STREAM convention: each array element read or written counts once, 8 B per double; "
                       "copy/scale 16 B, add/triad/sin-add 24 B per element; index arrays not counted"},

@@ -6,10 +6,11 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "harness/instruments.hpp"
 #include "harness/topology.hpp"
 
 namespace suite {
 
-nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv);
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments);
 
 }  // namespace suite

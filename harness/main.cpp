@@ -8,7 +8,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "harness/cli_counters.hpp"
 #include "harness/cli_run.hpp"
+#include "harness/instruments.hpp"
 #include "harness/context.hpp"
 #include "harness/kernel.hpp"
 #include "harness/topology.hpp"
@@ -20,7 +22,7 @@ namespace {
 const char* const examples = R"(
 Commands:
   run (default)   measure kernels: ./suite [run] --kernel=... [options]
-  list            kernels, patterns, placements: ./suite list [--json]
+  list            kernels, patterns, placements: ./suite list [--json] [--counters]
   info            topology, caches, NUMA nodes: ./suite info [--json]
 
 Examples:
@@ -31,6 +33,8 @@ Examples:
   ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
   ./suite --kernel=triad --placement=node:1 --pin=0,1 --threads=2   # arrays on node 1, threads on CPUs 0, 1
   ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
+  ./suite --kernel=triad --size=1GiB --counters=cycles,instructions,LLC-load-misses
+  ./suite --kernel=add --pattern=random --energy=sysfs --energy-baseline=2   # energy above idle power
 
 Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
 result file then holds the finished points and says "complete": false).
@@ -57,9 +61,11 @@ std::string accesses_text(const KernelInfo& info) {
 
 int cmd_list(const std::vector<std::string>& args) {
     CLI::App app{"suite list: the kernels and what they accept"};
-    bool json = false;
+    bool json = false, counters = false;
     app.add_flag("--json", json, "machine-readable output");
+    app.add_flag("--counters", counters, "the events that can be counted here (generic and this PMU's), and why not");
     if (!parse(app, "suite list", args)) return 0;
+    if (counters) return list_counters(json);
     if (json) {
         nlohmann::json j = nlohmann::json::array();
         for (const auto& e : kernels()) {
@@ -85,7 +91,7 @@ int cmd_list(const std::vector<std::string>& args) {
     }
     std::printf("\nPlacements: local (first touch by the computing threads), node:N, remote (a node none of the threads\n"
                 "runs on), interleave (pages round-robin over all nodes).  Pinning: compact, scatter, none, CPU list.\n"
-                "Counters and energy: not available in this build (see ./suite info).\n");
+                "Counters: --counters=default|none|NAME,... (./suite list --counters).  Energy: --energy=auto|sysfs|perf|none.\n");
     return 0;
 }
 
@@ -96,7 +102,8 @@ int cmd_info(const std::vector<std::string>& args) {
     if (!parse(app, "suite info", args)) return 0;
     const Topology topo = Topology::load();
     // What a result's context would say about measuring here.
-    const nlohmann::json context = build_context(topo, {});
+    const Instruments instruments = make_instruments("default", "auto", sysfs_root());
+    const nlohmann::json context = build_context(topo, {}, instruments);
     if (json) {
         nlohmann::json j = to_json(topo);
         for (const char* key : {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set"}) j[key] = context[key];
@@ -104,9 +111,20 @@ int cmd_info(const std::vector<std::string>& args) {
         return 0;
     }
     std::cout << format_table(topo) << "\nWhat can be measured here\n";
-    for (const auto& [name, inst] : context["instruments"].items())
-        std::cout << "  " << name << ": "
-                  << (inst["available"].get<bool>() ? "available" : "not available (" + inst["reason"].get<std::string>() + ")") << "\n";
+    auto state = [](const nlohmann::json& inst) {
+        return inst["available"].get<bool>() ? std::string("available") : "not available (" + inst["reason"].get<std::string>() + ")";
+    };
+    for (const auto& [name, inst] : context["instruments"].items()) {
+        std::cout << "  " << name << ": " << state(inst) << "\n";
+        if (name == "perf_counters") {
+            std::cout << "    hardware events: " << state(inst["hardware"]) << "\n    counted here by default:";
+            for (const auto& e : inst["events"])
+                if (e["available"].get<bool>()) std::cout << " " << e["name"].get<std::string>();
+            std::cout << " (scope " << inst["scope"].get<std::string>() << ")\n";
+        }
+        if (name == "energy")
+            for (const auto& d : inst["domains"]) std::cout << "    " << d["domain"].get<std::string>() << " " << d["source"].get<std::string>() << ": " << state(d) << "\n";
+    }
     for (const char* key : {"transparent_hugepages", "frequency_governor"}) {
         const auto& v = context[key];
         std::cout << "  " << key << ": " << (v["value"].is_null() ? "unknown (" + v["reason"].get<std::string>() + ")" : v["value"].get<std::string>())

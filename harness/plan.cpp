@@ -27,12 +27,6 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> default_swee
     {"latency", {"random"}},
 };
 
-std::string join(const std::vector<std::string>& v, const std::string& sep = ", ") {
-    std::string out;
-    for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
-    return out;
-}
-
 // A comma list without repeats, in the order given.
 std::vector<std::string> unique_list(const std::string& text) {
     std::vector<std::string> out;
@@ -123,7 +117,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         if (!k) {
             std::string hint = nearest(name, kernel_names());
             throw UsageError("unknown kernel '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                             "; kernels: " + join(kernel_names()) + " (see ./suite list)");
+                             "; kernels: " + join(kernel_names(), ", ") + " (see ./suite list)");
         }
         ks.push_back({k, defaults});
     }
@@ -168,6 +162,26 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     plan.settings.min_time_s = o.min_time;
     plan.settings.seed = o.seed;
 
+    // Instruments: an unknown event or backend is a usage error; one that cannot measure here is
+    // recorded as unavailable, and said once when it was asked for by name.
+    if (!(o.energy_baseline >= 0) || o.energy_baseline > 600)
+        throw UsageError("--energy-baseline=" + std::to_string(o.energy_baseline) + ": accepted: 0 (none) to 600 seconds");
+    plan.instruments = make_instruments(o.counters, o.energy, sysfs_root());
+    plan.instruments.energy_baseline_s = o.energy_baseline;
+    for (int level = 4; level >= 1; --level)
+        if (const Cache* c = topo.find_cache(level); c && c->line_bytes > 0) {
+            plan.instruments.line_bytes = c->line_bytes;
+            break;
+        }
+    const bool named_events = o.counters != "default" && o.counters != "none" && !o.counters.empty();
+    if (named_events)
+        for (const auto& e : plan.instruments.counters.events)
+            if (std::string why = probe_event(e, plan.instruments.access); !why.empty())
+                plan.notes.push_back("counter " + e.name + " cannot be counted here: " + why);
+    const EnergyMeter& meter = plan.instruments.energy;
+    if ((o.energy == "sysfs" || o.energy == "perf" || o.energy_baseline > 0) && meter.requested() && !meter.available())
+        plan.notes.push_back("energy cannot be measured here: " + meter.reason());
+
     // Sizes.
     if (!o.size.empty() && !o.sizes.empty()) throw UsageError("--size and --sizes cannot be used together; give one of them");
     // Without a size, the cache-level sizes are per thread (each thread's share stays in its
@@ -200,13 +214,13 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         std::vector<std::string> texts = by_pattern ? given_patterns : given_orderings;
         if (texts.empty()) texts = defaults.empty() ? std::vector<std::string>{info.accesses.front()} : defaults;
         if (!variant.empty() && std::find(info.variants.begin(), info.variants.end(), variant) == info.variants.end())
-            throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt));
+            throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt, ", "));
         for (const auto& text : texts) {
             Access a = parse_access(text, axis);
             if (std::find(info.accesses.begin(), info.accesses.end(), a.name) == info.accesses.end()) {
                 std::string hint = nearest(a.name, info.accesses);
                 throw UsageError("kernel '" + info.name + "' has no " + axis + " '" + text + "'" +
-                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; it accepts: " + join(info.accesses));
+                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; it accepts: " + join(info.accesses, ", "));
             }
             for (std::size_t s = 0; s < sizes_for(1).size(); ++s)
                 for (int t : threads) {

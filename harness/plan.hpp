@@ -28,6 +28,9 @@ struct RunOptions {
     std::string format;  // table | json | csv; "" = from --out's extension, table on the console
     bool quiet = false;
     bool dry_run = false;  // print the points and stop
+    std::string counters = "default";  // default | none | event names, comma separated
+    std::string energy = "auto";       // auto | sysfs | perf | none
+    double energy_baseline = 0;        // seconds of idle power measured before the sweep
 };
 
 struct Plan {
@@ -38,6 +41,7 @@ struct Plan {
     bool quiet = false;
     bool dry_run = false;
     std::vector<std::string> notes;  // things the user should know before trusting the numbers
+    Instruments instruments;         // RunSettings::instruments points here once the plan has its place
 };
 
 Plan make_plan(const RunOptions& opts, const Topology& topo);

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "harness/instruments.hpp"
 #include "harness/units.hpp"
 
 namespace suite {
@@ -72,6 +73,8 @@ nlohmann::json to_json(const Record& r) {
         j["latency_ns"] = nullptr;
     j["units_per_second_best"] = r.rates.units_per_second_best;
     j["gflops_best"] = opt(r.rates.gflops_best);
+    j["counters"] = to_json(r.counters);
+    j["energy"] = to_json(r.energy);
     j["verification"] = {{"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
     j["seed"] = r.seed;
     return j;

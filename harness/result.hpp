@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "harness/kernel.hpp"
+#include "harness/measurements.hpp"
 #include "harness/placement.hpp"
 #include "harness/stats.hpp"
 #include "harness/team.hpp"
@@ -52,6 +53,8 @@ struct Record {
     TimeStats time;
     Rates rates;
     Verification verification;
+    CounterReadings counters;  // around the same repetitions as samples_s
+    EnergyReadings energy;
     std::uint64_t seed = 0;
 };
 

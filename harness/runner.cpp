@@ -94,17 +94,37 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
                           ? settings.reps
                           : std::clamp(static_cast<int>(std::ceil(settings.min_time_s / per_sample)), settings.min_reps, 1000000);
 
+    // Counters are opened by the team's own threads; energy is read by this one. Both bracket
+    // exactly the clock's interval, the counters innermost so that they see little but the kernel.
+    Instruments* in = settings.instruments;
+    TeamCounters counters;
+    if (in && in->counters.requested) counters = TeamCounters(in->counters.events, point.threads, in->access);
+    EnergyMeter* energy = in && in->energy.available() ? &in->energy : nullptr;
+
     rec.samples_s.reserve(static_cast<std::size_t>(rec.repetitions));
     for (int r = 0; r < rec.repetitions; ++r) {
         check_stop(settings);
+        if (energy) energy->start();
+        counters.start();
         t0 = Clock::now();
         kernel->run(rec.batch);
-        rec.samples_s.push_back(seconds_since(t0) / rec.batch);
+        const double seconds = seconds_since(t0);
+        counters.stop();
+        if (energy) energy->stop(seconds);
+        rec.samples_s.push_back(seconds / rec.batch);
     }
+    counters.check_team();
     rec.binding_held = team_still_bound(rec.bindings);
     rec.verification = kernel->verify();
     rec.time = summarise(rec.samples_s);
     rec.rates = derive_rates(rec.work, rec.time, rec.metric, rec.threads);
+    if (in) {
+        rec.counters = counters.readings(rec.batch, rec.work.units, rec.work.stream_bytes, in->line_bytes);
+        rec.counters.requested = in->counters.requested;
+        rec.counters.omitted = in->counters.omitted;
+        if (rec.counters.requested && in->counters.events.empty()) rec.counters.reason = "no event can be opened here";
+        rec.energy = in->energy.take(rec.batch, rec.work.units, rec.work.stream_bytes, rec.time.median);
+    }
     return rec;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/instruments.hpp"
 #include "harness/kernel.hpp"
 #include "harness/placement.hpp"
 #include "harness/result.hpp"
@@ -35,6 +36,7 @@ struct RunSettings {
     double min_sample_s = 1e-3;
     std::uint64_t seed = 1;
     const std::atomic<int>* stop = nullptr;  // set by a signal handler: abandon the point
+    Instruments* instruments = nullptr;      // counters and energy; none: the clock only
 };
 
 // Thrown when RunSettings::stop is raised during a point; the point yields no record.

@@ -2,7 +2,7 @@
 # Installs the Debian packages the suite needs, if any is missing. As root it runs apt-get;
 # otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test]
 set -euo pipefail
-want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libcli11-dev nlohmann-json3-dev libgtest-dev)
+want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev)
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results.
   want+=(binutils python3 python3-jsonschema)
