@@ -80,10 +80,23 @@ nlohmann::json to_json(const Record& r) {
     return j;
 }
 
-std::string csv_header() {
-    return "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,threads,pin,placement,repetitions,batch,"
-           "time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,stream_gbps_best,stream_gbps_median,"
-           "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified\n";
+namespace {
+
+// Counter and energy columns, named after the first record's events and domains (every record
+// of a run has the same ones, in the same order); a cell is empty where nothing was measured.
+std::string domain_label(const DomainEnergy& d) { return d.domain + (d.socket ? std::to_string(*d.socket) : ""); }
+
+}  // namespace
+
+std::string csv_header(const Record* first) {
+    std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,threads,pin,placement,repetitions,batch,"
+                    "time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,stream_gbps_best,stream_gbps_median,"
+                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified";
+    if (first) {
+        for (const auto& e : first->counters.events) h += ",counter_" + e.name + "_per_call";
+        for (const auto& d : first->energy.domains) h += ",energy_" + domain_label(d) + "_j_per_call";
+    }
+    return h + "\n";
 }
 
 std::string to_csv_row(const Record& r) {
@@ -94,7 +107,10 @@ std::string to_csv_row(const Record& r) {
       << fmt("%.9g", r.time.max) << ',' << fmt("%.9g", r.time.mean) << ',' << fmt("%.4g", r.time.cv) << ','
       << csv_opt(r.rates.stream_gbps_best) << ',' << csv_opt(r.rates.stream_gbps_median) << ','
       << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.ns_per_load_best) << ','
-      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false") << '\n';
+      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false");
+    for (const auto& e : r.counters.events) o << ',' << (e.available ? fmt("%.9g", e.per_call.median) : "");
+    for (const auto& d : r.energy.domains) o << ',' << (d.available ? fmt("%.9g", d.joules_per_call.median) : "");
+    o << '\n';
     return o.str();
 }
 
@@ -126,7 +142,7 @@ std::string table_row(std::size_t index, std::size_t total, const Record& r) {
 
 std::string ResultDocument::render(FileFormat format, bool complete) const {
     if (format == FileFormat::csv) {
-        std::string out = csv_header();
+        std::string out = csv_header(records.empty() ? nullptr : &records.front());
         for (const auto& r : records) out += to_csv_row(r);
         return out;
     }

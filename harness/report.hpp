@@ -14,7 +14,7 @@ namespace suite {
 constexpr int schema_version = 1;
 
 nlohmann::json to_json(const Record& r);
-std::string csv_header();
+std::string csv_header(const Record* first = nullptr);  // first: where counter and energy columns come from
 std::string to_csv_row(const Record& r);
 
 // The console table: a header, then one row per record as it arrives.
