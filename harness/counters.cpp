@@ -81,6 +81,15 @@ bool running_under_hypervisor() {
 
 }  // namespace
 
+std::optional<double> scaled_count(std::uint64_t value, std::uint64_t enabled, std::uint64_t running) {
+    if (running == 0) {
+        if (enabled > 0) return std::nullopt;  // enabled but never scheduled: nothing was counted
+        return static_cast<double>(value);      // no time passed at all
+    }
+    if (running >= enabled) return static_cast<double>(value);
+    return static_cast<double>(value) * static_cast<double>(enabled) / static_cast<double>(running);
+}
+
 PerfAccess perf_access() {
     PerfAccess a;
     if (std::ifstream in("/proc/sys/kernel/perf_event_paranoid"); in) in >> a.paranoid;

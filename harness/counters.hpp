@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,10 @@ struct PmuEvents {
     std::vector<std::string> events;
 };
 std::vector<PmuEvents> known_events();
+
+// A count over an interval in which the event was enabled `enabled` ns and on the PMU `running`
+// ns: scaled up by enabled/running when the PMU multiplexed it; nullopt when it never ran.
+std::optional<double> scaled_count(std::uint64_t value, std::uint64_t enabled, std::uint64_t running);
 
 // The reason text for a failed perf_event_open; pure, so that tests can check every branch.
 std::string open_failure_reason(int err, bool hardware, const PerfAccess& access);

@@ -129,13 +129,12 @@ void TeamCounters::stop() {
             const Raw& b = begin_[t * n + e];
             const Raw& a = end[t * n + e];
             const Raw d{a.value - b.value, a.enabled - b.enabled, a.running - b.running};
-            if (d.running == 0) {
+            const std::optional<double> v = scaled_count(d.value, d.enabled, d.running);
+            if (!v) {
                 lost_[e] = "never on the PMU during a repetition (more events than the PMU has counters; ask for fewer)";
                 break;
             }
-            // Multiplexed: scale up by the share of the time it was not counted.
-            sum += d.running < d.enabled ? static_cast<double>(d.value) * static_cast<double>(d.enabled) / static_cast<double>(d.running)
-                                         : static_cast<double>(d.value);
+            sum += *v;
             Raw& tot = totals_[t * n + e];
             tot.value += d.value;
             tot.enabled += d.enabled;

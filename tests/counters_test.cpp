@@ -103,6 +103,13 @@ TEST(CounterReasons, ParanoidLevelsDecideScopeAndRefusals) {
     EXPECT_NE(policy_refusal(sel.events[1], unprivileged(3)).find("forbids"), std::string::npos);
 }
 
+TEST(CounterScaling, MultiplexedCountsAreScaledAndUnscheduledOnesAreNotCounts) {
+    EXPECT_DOUBLE_EQ(*scaled_count(1000, 500, 500), 1000.0);
+    EXPECT_DOUBLE_EQ(*scaled_count(1000, 400, 100), 4000.0);  // on the PMU a quarter of the time
+    EXPECT_DOUBLE_EQ(*scaled_count(7, 0, 0), 7.0);
+    EXPECT_FALSE(scaled_count(0, 500, 0).has_value());  // never scheduled: not 0, unknown
+}
+
 TEST(TeamCountersTest, FirstTouchOfNPagesCountsAtLeastNPageFaults) {
     const auto sel = parse_counters("page-faults,task-clock", perf_access());
     for (int threads : {1, 2}) {
