@@ -179,9 +179,10 @@ TEST(InstrumentHardware, InstructionsAgreeWithPerfStatWithinTwoPercent) {
     if (!fs::exists("/usr/bin/perf")) GTEST_SKIP() << "perf (linux-perf) is not installed";
     TempDir d;
     auto perf_count = [&](int reps, double& per_call) {
-        const std::string out = d.file("r" + std::to_string(reps) + ".json"), stat = d.file("s" + std::to_string(reps));
+        const std::string n = std::to_string(reps);
+        const std::string out = d.file(n + ".json"), stat = d.file(n + ".perf-stat");
         const Outcome r = run_program({"/usr/bin/perf", "stat", "-x,", "-o", stat, "-e", "instructions:u", SUITE_BINARY, "--kernel=triad",
-                                       "--size=64MiB", "--threads=1", "--reps=" + std::to_string(reps), "--counters=instructions:u",
+                                       "--size=64MiB", "--threads=1", "--reps=" + n, "--counters=instructions:u",
                                        "--energy=none", "--seed=3", "--out=" + out});
         EXPECT_EQ(r.status, 0) << describe(r);
         const json rec = load(out)["results"][0];
