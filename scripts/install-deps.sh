@@ -4,8 +4,9 @@
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev)
 if [ "${1:-build}" = test ]; then
-  # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results.
-  want+=(binutils python3 python3-jsonschema)
+  # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
+  # clang builds the libFuzzer targets.
+  want+=(binutils python3 python3-jsonschema clang)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2
