@@ -165,3 +165,13 @@ TEST(Faults, AsRootItChangesNoSystemSetting) {
     const auto after = snapshot();
     for (std::size_t i = 0; i < settings.size(); ++i) EXPECT_EQ(before[i], after[i]) << settings[i];
 }
+
+TEST(Faults, OpenMpThreadLimitBelowTheAskedTeamIsAUsageErrorUpFront) {
+    TempDir d;
+    setenv("OMP_THREAD_LIMIT", "1", 1);
+    const Outcome r = run_suite({"--kernel=triad", "--size=1MiB", "--threads=1,2", "--out=" + d.file("r.json")});
+    unsetenv("OMP_THREAD_LIMIT");
+    EXPECT_EQ(r.status, 2) << describe(r);
+    EXPECT_NE(r.err.find("OMP_THREAD_LIMIT"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d.file("r.json")));
+}
