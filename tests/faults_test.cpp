@@ -106,7 +106,8 @@ TEST(Faults, EnergyFileVanishingMidRunLosesThatPointOnlyAndTheRunGoesOn) {
         }
     });
     setenv("SUITE_SYSFS_ROOT", root.c_str(), 1);
-    const Outcome r = run_suite({"--kernel=triad", "--sizes=1MiB,2MiB,4MiB,8MiB,16MiB", "--threads=1", "--min-time=0.25", "--energy=sysfs",
+    // Repetitions of several ms, so that the writer (which may wait for a CPU) moves the counter within them.
+    const Outcome r = run_suite({"--kernel=triad", "--sizes=64MiB,80MiB,96MiB,112MiB,128MiB", "--threads=1", "--reps=5", "--energy=sysfs",
                                  "--counters=none", "--quiet", "--out=" + out},
                                 120);
     unsetenv("SUITE_SYSFS_ROOT");

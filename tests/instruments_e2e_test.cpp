@@ -102,7 +102,8 @@ TEST(InstrumentRun, EnergyFromAMovingPowercapTreeIsMeasuredPerRepetition) {
             std::this_thread::sleep_for(std::chrono::microseconds(200));
         }
     });
-    const Outcome r = run_with_root(root, {"--kernel=triad", "--size=8MiB", "--threads=1", "--min-time=0.3", "--energy=sysfs",
+    // Repetitions of several ms: on a loaded machine the writer may wait a few ms for a CPU.
+    const Outcome r = run_with_root(root, {"--kernel=triad", "--size=256MiB", "--threads=1", "--reps=7", "--energy=sysfs",
                                            "--counters=none", "--out=" + d.file("r.json")});
     done = true;
     power.join();
