@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps test-deps build run test clean
+.PHONY: all deps test-deps build run test test-sanitize clean
 
 all: build
 
@@ -26,5 +26,15 @@ run: build
 test: test-deps build
 	cd $(BUILD) && ctest --output-on-failure -j 2
 
+# The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer, in its own build
+# folder (the binary the end-to-end tests run is the sanitized one too). Any report fails the test.
+SANITIZE_FLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+test-sanitize: test-deps
+	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSUITE_ARCH=$(ARCH) -DSUITE_LINK_TOP=OFF \
+	  -DCMAKE_CXX_FLAGS="$(SANITIZE_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS="$(SANITIZE_FLAGS)" > /dev/null
+	cmake --build build-sanitize -j $(JOBS)
+	cd build-sanitize && ASAN_OPTIONS=abort_on_error=1:detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j 2
+
 clean:
-	rm -rf $(BUILD) suite
+	rm -rf $(BUILD) build-sanitize suite
