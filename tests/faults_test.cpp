@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fake_rapl.hpp"
 #include "process.hpp"
 
 namespace fs = std::filesystem;
@@ -82,37 +83,29 @@ TEST(Faults, EnergyFileVanishingMidRunLosesThatPointOnlyAndTheRunGoesOn) {
     TempDir d;
     const std::string root = d.file("sys");
     fs::copy(kFixtures + "amd-epyc", root, fs::copy_options::recursive);
-    const std::string pkg = root + "/class/powercap/intel-rapl:0/energy_uj";
-    std::atomic<bool> done{false};
+    FifoEnergyCounter pkg(root + "/class/powercap/intel-rapl:0/energy_uj", 1000, 500);
     const std::string out = d.file("r.json");
-    // Counts up until the result file holds two records, then the file disappears for good.
-    std::thread power([&] {
-        const auto t0 = std::chrono::steady_clock::now();
+    // Once the result file holds two records, the energy file disappears for good.
+    std::atomic<bool> done{false};
+    std::thread remover([&] {
         while (!done) {
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            std::error_code ec;
-            if (fs::exists(out, ec)) {
-                try {
-                    if (json::parse(slurp(out))["results"].size() >= 2) {
-                        fs::remove(pkg);
-                        break;
-                    }
-                } catch (const std::exception&) {  // not yet there: the suite renames it in one step
+            try {
+                if (fs::exists(out) && json::parse(slurp(out))["results"].size() >= 2) {
+                    pkg.remove();
+                    return;
                 }
+            } catch (const std::exception&) {  // not there yet
             }
-            std::ofstream(pkg + ".new") << static_cast<std::uint64_t>(1000 + s * 30e6) << "\n";
-            fs::rename(pkg + ".new", pkg);
-            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
         }
     });
     setenv("SUITE_SYSFS_ROOT", root.c_str(), 1);
-    // Repetitions of several ms, so that the writer (which may wait for a CPU) moves the counter within them.
-    const Outcome r = run_suite({"--kernel=triad", "--sizes=64MiB,80MiB,96MiB,112MiB,128MiB", "--threads=1", "--reps=5", "--energy=sysfs",
+    const Outcome r = run_suite({"--kernel=triad", "--sizes=1MiB,2MiB,3MiB,4MiB,5MiB", "--threads=1", "--reps=5", "--energy=sysfs",
                                  "--counters=none", "--quiet", "--out=" + out},
                                 120);
     unsetenv("SUITE_SYSFS_ROOT");
     done = true;
-    power.join();
+    remover.join();
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(out));
     ASSERT_EQ(doc["results"].size(), 5u);
