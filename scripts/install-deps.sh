@@ -6,6 +6,8 @@ want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev 
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results.
   want+=(binutils python3 python3-jsonschema)
+  # make test-numa: an emulated two-node machine (the kernel itself is fetched by scripts/numa-vm/run.sh).
+  want+=(qemu-system-x86 busybox-static cpio)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2
