@@ -9,6 +9,7 @@ Exit status: 0 every claim holds, 1 at least one does not (or the data is missin
 """
 
 import json
+import os
 import re
 import sys
 
@@ -118,21 +119,41 @@ def numa_maps_lines(numa_maps, pagemap):
     return [line.split() for line in numa_maps.splitlines() if line.split() and int(line.split()[0], 16) in starts]
 
 
+def load_json(c, scenario, data, key):
+    """The JSON document sent as `key`, or None after a failed claim saying why."""
+    try:
+        return json.loads(data[key])
+    except (KeyError, ValueError) as e:
+        c.claim(scenario, f"{key} received and valid JSON", False, "missing" if isinstance(e, KeyError) else str(e))
+        return None
+
+
 def check_topology(c, data, machine):
     c.claim("kernel", "guest kernel sees 2 NUMA nodes with distance 21", sorted(machine.distance) == [0, 1] and
             [machine.distance[0], machine.distance[1]] == DISTANCES, f"{machine.distance}")
     c.claim("kernel", "automatic NUMA balancing is off, so pages stay where first placed",
             machine.facts.get("numa_balancing") == "0", machine.facts.get("numa_balancing", "missing"))
-    if not c.claim("info", "./suite info --json was received", "info/json" in data):
+    info = load_json(c, "info", data, "info/json")
+    if info is None:
         return
-    info = json.loads(data["info/json"])
     nodes = info.get("numa_nodes", [])
     c.claim("info", "2 NUMA nodes, node 0 with CPU 0 and node 1 with CPU 1",
             [(n["os_index"], n["cpus"]) for n in nodes] == [(0, [0]), (1, [1])], f"{[(n['os_index'], n['cpus']) for n in nodes]}")
     c.claim("info", "distances 10/21 as configured and as the kernel reports", info.get("numa_distances") == DISTANCES,
             f"{info.get('numa_distances')}")
     c.claim("info", "CPU 0 on node 0, CPU 1 on node 1",
-            sorted((p["os_index"], p["numa_node"]) for p in info.get("pu_map", [])) == [(0, 0), (1, 1)], f"{info.get('pu_map')}")
+            sorted((p["os_index"], p["numa_node"]) for p in info.get("pu_map", [])) == [(0, 0), (1, 1)],
+            f"(cpu, node) {sorted((p['os_index'], p['numa_node']) for p in info.get('pu_map', []))}")
+
+
+def schema_validator():
+    """The validator of the result schema of this tree (results/schema/v1.json)."""
+    import jsonschema
+    from jsonschema.validators import validator_for
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "results", "schema", "v1.json")
+    with open(path, encoding="utf-8") as f:
+        schema = json.load(f)
+    return validator_for(schema, default=jsonschema.Draft202012Validator)(schema)
 
 
 def check_record(c, name, want, record, doc, slack):
@@ -152,24 +173,28 @@ def check_record(c, name, want, record, doc, slack):
     for a in p["arrays"]:
         hist = {int(k): v for k, v in a["pages_per_node"].items()}
         n0, n1 = hist.get(0, 0), hist.get(1, 0)
-        if not c.claim(name, f"histogram of '{a['array']}' covers all its {a['pages']} pages",
-                       a["pages_not_present"] == 0 and "error" not in a and sum(hist.values()) == a["pages"], f"{hist}"):
-            continue
+        whole = a["pages_not_present"] == 0 and "error" not in a and sum(hist.values()) == a["pages"]
+        text = f"histogram of '{a['array']}': all {a['pages']} pages, "
         if want["layout"] == "split":
-            c.claim(name, f"histogram of '{a['array']}': half on each thread's node (within {slack['split']} pages)",
-                    n0 + n1 == a["pages"] and abs(n0 - a["pages"] / 2) <= slack["split"], f"node 0: {n0}, node 1: {n1}")
+            c.claim(name, text + f"half on each thread's node (within {slack['split']})",
+                    whole and abs(n0 - a["pages"] / 2) <= slack["split"], f"node 0: {n0}, node 1: {n1}")
         elif want["layout"] == "interleave":
-            c.claim(name, f"histogram of '{a['array']}': equal on both nodes (within {slack['interleave']} pages)",
-                    n0 + n1 == a["pages"] and abs(n0 - n1) <= slack["interleave"], f"node 0: {n0}, node 1: {n1}")
+            c.claim(name, text + f"as many on each node (within {slack['interleave']})",
+                    whole and abs(n0 - n1) <= slack["interleave"], f"node 0: {n0}, node 1: {n1}")
         else:
-            c.claim(name, f"histogram of '{a['array']}': every page on node {want['layout'][1]}", hist == {want["layout"][1]: a["pages"]}, f"{hist}")
+            c.claim(name, text + f"every one on node {want['layout'][1]}", whole and hist == {want["layout"][1]: a["pages"]}, f"{hist}")
 
 
 def check_snapshot(c, name, want, record, data, machine, slack):
     """The running process's pages, as the kernel shows them, against the layout and the histogram."""
-    missing = [f for f in ("maps", "numa_maps", "pagemap", "thp") if f"{name}/{f}" not in data]
+    missing = [f for f in ("maps", "numa_maps", "pagemap", "thp", "tasks") if f"{name}/{f}" not in data]
     if not c.claim(name, "snapshot of the running suite received", not missing, f"missing {missing}" if missing else ""):
         return
+    # The kernel's word on pinning, independent of what the suite read back: one task per thread,
+    # each allowed exactly its CPU and last seen running there.
+    tasks = sorted((w[1], int(w[2])) for w in (line.split() for line in data[f"{name}/tasks"].splitlines()) if len(w) == 3)
+    c.claim(name, "kernel: the process's threads are allowed only, and run on, CPUs " + ",".join(str(cpu) for cpu, _ in want["threads"]),
+            tasks == sorted((str(cpu), cpu) for cpu, _ in want["threads"]), f"(allowed, last cpu) {tasks}")
     arrays = record["placement"]["arrays"]
     total = sum(a["pages"] for a in arrays)
     nodes, absent, short = pagemap_nodes(data[f"{name}/pagemap"], machine)
@@ -222,6 +247,7 @@ def main(argv):
         print(f"check.py: cannot read {argv[1]}: {e}", file=sys.stderr)
         return 1
     c = Checker()
+    validator = schema_validator()
     machine = Machine(data.get("guest/nodes", ""))
     check_topology(c, data, machine)
     for name, want in SCENARIOS.items():
@@ -230,12 +256,15 @@ def main(argv):
         # with 2 MiB pages a huge page straddling a block boundary or an array's edge goes whole to
         # one node, so a thread's block may gain or lose up to one huge page at each of its ends.
         slack = dict(split=1 if h == 1 else 2 * h, interleave=1 if h == 1 else h + 2, run=1 if h == 1 else h + 2, drift=0 if h == 1 else h)
-        if not c.claim(name, "suite exited 0", data.get(f"{name}/status", "").strip() == "0",
-                       f"status {data.get(f'{name}/status', 'missing').strip()}; stderr: {data.get(f'{name}/stderr', '').strip()[:300]}"):
+        status = data.get(f"{name}/status", "missing").strip()
+        if not c.claim(name, "suite exited 0", status == "0",
+                       "" if status == "0" else f"status {status}; stderr: {data.get(f'{name}/stderr', '').strip()[:300]}"):
             continue
-        doc = json.loads(data[f"{name}/result.json"])
-        if not c.claim(name, "result file holds one record", len(doc.get("results", [])) == 1, f"{len(doc.get('results', []))} records"):
+        doc = load_json(c, name, data, f"{name}/result.json")
+        if doc is None or not c.claim(name, "result file holds one record", len(doc.get("results", [])) == 1, f"{len(doc.get('results', []))} records"):
             continue
+        errors = [f"{'/'.join(map(str, e.absolute_path))}: {e.message}" for e in validator.iter_errors(doc)]
+        c.claim(name, "result file valid against results/schema/v1.json", not errors, "; ".join(errors[:3]))
         check_record(c, name, want, doc["results"][0], doc, slack)
         check_snapshot(c, name, want, doc["results"][0], data, machine, slack)
     c.claim("guest", "guest verdict: every run finished", data.get("guest/verdict", "").strip() == "0", data.get("guest/verdict", "missing").strip())

@@ -44,6 +44,10 @@ snapshot() {
     done < "$2/vmas"
     cat "/proc/$1/numa_maps" > "$2/numa_maps"
     grep AnonHugePages "/proc/$1/smaps_rollup" > "$2/thp"
+    # Each thread's allowed CPUs and the CPU it last ran on (field 39 of stat), from the kernel.
+    for t in /proc/"$1"/task/*; do
+        echo "${t##*/} $(awk '/^Cpus_allowed_list/ { print $2 }' "$t/status") $(awk '{ print $39 }' "$t/stat")"
+    done > "$2/tasks"
 }
 
 # pagemap_text DIR: the raw pagemap reads as hexadecimal words, one "vma LO HI" line before each.
@@ -85,7 +89,7 @@ scenario() {
     [ "$rc" = 0 ] && [ "$taken" = yes ] || verdict=1
     echo "$rc" > "$d/status"
     pagemap_text "$d"
-    for f in status stderr result.json maps numa_maps thp pagemap; do
+    for f in status stderr result.json maps numa_maps thp tasks pagemap; do
         [ -f "$d/$f" ] && send "$name/$f" "$d/$f"
     done
 }

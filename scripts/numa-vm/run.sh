@@ -25,26 +25,33 @@ ldd /bin/busybox > /dev/null 2>&1 && fail "/bin/busybox is dynamically linked; t
 mkdir -p "$work/kernel"
 
 # 1. Debian's kernel, fetched once: the package linux-image-amd64 points at, only its vmlinuz kept.
+# (Called in an `||` list, where `set -e` is off: every step checks its own status.)
+kernel_package() {
+    apt-cache depends linux-image-amd64 2> /dev/null | awk '$1 == "Depends:" && $2 ~ /^linux-image-[0-9]/ { print $2; exit }'
+}
 fetch_kernel() {
     command -v apt-get > /dev/null && command -v dpkg-deb > /dev/null || return 1
-    local pkg tmp
-    pkg=$(apt-cache depends linux-image-amd64 2>/dev/null | awk '$1 == "Depends:" && $2 ~ /^linux-image-[0-9]/ { print $2; exit }')
-    if [ -z "$pkg" ] && [ "$(id -u)" -eq 0 ]; then
-        apt-get update -qq > /dev/null 2>&1 || true
-        pkg=$(apt-cache depends linux-image-amd64 2>/dev/null | awk '$1 == "Depends:" && $2 ~ /^linux-image-[0-9]/ { print $2; exit }')
+    local pkg tmp as_root=no
+    [ "$(id -u)" -eq 0 ] && as_root=yes
+    pkg=$(kernel_package)
+    if [ -z "$pkg" ] && [ $as_root = yes ]; then
+        apt-get update -qq > /dev/null 2>&1
+        pkg=$(kernel_package)
     fi
-    [ -n "$pkg" ] || { echo "test-numa: apt knows no linux-image-amd64 (run apt-get update)"; return 1; }
-    tmp=$(mktemp -d "$work/kernel/fetch.XXXXXX")
+    [ -n "$pkg" ] || { echo "test-numa: apt knows no linux-image-amd64 (apt-get update first?)"; return 1; }
+    tmp=$(mktemp -d "$work/kernel/fetch.XXXXXX") || return 1
     step "downloading $pkg"
-    # The exact name: a pattern would make apt-get download every package it matches.
-    if ! (cd "$tmp" && apt-get download -q -o APT::Sandbox::User="$(id -un)" "$pkg" > /dev/null); then
-        # A stale package index names a version the mirror no longer has: refresh it once.
-        [ "$(id -u)" -eq 0 ] && apt-get update -qq > /dev/null 2>&1 && (cd "$tmp" && apt-get download -q -o APT::Sandbox::User=root "$pkg" > /dev/null) ||
-            { rm -rf "$tmp"; echo "test-numa: could not download $pkg"; return 1; }
-    fi
-    dpkg-deb --fsys-tarfile "$tmp"/*.deb | tar -x -C "$tmp" --wildcards './boot/vmlinuz-*'
-    mv "$tmp"/boot/vmlinuz-* "$work/kernel/"
+    # The exact name: a pattern would make apt-get download every package it matches. A stale
+    # package index may name a version the mirror no longer has: as root, refresh it once.
+    (cd "$tmp" && apt-get download -q -o APT::Sandbox::User="$(id -un)" "$pkg" > /dev/null) ||
+        { [ $as_root = yes ] && apt-get update -qq > /dev/null 2>&1 &&
+            (cd "$tmp" && apt-get download -q -o APT::Sandbox::User=root "$pkg" > /dev/null); } &&
+        dpkg-deb --fsys-tarfile "$tmp"/*.deb | tar -x -C "$tmp" --wildcards './boot/vmlinuz-*' &&
+        mv "$tmp"/boot/vmlinuz-* "$work/kernel/"
+    local rc=$?
     rm -rf "$tmp"
+    [ $rc -eq 0 ] || echo "test-numa: could not fetch $pkg"
+    return $rc
 }
 vmlinuz=$(ls "$work"/kernel/vmlinuz-* 2> /dev/null | head -n 1 || true)
 if [ -z "$vmlinuz" ]; then
