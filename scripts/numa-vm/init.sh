@@ -15,6 +15,7 @@ stty -F /dev/ttyS1 raw -echo
 exec 3>/dev/ttyS1
 verdict=0
 say() { echo "numa-vm guest: $*"; }
+say "init started $(cut -d' ' -f1 /proc/uptime) s after the kernel"
 
 # send NAME FILE: one file to the host, between markers.
 send() {
@@ -120,7 +121,7 @@ scenario thp-interleave 96 --threads=1 --pin=0 --placement=interleave
 echo "$verdict" > /tmp/verdict
 send guest/verdict /tmp/verdict
 exec 3>&-  # the last close of the port waits until everything is sent
-say "verdict $verdict"
+say "verdict $verdict, $(cut -d' ' -f1 /proc/uptime) s after the kernel started"
 printf "\\$verdict" | dd of=/dev/port bs=1 seek=244 count=1 2>/dev/null
 # Not reached when isa-debug-exit is present; without it, end the machine anyway.
 poweroff -f
