@@ -26,6 +26,7 @@ SCENARIOS = {
     "thp-interleave": dict(thp="always", threads=[(0, 0)], placement="interleave", layout="interleave", policy="interleave:0-1"),
 }
 DISTANCES = [[10, 21], [21, 10]]  # as run.sh configures QEMU
+MAX_OTHER = 64  # pages of other data the kernel may merge into the arrays' mappings
 
 
 class Checker:
@@ -219,22 +220,33 @@ def check_snapshot(c, name, want, record, data, machine, slack):
     thp_kb = int(thp.group(1)) if thp else -1
     c.claim(name, "huge pages in use" if want["thp"] == "always" else "no huge pages in use",
             thp_kb > 0 if want["thp"] == "always" else thp_kb == 0, f"AnonHugePages {thp_kb} kB")
-    r = runs(nodes)
-    if want["layout"] == "split":
+    # The arrays are consecutive mappings, so their pages are one stretch of `total` resident
+    # pages; the kernel may have merged a few other pages (touched by the main thread before it
+    # was pinned) into the same mapping at either end. Every placement of that stretch that
+    # leaves at most MAX_OTHER pages outside is tried; the claim holds if one fits.
+    if not c.claim(name, f"the arrays' mappings hold at most {MAX_OTHER} other pages", extra <= MAX_OTHER, f"{extra} other pages"):
+        return
+    layout = want["layout"]
+    if layout == "split":
         # In address order every array is [thread 0's block][thread 1's block]: runs 0,1,0,1,...
         half = arrays[0]["pages"] / 2
-        ok = [x[0] for x in r] == [0, 1] * len(arrays) and all(
-            abs(length - half) <= slack["split"] + (extra if i in (0, len(r) - 1) else 0) for i, (_, length) in enumerate(r))
-        c.claim(name, f"pagemap: in every array thread 0's block on node 0, then thread 1's on node 1 (runs of {half:.0f} pages within {slack['split']})",
-                ok, f"runs (node, pages) {[tuple(x) for x in r[:12]]}{' ...' if len(r) > 12 else ''}")
-    elif want["layout"] == "interleave":
-        longest = max(length for _, length in r)
-        c.claim(name, f"pagemap: pages alternate between the nodes (no run longer than {slack['run']} pages)",
-                longest <= slack["run"] and abs(count[0] - count[1]) <= slack["interleave"] * len(arrays),
-                f"{len(r)} runs, longest {longest}, node 0: {count[0]}, node 1: {count[1]}")
+
+        def fits(r):
+            return [x[0] for x in r] == [0, 1] * len(arrays) and all(abs(length - half) <= slack["split"] for _, length in r)
+        text = f"pagemap: in every array thread 0's block on node 0, then thread 1's on node 1 (runs of {half:.0f} pages within {slack['split']})"
+    elif layout == "interleave":
+        def fits(r):
+            return max(length for _, length in r) <= slack["run"] and abs(
+                sum(n for x, n in r if x == 0) - sum(n for x, n in r if x == 1)) <= slack["interleave"] * len(arrays)
+        text = f"pagemap: pages alternate between the nodes (no run longer than {slack['run']} pages, as many on each)"
     else:
-        node = want["layout"][1]
-        c.claim(name, f"pagemap: every array page on node {node}", count[node] >= total and count[1 - node] <= extra, f"{count}")
+        def fits(r):
+            return [x[0] for x in r] == [layout[1]]
+        text = f"pagemap: every array page on node {layout[1]}"
+    tried = [runs(nodes[o:o + total]) for o in range(extra + 1)]
+    good = [r for r in tried if fits(r)]
+    r = (good or tried)[0]
+    c.claim(name, text, good, f"{len(r)} runs (node, pages) {[tuple(x) for x in r[:8]]}{' ...' if len(r) > 8 else ''}")
 
 
 def main(argv):
