@@ -106,7 +106,8 @@ echo "thp_default=$(cat /sys/kernel/mm/transparent_hugepage/enabled)" >> /tmp/no
 send guest/nodes /tmp/nodes
 if /suite info --json > /tmp/info.json 2> /tmp/info.err; then send info/json /tmp/info.json; else say "suite info failed: $(cat /tmp/info.err)"; verdict=1; fi
 
-# Base pages first: every page is placed on its own, so the checks can be exact.
+# Base pages first: every page is placed on its own, so the checks can be exact. 48 MiB of
+# triad is three 16 MiB arrays: larger than a thread's 8 MiB stack, which must not pass for one.
 echo never > /sys/kernel/mm/transparent_hugepage/enabled
 scenario local2 48 --threads=2 --pin=compact --placement=local
 scenario node1 48 --threads=1 --pin=0 --placement=node:1
