@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps test-deps build run test test-sanitize clean
+.PHONY: all deps test-deps build run test test-numa test-sanitize clean
 
 all: build
 
@@ -25,6 +25,11 @@ run: build
 
 test: test-deps build
 	cd $(BUILD) && ctest --output-on-failure -j 2
+	@JOBS=$(JOBS) scripts/numa-vm/run.sh
+
+# Placement and pinning on an emulated two-node NUMA machine (QEMU); its files go to build-numa/.
+test-numa: test-deps
+	@JOBS=$(JOBS) scripts/numa-vm/run.sh
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer, in its own build
 # folder (the binary the end-to-end tests run is the sanitized one too). Any report fails the test.

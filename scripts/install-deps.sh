@@ -7,6 +7,8 @@ if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
   # clang builds the libFuzzer targets.
   want+=(binutils python3 python3-jsonschema clang)
+  # make test-numa: an emulated two-node machine (the kernel itself is fetched by scripts/numa-vm/run.sh).
+  want+=(qemu-system-x86 busybox-static cpio)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2

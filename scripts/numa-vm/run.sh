@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# `make test-numa`: proves placement and pinning on an emulated two-node NUMA machine. Fetches
+# Debian's kernel (cached), builds a portable suite, packs it with busybox into an initramfs,
+# boots QEMU (software emulation, one CPU and 1 GiB per node, distance 21), and has check.py
+# judge what the guest (init.sh) sends back. Exit 0: passed, or skipped where it cannot run at
+# all (printed with the reason); 1: a check failed or the machine did not finish.
+# Environment: JOBS (build jobs, default 2), NUMA_VM_DIR (cache and work folder, default build-numa),
+# NUMA_VM_TIMEOUT (seconds the machine may run, default 300).
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+work=${NUMA_VM_DIR:-$root/build-numa}
+timeout_s=${NUMA_VM_TIMEOUT:-300}
+start=$SECONDS
+
+skip() { echo "test-numa: SKIPPED: $*"; exit 0; }
+fail() { echo "test-numa: FAIL: $*" >&2; exit 1; }
+step() { echo "test-numa: $* ($((SECONDS - start)) s)"; }
+
+[ "$(uname -m)" = x86_64 ] || skip "the guest runs an x86-64 build of the suite, and this host is $(uname -m)"
+for tool in qemu-system-x86_64 cpio gzip /bin/busybox /usr/bin/python3 ldd; do
+    command -v "$tool" > /dev/null || fail "$tool is missing: run scripts/install-deps.sh test (qemu-system-x86, busybox-static, cpio)"
+done
+ldd /bin/busybox > /dev/null 2>&1 && fail "/bin/busybox is dynamically linked; the initramfs needs busybox-static's"
+mkdir -p "$work/kernel"
+
+# 1. Debian's kernel, fetched once: the package linux-image-amd64 points at, only its vmlinuz kept.
+# (Called in an `||` list, where `set -e` is off: every step checks its own status.)
+kernel_package() {
+    apt-cache depends linux-image-amd64 2> /dev/null | awk '$1 == "Depends:" && $2 ~ /^linux-image-[0-9]/ { print $2; exit }'
+}
+fetch_kernel() {
+    command -v apt-get > /dev/null && command -v dpkg-deb > /dev/null || return 1
+    local pkg tmp as_root=no
+    [ "$(id -u)" -eq 0 ] && as_root=yes
+    pkg=$(kernel_package)
+    if [ -z "$pkg" ] && [ $as_root = yes ]; then
+        apt-get update -qq > /dev/null 2>&1
+        pkg=$(kernel_package)
+    fi
+    [ -n "$pkg" ] || { echo "test-numa: apt knows no linux-image-amd64 (apt-get update first?)"; return 1; }
+    tmp=$(mktemp -d "$work/kernel/fetch.XXXXXX") || return 1
+    step "downloading $pkg"
+    # The exact name: a pattern would make apt-get download every package it matches. A stale
+    # package index may name a version the mirror no longer has: as root, refresh it once.
+    (cd "$tmp" && apt-get download -q -o APT::Sandbox::User="$(id -un)" "$pkg" > /dev/null) ||
+        { [ $as_root = yes ] && apt-get update -qq > /dev/null 2>&1 &&
+            (cd "$tmp" && apt-get download -q -o APT::Sandbox::User=root "$pkg" > /dev/null); } &&
+        dpkg-deb --fsys-tarfile "$tmp"/*.deb | tar -x -C "$tmp" --wildcards './boot/vmlinuz-*' &&
+        mv "$tmp"/boot/vmlinuz-* "$work/kernel/"
+    local rc=$?
+    rm -rf "$tmp"
+    [ $rc -eq 0 ] || echo "test-numa: could not fetch $pkg"
+    return $rc
+}
+vmlinuz=$(ls "$work"/kernel/vmlinuz-* 2> /dev/null | head -n 1 || true)
+if [ -z "$vmlinuz" ]; then
+    fetch_kernel || skip "no kernel cached in $work/kernel and Debian's could not be fetched (no apt, or no network)"
+    vmlinuz=$(ls "$work"/kernel/vmlinuz-* | head -n 1)
+fi
+step "kernel $(basename "$vmlinuz")"
+
+# 2. A portable build: under software emulation the guest CPU has AVX2 but no AVX-512, so the
+# host's -march=native binary may not run there. Its own build folder leaves ./suite alone.
+cmake -S "$root" -B "$work/suite" -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=x86-64-v3 -DSUITE_LINK_TOP=OFF -DSUITE_BUILD_TESTS=OFF > /dev/null
+cmake --build "$work/suite" -j "${JOBS:-2}" > "$work/build.log" 2>&1 || { tail -n 30 "$work/build.log"; fail "the portable build failed"; }
+step "suite built for x86-64-v3"
+
+# 3. The initramfs: busybox, the suite, every library ldd names (the dynamic loader too), /init.
+rm -rf "$work/initramfs"
+mkdir -p "$work/initramfs"/{bin,dev,proc,sys,tmp}
+cp /bin/busybox "$work/initramfs/bin/busybox"
+cp "$work/suite/suite" "$work/initramfs/suite"
+for lib in $(ldd "$work/suite/suite" | awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 ~ /^\// { print $1 }'); do
+    mkdir -p "$work/initramfs$(dirname "$lib")"
+    cp -L "$lib" "$work/initramfs$lib"
+done
+install -m 755 "$here/init.sh" "$work/initramfs/init"
+(cd "$work/initramfs" && find . | cpio -o -H newc --quiet | gzip -1) > "$work/initrd.gz"
+step "initramfs $(du -k "$work/initrd.gz" | cut -f1) KiB"
+
+# 4. The machine: node 0 = CPU 0 + 1 GiB, node 1 = CPU 1 + 1 GiB, distance 21. No KVM: /dev/kvm on
+# these hosts cannot run a guest. numa_balancing=disable: the pages seen are where the suite put
+# them, not where the kernel later moved them. ttyS0 is the console, ttyS1 carries the results.
+rm -f "$work/console.log" "$work/data.txt"
+status=0
+timeout "$timeout_s" qemu-system-x86_64 -nodefaults -accel tcg -cpu max -m 2G -smp 2 \
+    -object memory-backend-ram,id=m0,size=1G -object memory-backend-ram,id=m1,size=1G \
+    -numa node,nodeid=0,cpus=0,memdev=m0 -numa node,nodeid=1,cpus=1,memdev=m1 -numa dist,src=0,dst=1,val=21 \
+    -kernel "$vmlinuz" -initrd "$work/initrd.gz" -append "console=ttyS0 quiet panic=-1 numa_balancing=disable" \
+    -display none -monitor none -serial "file:$work/console.log" -serial "file:$work/data.txt" \
+    -no-reboot -device isa-debug-exit,iobase=0xf4,iosize=0x04 || status=$?
+step "machine exited with status $status"
+case $status in
+    1) ;;  # the guest wrote 0 to isa-debug-exit: everything ran
+    3) echo "test-numa: the guest reports a failed run; its console:"; tail -n 40 "$work/console.log" ;;
+    124) tail -n 40 "$work/console.log"; fail "the machine did not finish within ${timeout_s} s (NUMA_VM_TIMEOUT)" ;;
+    *) tail -n 40 "$work/console.log"; fail "the machine stopped before the guest's verdict (QEMU status $status)" ;;
+esac
+
+# 5. The judgement, on the host.
+/usr/bin/python3 "$here/check.py" "$work/data.txt" || fail "see the FAIL lines above (guest console: $work/console.log)"
+[ "$status" = 1 ] || fail "the guest reports a failed run"
+echo "test-numa: PASS in $((SECONDS - start)) s"
