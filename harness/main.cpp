@@ -8,7 +8,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "harness/check.hpp"
 #include "harness/cli_run.hpp"
+#include "harness/compare.hpp"
 #include "harness/context.hpp"
 #include "harness/kernel.hpp"
 #include "harness/topology.hpp"
@@ -22,6 +24,8 @@ Commands:
   run (default)   measure kernels: ./suite [run] --kernel=... [options]
   list            kernels, patterns, placements: ./suite list [--json]
   info            topology, caches, NUMA nodes: ./suite info [--json]
+  compare         result files side by side: ./suite compare A.json B.json [--format=markdown]
+  check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
@@ -31,6 +35,9 @@ Examples:
   ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
   ./suite --kernel=triad --placement=node:1 --pin=0,1 --threads=2   # arrays on node 1, threads on CPUs 0, 1
   ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
+  ./suite --kernel=triad --sizes=16KiB:64MiB --format=gbench --out=triad-gb.json   # Google Benchmark's JSON
+  ./suite compare results/a.json results/b.json            # two machines or builds (see ./suite compare --help)
+  ./suite check --baseline results/baseline/ci.json run.json   # exit 1 on a regression
 
 Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
 result file then holds the finished points and says "complete": false).
@@ -145,9 +152,11 @@ int main(int argc, char** argv) {
         if (command == "run") return cmd_run(args, all);
         if (command == "list") return cmd_list(args);
         if (command == "info") return cmd_info(args);
-        std::string hint = nearest(command, {"run", "list", "info"});
+        if (command == "compare") return cmd_compare(args);
+        if (command == "check") return cmd_check(args);
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info (see ./suite --help)");
+                         "; commands: run, list, info, compare, check (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();
