@@ -12,6 +12,7 @@
 #include "harness/cli_run.hpp"
 #include "harness/compare.hpp"
 #include "harness/context.hpp"
+#include "harness/deterministic.hpp"
 #include "harness/kernel.hpp"
 #include "harness/topology.hpp"
 #include "harness/units.hpp"
@@ -26,6 +27,7 @@ Commands:
   info            topology, caches, NUMA nodes: ./suite info [--json]
   compare         result files side by side: ./suite compare A.json B.json [--format=markdown]
   check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
+  deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
@@ -154,9 +156,10 @@ int main(int argc, char** argv) {
         if (command == "info") return cmd_info(args);
         if (command == "compare") return cmd_compare(args);
         if (command == "check") return cmd_check(args);
-        std::string hint = nearest(command, {"run", "list", "info", "compare", "check"});
+        if (command == "deterministic") return cmd_deterministic(args, all);
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info, compare, check (see ./suite --help)");
+                         "; commands: run, list, info, compare, check, deterministic (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();

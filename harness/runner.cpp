@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "harness/callgrind_marks.hpp"
 #include "harness/units.hpp"
 
 namespace suite {
@@ -20,6 +21,10 @@ void check_stop(const RunSettings& s) {
 }
 
 }  // namespace
+
+std::string callgrind_label(const Record& r) {
+    return "suite point " + r.name + " " + r.access + " " + size_label(r.size_kind, r.size_requested) + " t=" + std::to_string(r.threads);
+}
 
 Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads) {
     Rates r;
@@ -98,9 +103,12 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     for (int r = 0; r < rec.repetitions; ++r) {
         check_stop(settings);
         t0 = Clock::now();
+        callgrind::toggle_collect();  // under `suite deterministic`, only the kernel's calls are counted
         kernel->run(rec.batch);
+        callgrind::toggle_collect();
         rec.samples_s.push_back(seconds_since(t0) / rec.batch);
     }
+    callgrind::dump(callgrind_label(rec).c_str());
     rec.binding_held = team_still_bound(rec.bindings);
     rec.verification = kernel->verify();
     rec.time = summarise(rec.samples_s);

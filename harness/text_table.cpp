@@ -45,13 +45,13 @@ std::string TextTable::render_text() const {
 
 std::string TextTable::render_markdown() const {
     std::string out = "|";
-    for (const auto& h : header) out += " " + md_cell(h) + " |";
+    for (const auto& h : header) out.append(" ").append(md_cell(h)).append(" |");
     out += "\n|";
     for (std::size_t c = 0; c < header.size(); ++c) out += is_right(*this, c) ? " ---: |" : " --- |";
     out += "\n";
     for (const auto& row : rows) {
         out += "|";
-        for (std::size_t c = 0; c < header.size(); ++c) out += " " + md_cell(c < row.size() ? row[c] : "") + " |";
+        for (std::size_t c = 0; c < header.size(); ++c) out.append(" ").append(md_cell(c < row.size() ? row[c] : "")).append(" |");
         out += "\n";
     }
     return out;
