@@ -2,10 +2,12 @@
 # Installs the Debian packages the suite needs, if any is missing. As root it runs apt-get;
 # otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test]
 set -euo pipefail
-want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libcli11-dev nlohmann-json3-dev libgtest-dev)
+want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 if [ "${1:-build}" = test ]; then
-  # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results.
-  want+=(binutils python3 python3-jsonschema)
+  # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
+  # valgrind: the deterministic mode (its header also makes the build add suite-x86-64-v3);
+  # python3-matplotlib: plots/plot.py.
+  want+=(binutils python3 python3-jsonschema valgrind python3-matplotlib)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2
