@@ -40,6 +40,8 @@ Examples:
   ./suite --kernel=triad --sizes=16KiB:64MiB --format=gbench --out=triad-gb.json   # Google Benchmark's JSON
   ./suite compare results/a.json results/b.json            # two machines or builds (see ./suite compare --help)
   ./suite check --baseline results/baseline/ci.json run.json   # exit 1 on a regression
+  build/suite-x86-64-v3 deterministic --kernel=add --out=det.json   # exact counts under valgrind
+  plots/plot.py results/triad.json --out=figures/          # PNG figures (python3-matplotlib)
 
 Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
 result file then holds the finished points and says "complete": false).
