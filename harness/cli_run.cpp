@@ -37,7 +37,7 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--min-time", o.min_time, "seconds of counted repetitions per point when --reps is not given (default 0.2)");
     app.add_option("--seed", o.seed, "seed of the random permutations (default 1)")->check(CLI::NonNegativeNumber);
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
-    app.add_option("--format", o.format, "table | json | csv: format of --out, or of stdout without --out");
+    app.add_option("--format", o.format, "table | json | csv | gbench (Google Benchmark's JSON): format of --out, or of stdout without --out");
     app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
     app.add_flag("--dry-run", o.dry_run, "check the options, list the points that would run, and stop");
     app.add_option("--counters", o.counters,
@@ -72,7 +72,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     const bool to_file = !plan.out_path.empty();
     const bool console_table = !plan.quiet && (to_file || plan.format == "table");
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
-    const FileFormat format = plan.format == "csv" ? FileFormat::csv : FileFormat::json;
+    const FileFormat format = plan.format == "csv" ? FileFormat::csv : plan.format == "gbench" ? FileFormat::gbench : FileFormat::json;
     ResultDocument doc{build_context(topo, argv, plan.instruments), {}};
 
     if (console_table) std::cout << table_header() << std::flush;

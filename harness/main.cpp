@@ -8,10 +8,13 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "harness/check.hpp"
 #include "harness/cli_counters.hpp"
 #include "harness/cli_run.hpp"
+#include "harness/compare.hpp"
 #include "harness/instruments.hpp"
 #include "harness/context.hpp"
+#include "harness/deterministic.hpp"
 #include "harness/kernel.hpp"
 #include "harness/topology.hpp"
 #include "harness/units.hpp"
@@ -24,6 +27,9 @@ Commands:
   run (default)   measure kernels: ./suite [run] --kernel=... [options]
   list            kernels, patterns, placements: ./suite list [--json] [--counters]
   info            topology, caches, NUMA nodes: ./suite info [--json]
+  compare         result files side by side: ./suite compare A.json B.json [--format=markdown]
+  check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
+  deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
@@ -35,6 +41,11 @@ Examples:
   ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
   ./suite --kernel=triad --size=1GiB --counters=cycles,instructions,LLC-load-misses
   ./suite --kernel=add --pattern=random --energy=sysfs --energy-baseline=2   # energy above idle power
+  ./suite --kernel=triad --sizes=16KiB:64MiB --format=gbench --out=triad-gb.json   # Google Benchmark's JSON
+  ./suite compare results/a.json results/b.json            # two machines or builds (see ./suite compare --help)
+  ./suite check --baseline results/baseline/ci.json run.json   # exit 1 on a regression
+  build/suite-x86-64-v3 deterministic --kernel=add --out=det.json   # exact counts under valgrind
+  plots/plot.py results/triad.json --out=figures/          # PNG figures (python3-matplotlib)
 
 Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
 result file then holds the finished points and says "complete": false).
@@ -163,9 +174,12 @@ int main(int argc, char** argv) {
         if (command == "run") return cmd_run(args, all);
         if (command == "list") return cmd_list(args);
         if (command == "info") return cmd_info(args);
-        std::string hint = nearest(command, {"run", "list", "info"});
+        if (command == "compare") return cmd_compare(args);
+        if (command == "check") return cmd_check(args);
+        if (command == "deterministic") return cmd_deterministic(args, all);
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info (see ./suite --help)");
+                         "; commands: run, list, info, compare, check, deterministic (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();

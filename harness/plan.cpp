@@ -123,10 +123,10 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     }
 
     // Output.
-    if (!o.format.empty() && o.format != "table" && o.format != "json" && o.format != "csv")
-        throw UsageError("unknown --format '" + o.format + "'; accepted: table, json, csv");
+    if (!o.format.empty() && o.format != "table" && o.format != "json" && o.format != "csv" && o.format != "gbench")
+        throw UsageError("unknown --format '" + o.format + "'; accepted: table, json, csv, gbench (Google Benchmark's JSON)");
     if (!o.out.empty()) {
-        if (o.format == "table") throw UsageError("--format=table cannot be written to a file; use json or csv with --out");
+        if (o.format == "table") throw UsageError("--format=table cannot be written to a file; use json or csv (or gbench) with --out");
         plan.out_path = o.out;
         const bool csv_name = o.out.size() > 4 && o.out.substr(o.out.size() - 4) == ".csv";
         plan.format = o.format.empty() ? (csv_name ? "csv" : "json") : o.format;

@@ -146,6 +146,7 @@ std::string ResultDocument::render(FileFormat format, bool complete) const {
         for (const auto& r : records) out += to_csv_row(r);
         return out;
     }
+    if (format == FileFormat::gbench) return render_gbench(context, records, complete);
     nlohmann::json doc;
     doc["schema_version"] = schema_version;
     doc["complete"] = complete;

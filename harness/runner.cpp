@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "harness/callgrind_marks.hpp"
 #include "harness/units.hpp"
 
 namespace suite {
@@ -20,6 +21,10 @@ void check_stop(const RunSettings& s) {
 }
 
 }  // namespace
+
+std::string callgrind_label(const Record& r) {
+    return "suite point " + r.name + " " + r.access + " " + size_label(r.size_kind, r.size_requested) + " t=" + std::to_string(r.threads);
+}
 
 Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads) {
     Rates r;
@@ -107,13 +112,16 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         if (energy) energy->start();
         counters.start();
         t0 = Clock::now();
+        callgrind::toggle_collect();  // under `suite deterministic`, only the kernel's calls are counted
         kernel->run(rec.batch);
+        callgrind::toggle_collect();
         const double seconds = seconds_since(t0);
         counters.stop();
         if (energy) energy->stop(seconds);
         rec.samples_s.push_back(seconds / rec.batch);
     }
     counters.check_team();
+    callgrind::dump(callgrind_label(rec).c_str());
     rec.binding_held = team_still_bound(rec.bindings);
     rec.verification = kernel->verify();
     rec.time = summarise(rec.samples_s);

@@ -46,6 +46,9 @@ struct Interrupted : std::exception {
 
 Record run_point(const Point& point, const RunSettings& settings, const Topology& topo);
 
+// The label of a point's callgrind dump, by which `suite deterministic` matches dumps to records.
+std::string callgrind_label(const Record& r);
+
 // Fills Record::rates from work, time statistics and threads.
 Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads);
 
