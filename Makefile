@@ -25,7 +25,7 @@ run: build
 
 test: test-deps build
 	cd $(BUILD) && ctest --output-on-failure -j 2
-	@JOBS=$(JOBS) scripts/numa-vm/run.sh
+	@JOBS=$(JOBS) SUITE_PORTABLE_BINARY=$(BUILD)/suite-x86-64-v3 scripts/numa-vm/run.sh
 
 # Placement and pinning on an emulated two-node NUMA machine (QEMU); its files go to build-numa/.
 test-numa: test-deps

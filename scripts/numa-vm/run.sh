@@ -4,7 +4,7 @@
 # boots QEMU (software emulation, one CPU and 1 GiB per node, distance 21), and has check.py
 # judge what the guest (init.sh) sends back. Exit 0: passed, or skipped where it cannot run at
 # all (printed with the reason); 1: a check failed or the machine did not finish.
-# Environment: JOBS (build jobs, default 2), NUMA_VM_DIR (cache and work folder, default build-numa),
+# Environment: JOBS (build jobs, default 2), SUITE_PORTABLE_BINARY (an x86-64-v3 build to use instead of building one), NUMA_VM_DIR (cache and work folder, default build-numa),
 # NUMA_VM_TIMEOUT (seconds the machine may run, default 300).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -62,16 +62,24 @@ step "kernel $(basename "$vmlinuz")"
 
 # 2. A portable build: under software emulation the guest CPU has AVX2 but no AVX-512, so the
 # host's -march=native binary may not run there. Its own build folder leaves ./suite alone.
-cmake -S "$root" -B "$work/suite" -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=x86-64-v3 -DSUITE_LINK_TOP=OFF -DSUITE_BUILD_TESTS=OFF > /dev/null
-cmake --build "$work/suite" -j "${JOBS:-2}" > "$work/build.log" 2>&1 || { tail -n 30 "$work/build.log"; fail "the portable build failed"; }
-step "suite built for x86-64-v3"
+# The main build makes one already when valgrind is installed (suite-x86-64-v3, for the
+# deterministic mode): SUITE_PORTABLE_BINARY names it, and saves a second build of everything.
+if [ -n "${SUITE_PORTABLE_BINARY:-}" ] && [ -x "$SUITE_PORTABLE_BINARY" ]; then
+    guest_suite=$SUITE_PORTABLE_BINARY
+    step "using $guest_suite"
+else
+    cmake -S "$root" -B "$work/suite" -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=x86-64-v3 -DSUITE_LINK_TOP=OFF -DSUITE_BUILD_TESTS=OFF > /dev/null
+    cmake --build "$work/suite" -j "${JOBS:-2}" > "$work/build.log" 2>&1 || { tail -n 30 "$work/build.log"; fail "the portable build failed"; }
+    guest_suite=$work/suite/suite
+    step "suite built for x86-64-v3"
+fi
 
 # 3. The initramfs: busybox, the suite, every library ldd names (the dynamic loader too), /init.
 rm -rf "$work/initramfs"
 mkdir -p "$work/initramfs"/{bin,dev,proc,sys,tmp}
 cp /bin/busybox "$work/initramfs/bin/busybox"
-cp "$work/suite/suite" "$work/initramfs/suite"
-for lib in $(ldd "$work/suite/suite" | awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 ~ /^\// { print $1 }'); do
+cp "$guest_suite" "$work/initramfs/suite"
+for lib in $(ldd "$guest_suite" | awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 ~ /^\// { print $1 }'); do
     mkdir -p "$work/initramfs$(dirname "$lib")"
     cp -L "$lib" "$work/initramfs$lib"
 done
