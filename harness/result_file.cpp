@@ -82,6 +82,8 @@ std::size_t nesting_depth(const std::string& text) {
 // Spread estimated from a min..max range of a few dozen repetitions (about four standard deviations).
 double range_spread(const Reader& r, const json& stats, const std::string& where) {
     const double median = r.number(stats, "median", where), lo = r.number(stats, "min", where), hi = r.number(stats, "max", where);
+    // A spread from figures out of order would be negative and shrink the gate's threshold.
+    if (!(lo <= median && median <= hi)) r.fail(where, "expected min <= median <= max");
     return median > 0 ? (hi - lo) / (4 * median) : 0.0;
 }
 
