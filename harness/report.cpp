@@ -74,6 +74,7 @@ nlohmann::json to_json(const Record& r) {
     j["gflops_best"] = opt(r.rates.gflops_best);
     j["verification"] = {{"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
     j["seed"] = r.seed;
+    if (!r.mesh.empty()) j["mesh"] = r.mesh;
     return j;
 }
 

@@ -53,6 +53,7 @@ struct Record {
     Rates rates;
     Verification verification;
     std::uint64_t seed = 0;
+    std::string mesh;          // the --mesh spec of a kernel on a mesh; "" otherwise
 };
 
 // A size as people read it: "64MiB" for a footprint, "1000000" for a count.
