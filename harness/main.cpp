@@ -13,6 +13,7 @@
 #include "harness/kernel.hpp"
 #include "harness/topology.hpp"
 #include "harness/units.hpp"
+#include "kernels/sfc/traverse.hpp"
 
 namespace suite {
 namespace {
@@ -22,6 +23,7 @@ Commands:
   run (default)   measure kernels: ./suite [run] --kernel=... [options]
   list            kernels, patterns, placements: ./suite list [--json]
   info            topology, caches, NUMA nodes: ./suite info [--json]
+  traverse        how a loop walks a mesh, per ordering: ./suite traverse --mesh=... --out=DIR (see ./suite traverse --help)
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
@@ -31,6 +33,10 @@ Examples:
   ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
   ./suite --kernel=triad --placement=node:1 --pin=0,1 --threads=2   # arrays on node 1, threads on CPUs 0, 1
   ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
+  ./suite --kernel=sfc-build --mesh=disk:refine=8 --ordering=morton,hilbert,morton-recursive,rcm --threads=1,2
+  ./suite --kernel=sfc-build --mesh=box:64,64,64 --phase=keys,sort,renumber,all   # each phase timed as its own point
+  ./suite --kernel=sfc-build --mesh=file:../shared/meshes/unit_circle_fine.txt:refine=3 --ordering=morton
+  ./suite traverse --mesh=disk:refine=4 --ordering=natural,morton,hilbert --threads=1,4 --out=traverse
 
 Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
 result file then holds the finished points and says "complete": false).
@@ -145,9 +151,10 @@ int main(int argc, char** argv) {
         if (command == "run") return cmd_run(args, all);
         if (command == "list") return cmd_list(args);
         if (command == "info") return cmd_info(args);
-        std::string hint = nearest(command, {"run", "list", "info"});
+        if (command == "traverse") return sfc::cmd_traverse(args);
+        std::string hint = nearest(command, {"run", "list", "info", "traverse"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info (see ./suite --help)");
+                         "; commands: run, list, info, traverse (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();
