@@ -3,9 +3,12 @@
 # otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test]
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libcli11-dev nlohmann-json3-dev libgtest-dev)
+want+=(libboost-graph-dev)  # RCM ordering (kernels/sfc)
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results.
   want+=(binutils python3 python3-jsonschema)
+  # clang + compiler-rt: the mesh readers' libFuzzer targets; matplotlib: `suite traverse` PNGs.
+  want+=(clang libclang-rt-dev python3-matplotlib python3-numpy)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2

@@ -1,6 +1,7 @@
 #pragma once
 // Small mesh files, good and bad, shared by the reader tests and the end-to-end tests of the
 // binary: each bad one says at which line the reader must complain, and with what words.
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,8 @@ struct BadMeshCase {
     std::size_t line;      // where the reader must point
     std::string expected;  // words the message must hold
 };
+// gtest shows a case by its id.
+inline void PrintTo(const BadMeshCase& c, std::ostream* os) { *os << c.id; }
 
 // The good text with `line` (1-based) replaced by `with` ("" removes it), or cut after it.
 inline std::string edit_lines(const std::string& text, std::size_t line, const std::string& with, bool cut_after = false) {

@@ -272,7 +272,7 @@ Mesh assemble(const Raw& r, const TextScanner& s) {
 
 Mesh read_msh(std::string_view text, const std::string& name) {
     TextScanner s(text, name);
-    if (!s.next()) s.fail("the file is empty; a .msh file starts with $MeshFormat");
+    if (!s.next()) s.fail_at(1, "the file is empty (an empty mesh); a .msh file starts with $MeshFormat");
     if (s.field(0) != "$MeshFormat") s.fail("a .msh file starts with $MeshFormat, found '" + s.shown() + "'");
     s.expect_line("the format line 'version file-type data-size'");
     s.expect_fields(3, "version file-type data-size");

@@ -19,7 +19,7 @@ Mesh read_text_mesh(std::string_view text, const std::string& name) {
     TextScanner s(text, name);
     Mesh m;
     m.dim = 2;
-    if (!s.next()) s.fail("the file is empty; " + std::string(format_hint));
+    if (!s.next()) s.fail_at(1, "the file is empty (an empty mesh); " + std::string(format_hint));
     if (!is_count_line(s, "vertices")) s.fail("expected '<N> vertices in the domain', found '" + s.shown() + "'; " + format_hint);
     const std::uint64_t nv = s.uint(0, "the vertex count");
     const std::size_t nv_line = s.line_number();

@@ -50,7 +50,8 @@ CheckResult Checks::keys() const {
     }
     const Curve c = curve_of(method_);
     const std::size_t stride = std::max<std::size_t>(1, ne / 65536);
-    CheckResult r{true, "every key decoded back to its element's cell at depth " + std::to_string(depth_) + ", " + (stride == 1 ? std::string("every key") : "every " + std::to_string(stride) + "th key") + " recomputed by " +
+    const std::string by = method_ == Method::morton_recursive ? "recursive halving" : encoder_name(Encoder::best);
+    CheckResult r{true, "keys by " + by + ": every key decoded back to its element's cell at depth " + std::to_string(depth_) + ", " + (stride == 1 ? std::string("every key") : "every " + std::to_string(stride) + "th key") + " recomputed by " +
                             (method_ == Method::morton ? "morton-recursive" : method_ == Method::morton_recursive ? "the portable morton" : "the portable interleave"),
                   ""};
     std::int64_t first_bad = static_cast<std::int64_t>(ne);

@@ -46,6 +46,7 @@ struct Options {
     std::uint64_t seed = 1;
     int depth = 0;  // 0: the deepest
     bool no_png = false;
+    bool dry_run = false;
 };
 
 std::string join(const std::vector<std::string>& v) {
@@ -133,6 +134,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     app.add_option("--seed", o.seed, "seed of the random ordering (default 1)");
     app.add_option("--depth", o.depth, "key depth in bits per axis (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)");
     app.add_flag("--no-png", o.no_png, "write the .vtu files and numbers only");
+    app.add_flag("--dry-run", o.dry_run, "check the options (and read the mesh file), list what would be written, and stop");
     std::vector<const char*> argv{"suite traverse"};
     for (const auto& a : args) argv.push_back(a.c_str());
     try {
@@ -163,6 +165,14 @@ int cmd_traverse(const std::vector<std::string>& args) {
         throw UsageError("--depth=" + std::to_string(o.depth) + ": the key depth must be 1.." + std::to_string(max_depth(counts.dim)) + " in " +
                          std::to_string(counts.dim) + "D");
     check_out_dir(o.out);
+    if (o.dry_run) {
+        std::printf("mesh %s: %llu %s; into %s: %zu .vtu file(s)%s and summary.json\n", o.mesh.c_str(),
+                    static_cast<unsigned long long>(counts.elements), mesh::element_word(counts.dim, true).c_str(), o.out.c_str(),
+                    orderings.size() * threads.size(), o.no_png ? "" : ", 6 .png snapshots each");
+        for (const auto& name : orderings)
+            for (int t : threads) std::printf("  %s-t%d.vtu\n", name.c_str(), t);
+        return 0;
+    }
     if (mkdir(o.out.c_str(), 0755) != 0 && errno != EEXIST) throw std::runtime_error("cannot create " + o.out + ": " + std::strerror(errno));
 
     const mesh::Mesh base = mesh::load_mesh(spec);
