@@ -64,7 +64,9 @@ void expect_same_elements(const Mesh& m, const Reordered& r) {
             const auto a = m.conn[r.perm[i] * k + j], b = r.mesh.conn[i * k + j];
             ASSERT_EQ(r.mesh.x[b], m.x[a]);
             ASSERT_EQ(r.mesh.y[b], m.y[a]);
-            if (m.dim == 3) ASSERT_EQ(r.mesh.z[b], m.z[a]);
+            if (m.dim == 3) {
+                ASSERT_EQ(r.mesh.z[b], m.z[a]);
+            }
         }
 }
 
@@ -96,9 +98,10 @@ TEST(SfcRenumber, FirstTouchMatchesTheSerialLoop) {
     const auto expect = first_touch_serial(m, perm);
     EXPECT_EQ(expect.back(), m.vertices() - 1);
     with_threads([&] {
-        std::vector<std::uint32_t> id(m.vertices()), first(m.vertices()), conn(m.conn.size());
+        std::vector<std::uint32_t> id(m.vertices()), first(m.vertices()), conn(m.conn.size()), rank(rank_words(m.elements(), 3));
+        std::vector<std::uint64_t> bits(rank.size());
         std::vector<double> x(m.vertices()), y(m.vertices());
-        renumber_first_touch(m.view(), perm.data(), id.data(), first.data(), {conn.data(), x.data(), y.data(), nullptr});
+        renumber_first_touch(m.view(), perm.data(), id.data(), {first.data(), bits.data(), rank.data()}, {conn.data(), x.data(), y.data(), nullptr});
         EXPECT_EQ(id, expect);
         for (std::size_t v = 0; v < m.vertices(); ++v) ASSERT_EQ(x[id[v]], m.x[v]);
         for (std::size_t p = 0; p < conn.size(); ++p) ASSERT_EQ(conn[p], id[m.conn[perm[p / 3] * 3 + p % 3]]);
@@ -164,9 +167,11 @@ TEST(SfcChecks, CatchWrongAnswersNotJustMissingOnes) {
     const Mesh m = suite::mesh::disk_mesh(3);
     const std::size_t ne = m.elements(), nv = m.vertices();
     std::vector<std::uint64_t> keys(ne), ka(ne), kb(ne);
-    std::vector<std::uint32_t> perm(ne), ia(ne), ib(ne), id(nv), first(nv), conn(m.conn.size());
+    std::vector<std::uint32_t> perm(ne), ia(ne), ib(ne), id(nv), first(nv), conn(m.conn.size()), rank(rank_words(ne, 3));
+    std::vector<std::uint64_t> bits(rank.size());
     std::vector<double> x(nv), y(nv);
-    const PipelineArrays a{keys.data(), perm.data(), {ka.data(), kb.data(), ia.data(), ib.data()}, id.data(), first.data(), {conn.data(), x.data(), y.data(), nullptr}};
+    const PipelineArrays a{keys.data(), perm.data(), {ka.data(), kb.data(), ia.data(), ib.data()}, id.data(), {first.data(), bits.data(), rank.data()},
+                           {conn.data(), x.data(), y.data(), nullptr}};
     Pipeline p(m.view(), Method::hilbert, 32, Encoder::best, a);
     p.keys();
     p.sort();

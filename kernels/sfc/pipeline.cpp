@@ -46,7 +46,7 @@ void Pipeline::sort() { sort_by_key(a_.keys, in_.elements, key_bits(), a_.perm, 
 
 void Pipeline::renumber() {
     if (method_ == Method::rcm) apply_vertex_order(in_, a_.perm, a_.new_id, a_.out);
-    else renumber_first_touch(in_, a_.perm, a_.new_id, a_.first, a_.out);
+    else renumber_first_touch(in_, a_.perm, a_.new_id, a_.renumber, a_.out);
 }
 
 Reordered reorder(const mesh::Mesh& m, Method method, int depth, Encoder encoder) {
@@ -60,8 +60,9 @@ Reordered reorder(const mesh::Mesh& m, Method method, int depth, Encoder encoder
     r.perm.resize(ne);
     r.new_id.resize(nv);
     std::vector<std::uint64_t> keys(ne), ka(ne), kb(ne);
-    std::vector<std::uint32_t> ia(ne), ib(ne), first(nv);
-    PipelineArrays a{keys.data(), r.perm.data(), {ka.data(), kb.data(), ia.data(), ib.data()}, r.new_id.data(), first.data(),
+    std::vector<std::uint32_t> ia(ne), ib(ne), first(nv), rank(rank_words(ne, m.corners()));
+    std::vector<std::uint64_t> bits(rank.size());
+    PipelineArrays a{keys.data(), r.perm.data(), {ka.data(), kb.data(), ia.data(), ib.data()}, r.new_id.data(), {first.data(), bits.data(), rank.data()},
                      {r.mesh.conn.data(), r.mesh.x.data(), r.mesh.y.data(), m.dim == 3 ? r.mesh.z.data() : nullptr}};
     Pipeline p(m.view(), method, depth, encoder, a);
     p.keys();

@@ -29,7 +29,7 @@ struct PipelineArrays {
     std::uint32_t* perm = nullptr;   // elements
     SortBuffers sort;                // elements each
     std::uint32_t* new_id = nullptr; // vertices
-    std::uint32_t* first = nullptr;  // vertices (first-touch scratch)
+    RenumberScratch renumber;        // first-touch scratch (renumber.hpp)
     MeshOut out;                     // connectivity and coordinates of the result
 };
 

@@ -1,11 +1,13 @@
 // First-touch renumbering, in parallel. A serial loop would give vertex v the next number when
-// the loop first meets it; here each thread walks its block of corner positions and
-//   1. gathers the old corner numbers into the output connectivity (conn[perm[i]]),
-//   2. records in first[v] the smallest position at which v occurs (atomic min),
-//   3. counts the positions that are some vertex's first; a prefix sum over threads gives each
-//      thread the first number it hands out,
-//   4. hands out numbers at those positions in order, which is exactly the serial order,
-//   5. replaces the old numbers by new ones and moves the coordinates.
+// the loop first meets it, i.e. number the vertices in the order of the corner position
+// p = i * corners + j at which each is first met. Here:
+//   1. each thread gathers its block of the old connectivity in the new element order,
+//   2. first[v] = the smallest position at which v occurs (atomic min over all corners),
+//   3. a bit is set at every such position (a scan over the vertices, not the corners),
+//   4. prefix counts of the bit words give each position its rank among them,
+//   5. new_id[v] = the rank of first[v], which is exactly the serial loop's number;
+//   6. the connectivity and coordinates are rewritten.
+// Only steps 2 and 6 touch every corner; the others walk the vertices or the bit words in order.
 #include "kernels/sfc/renumber.hpp"
 
 #include <omp.h>
@@ -48,30 +50,41 @@ void rewrite(const mesh::MeshView& in, const std::uint32_t* perm, const std::uin
 
 }  // namespace
 
-void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id, std::uint32_t* first, const MeshOut& out) {
+void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id, const RenumberScratch& sc,
+                          const MeshOut& out) {
     const int k = in.dim + 1;
     const std::int64_t nv = static_cast<std::int64_t>(in.vertices);
+    const std::int64_t words = static_cast<std::int64_t>(rank_words(in.elements, k));
     const int threads = omp_get_max_threads();
     std::vector<std::uint64_t> touched(static_cast<std::size_t>(threads) + 1), untouched(static_cast<std::size_t>(threads) + 1);
     rewrite(in, perm, new_id, out, [&](const stream::Block& eb) {
         const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-        const stream::Block vb = stream::my_block(nv);
-        for (std::int64_t v = vb.lo; v < vb.hi; ++v) first[v] = unset;
+        const stream::Block vb = stream::my_block(nv), wb = stream::my_block(words);
+        for (std::int64_t v = vb.lo; v < vb.hi; ++v) sc.first[v] = unset;
+        for (std::int64_t w = wb.lo; w < wb.hi; ++w) sc.bits[w] = 0;
 #pragma omp barrier
-        const std::int64_t p0 = eb.lo * k, p1 = eb.hi * k;
-        for (std::int64_t p = p0; p < p1; ++p) {
-            std::atomic_ref<std::uint32_t> f(first[out.conn[p]]);
+        for (std::int64_t p = eb.lo * k; p < eb.hi * k; ++p) {
+            std::atomic_ref<std::uint32_t> f(sc.first[out.conn[p]]);
             const auto pos = static_cast<std::uint32_t>(p);
             std::uint32_t seen = f.load(std::memory_order_relaxed);
             while (pos < seen && !f.compare_exchange_weak(seen, pos, std::memory_order_relaxed)) {
             }
         }
 #pragma omp barrier
-        std::uint64_t mine = 0, mine_untouched = 0;
-        for (std::int64_t p = p0; p < p1; ++p) mine += first[out.conn[p]] == static_cast<std::uint32_t>(p);
-        for (std::int64_t v = vb.lo; v < vb.hi; ++v) mine_untouched += first[v] == unset;
-        touched[t + 1] = mine;
+        std::uint64_t mine_untouched = 0;
+        for (std::int64_t v = vb.lo; v < vb.hi; ++v) {
+            const std::uint32_t p = sc.first[v];
+            if (p == unset) ++mine_untouched;
+            else std::atomic_ref<std::uint64_t>(sc.bits[p / 64]).fetch_or(1ULL << (p % 64), std::memory_order_relaxed);
+        }
         untouched[t + 1] = mine_untouched;
+#pragma omp barrier
+        std::uint64_t mine = 0;
+        for (std::int64_t w = wb.lo; w < wb.hi; ++w) {
+            sc.rank[w] = static_cast<std::uint32_t>(mine);  // within this thread's words, for now
+            mine += static_cast<std::uint64_t>(__builtin_popcountll(sc.bits[w]));
+        }
+        touched[t + 1] = mine;
 #pragma omp barrier
 #pragma omp single
         {
@@ -79,14 +92,14 @@ void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, s
             untouched[0] = touched[nt];  // untouched vertices are numbered after all touched ones
             for (int u = 0; u < nt; ++u) untouched[u + 1] += untouched[u];
         }
-        std::uint64_t next = touched[t];
-        for (std::int64_t p = p0; p < p1; ++p) {
-            const std::uint32_t v = out.conn[p];
-            if (first[v] == static_cast<std::uint32_t>(p)) new_id[v] = static_cast<std::uint32_t>(next++);
-        }
+        for (std::int64_t w = wb.lo; w < wb.hi; ++w) sc.rank[w] += static_cast<std::uint32_t>(touched[t]);
+#pragma omp barrier
         std::uint64_t next_untouched = untouched[t];
-        for (std::int64_t v = vb.lo; v < vb.hi; ++v)
-            if (first[v] == unset) new_id[v] = static_cast<std::uint32_t>(next_untouched++);
+        for (std::int64_t v = vb.lo; v < vb.hi; ++v) {
+            const std::uint32_t p = sc.first[v];
+            if (p == unset) new_id[v] = static_cast<std::uint32_t>(next_untouched++);
+            else new_id[v] = sc.rank[p / 64] + static_cast<std::uint32_t>(__builtin_popcountll(sc.bits[p / 64] & ((1ULL << (p % 64)) - 1)));
+        }
 #pragma omp barrier
     });
 }

@@ -18,9 +18,19 @@ struct MeshOut {
     double* z = nullptr;
 };
 
-// new_id[v]: vertex v's number in the result. `first` is scratch of one entry per vertex.
-// Vertices no element touches (none, in a valid mesh) are numbered last, in their old order.
-void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id, std::uint32_t* first, const MeshOut& out);
+// Scratch of the first-touch numbering, allocated by the caller: `first` has one entry per
+// vertex, `bits` and `rank` one per 64 corner positions (rank_words).
+struct RenumberScratch {
+    std::uint32_t* first = nullptr;
+    std::uint64_t* bits = nullptr;
+    std::uint32_t* rank = nullptr;
+};
+inline std::size_t rank_words(std::size_t elements, int corners) { return (elements * static_cast<std::size_t>(corners) + 63) / 64; }
+
+// new_id[v]: vertex v's number in the result. Vertices no element touches (none, in a valid
+// mesh) are numbered last, in their old order.
+void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id, const RenumberScratch& scratch,
+                          const MeshOut& out);
 
 // The same rewrite with the vertex numbers given (new_id, a permutation).
 void apply_vertex_order(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id, const MeshOut& out);

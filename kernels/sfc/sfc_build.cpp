@@ -59,7 +59,9 @@ public:
         arrays_.sort = {arena.allocate<std::uint64_t>("sort-keys-a", ne_), arena.allocate<std::uint64_t>("sort-keys-b", ne_),
                         arena.allocate<std::uint32_t>("sort-index-a", ne_), arena.allocate<std::uint32_t>("sort-index-b", ne_)};
         arrays_.new_id = arena.allocate<std::uint32_t>("new-id", nv_);
-        arrays_.first = arena.allocate<std::uint32_t>("first-touch", nv_);
+        const std::size_t words = rank_words(ne_, k_);
+        arrays_.renumber = {arena.allocate<std::uint32_t>("first-touch", nv_), arena.allocate<std::uint64_t>("rank-bits", words),
+                            arena.allocate<std::uint32_t>("rank-counts", words)};
         arrays_.out = {arena.allocate<std::uint32_t>("new-conn", ne_ * k_), out_xyz[0], out_xyz[1], out_xyz[2]};
         // First touch by the computing threads, each its block of elements and of vertices, the
         // blocks the phases use. Outputs start as poison, so a phase that never ran fails verify().
@@ -88,8 +90,10 @@ public:
                     out_xyz[d][v] = std::numeric_limits<double>::quiet_NaN();
                 }
                 a.new_id[v] = poison32;
-                a.first[v] = poison32;
+                a.renumber.first[v] = poison32;
             }
+            const stream::Block wb = stream::my_block(static_cast<std::int64_t>(words));
+            for (std::int64_t w = wb.lo; w < wb.hi; ++w) a.renumber.bits[w] = a.renumber.rank[w] = 0;
         }
         in_ = {dim_, nv_, ne_, in_xyz[0], in_xyz[1], in_xyz[2], conn_};
         pipeline_ = std::make_unique<Pipeline>(in_, method_, max_depth(dim_), Encoder::best, arrays_);
@@ -132,21 +136,21 @@ public:
     // (the mesh's connectivity and coordinates read to make keys, keys read and the
     // permutation written by the sort, the mesh read and written again by the renumbering).
     // The hardware estimate adds what the implementation really moves: write-allocate on every
-    // store, the sort's two passes over (key, index) pairs, the renumbering's three passes over
-    // the new connectivity and the vertex table.
+    // store, the sort's two passes over (key, index) pairs, and the renumbering's three passes
+    // over the corners (gather, first-touch minimum, rewrite) and four over the vertices.
     Work work() const override {
         const double n = static_cast<double>(ne_), v = static_cast<double>(nv_), k = k_, d = dim_;
         const double keys_s = n * (4 * k + 8 * d * k + 8), keys_h = n * (4 * k + 8 * d * k + 16);
         const double sort_s = n * (8 + 4), sort_h = n * (8 + 8 + 2 * 12 + 12 + 2 * 12 + 2 * 4);
         const double ren_s = n * (4 + 4 * k + 4 * k) + v * (8 * d * 2 + 4);
-        const double ren_h = n * (4 + 4 * k + 2 * 4 * k) + n * k * (4 + 4 + 4 + 2 * 4) + v * (8 * d * 3 + 4 * 2 + 4 * 2);
+        const double ren_h = n * (4 + 4 * k + 2 * 4 * k) + n * k * (4 + 4) + n * k * (4 + 4 + 2 * 4) + v * (8 * d * 3 + 4 * 3 + 8 + 2 * 4);
         Work w;
         w.units = n;
         const std::string& var = cfg_.variant;
         if (var.empty() || var == "keys") w.stream_bytes += keys_s, w.hardware_bytes += keys_h;
         if (var.empty() || var == "sort") w.stream_bytes += sort_s, w.hardware_bytes += sort_h;
         if (var.empty() || var == "renumber") w.stream_bytes += ren_s, w.hardware_bytes += ren_h;
-        w.footprint_bytes = static_cast<std::uint64_t>(n * (4 * k * 2 + 8 + 4 + 8 * 2 + 4 * 2) + v * (8 * d * 2 + 4 * 2));
+        w.footprint_bytes = static_cast<std::uint64_t>(n * (4 * k * 2 + 8 + 4 + 8 * 2 + 4 * 2) + 12.0 * std::ceil(n * k / 64) + v * (8 * d * 2 + 4 * 2));
         return w;
     }
 
@@ -166,7 +170,7 @@ private:
 // into them, and for RCM the vertex graph (about 150 bytes a vertex with Boost's copy of it).
 std::uint64_t peak_bytes(const mesh::MeshCounts& c, const std::string& ordering) {
     const std::uint64_t k = static_cast<std::uint64_t>(c.dim) + 1;
-    const std::uint64_t arrays = c.elements * (8 * k + 8 + 4 + 16 + 8) + c.vertices * (16 * c.dim + 8);
+    const std::uint64_t arrays = c.elements * (8 * k + 8 + 4 + 16 + 8) + c.elements * k * 12 / 64 + c.vertices * (16 * c.dim + 8);
     const std::uint64_t mesh = c.elements * 4 * k + c.vertices * 8 * c.dim;
     return arrays + 2 * mesh + (ordering == "rcm" ? 150 * c.vertices : 0);
 }
