@@ -31,7 +31,20 @@ void keys_loop(const mesh::MeshView& m, const KeyFrame& f, std::uint64_t* keys) 
 #pragma omp parallel
     {
         const stream::Block b = stream::my_block(ne);
-        for (std::int64_t e = b.lo; e < b.hi; ++e) keys[e] = key_of<Dim, C, Pdep>(m, f, static_cast<std::size_t>(e));
+        // The corners' coordinates are gathered from anywhere in the vertex arrays; asking for
+        // those of the element 16 ahead keeps several misses in flight (1.3-1.6x on the VM).
+        constexpr std::int64_t ahead = 16;
+        for (std::int64_t e = b.lo; e < b.hi; ++e) {
+            if (e + ahead < b.hi) {
+                const std::uint32_t* c = m.conn + (e + ahead) * (Dim + 1);
+                for (int j = 0; j <= Dim; ++j) {
+                    __builtin_prefetch(m.x + c[j]);
+                    __builtin_prefetch(m.y + c[j]);
+                    if (Dim == 3) __builtin_prefetch(m.z + c[j]);
+                }
+            }
+            keys[e] = key_of<Dim, C, Pdep>(m, f, static_cast<std::size_t>(e));
+        }
     }
 }
 
