@@ -185,10 +185,14 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     for (const auto& e : kernels())
         if (std::find(e.info.variants.begin(), e.info.variants.end(), "nt") != e.info.variants.end()) with_nt.push_back(e.info.name);
 
-    // Kernels on a mesh are sized by it (KernelEntry::mesh_elements).
-    std::vector<std::string> on_mesh;
-    for (const auto& e : kernels())
+    // Kernels on a mesh are sized by it (KernelEntry::mesh_elements); kernels with phases have
+    // variants other than "" and "nt".
+    std::vector<std::string> on_mesh, with_phases;
+    for (const auto& e : kernels()) {
         if (e.mesh_elements) on_mesh.push_back(e.info.name);
+        if (std::any_of(e.info.variants.begin(), e.info.variants.end(), [](const std::string& v) { return !v.empty() && v != "nt"; }))
+            with_phases.push_back(e.info.name);
+    }
     if (!o.mesh.empty()) {
         if (!default_size) throw UsageError("--mesh and --size/--sizes cannot be used together: the mesh gives the size (its element count)");
         for (const auto& [k, defaults] : ks)
@@ -219,7 +223,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
             std::vector<std::string> phases{"all"};
             for (const auto& v : info.variants)
                 if (!v.empty() && v != "nt") phases.push_back(v);
-            if (phases.size() == 1) throw UsageError("kernel '" + info.name + "' has no phases, so --phase does not apply (it is for: sfc-build)");
+            if (phases.size() == 1)
+                throw UsageError("kernel '" + info.name + "' has no phases, so --phase does not apply; kernels with phases: " + join(with_phases));
             for (const auto& ph : unique_list(o.phases)) {
                 if (std::find(phases.begin(), phases.end(), ph) == phases.end()) {
                     std::string hint = nearest(ph, phases);

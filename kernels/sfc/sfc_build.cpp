@@ -46,7 +46,7 @@ public:
         k_ = m.corners();
         ne_ = m.elements();
         nv_ = m.vertices();
-        const auto& names = dim_ == 2 ? std::vector<const char*>{"x", "y"} : std::vector<const char*>{"x", "y", "z"};
+        const char* const names[3] = {"x", "y", "z"};
         double* in_xyz[3] = {};
         double* out_xyz[3] = {};
         for (int a = 0; a < dim_; ++a) {
@@ -189,7 +189,7 @@ const bool registered = [] {
     KernelEntry e;
     e.info.name = "sfc-build";
     e.info.group = "sfc";
-    e.info.formula = "key=curve(centroid); sort; renumber";
+    e.info.formula = "curve keys, sort, renumber";
     e.info.unit = "element";
     e.info.axis = AccessAxis::ordering;
     e.info.accesses = {"morton", "hilbert", "morton-recursive", "rcm"};
