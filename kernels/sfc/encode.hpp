@@ -69,22 +69,22 @@ inline std::uint64_t morton_pdep(const std::uint32_t* q) { return morton_portabl
 template <int Dim>
 inline void hilbert_transpose(std::uint32_t* x, int depth) {
     const std::uint32_t top = 1u << (depth - 1);
-    for (std::uint32_t q = top; q > 1; q >>= 1) {  // undo the excess work of the Gray code, level by level
+    // Undo the excess work of the Gray code, level by level: where axis i has the level's bit,
+    // invert the lower bits of axis 0, else exchange the lower bits of axes 0 and i. Written
+    // with masks instead of branches: the bit is a coin toss, and a mispredicted branch per bit
+    // would cost more than the arithmetic.
+    for (std::uint32_t q = top; q > 1; q >>= 1) {
         const std::uint32_t p = q - 1;
         for (int i = 0; i < Dim; ++i) {
-            if (x[i] & q) {
-                x[0] ^= p;  // invert the lower bits of axis 0
-            } else {
-                const std::uint32_t t = (x[0] ^ x[i]) & p;  // exchange the lower bits of axes 0 and i
-                x[0] ^= t;
-                x[i] ^= t;
-            }
+            const std::uint32_t set = 0u - ((x[i] & q) != 0);  // all ones when the bit is set
+            const std::uint32_t t = (x[0] ^ x[i]) & p & ~set;
+            x[0] ^= (p & set) | t;
+            x[i] ^= t;
         }
     }
     for (int i = 1; i < Dim; ++i) x[i] ^= x[i - 1];  // Gray encode
     std::uint32_t t = 0;
-    for (std::uint32_t q = top; q > 1; q >>= 1)
-        if (x[Dim - 1] & q) t ^= q - 1;
+    for (std::uint32_t q = top; q > 1; q >>= 1) t ^= (q - 1) & (0u - ((x[Dim - 1] & q) != 0));
     for (int i = 0; i < Dim; ++i) x[i] ^= t;
 }
 

@@ -159,7 +159,12 @@ int cmd_traverse(const std::vector<std::string>& args) {
         if (std::find(orderings.begin(), orderings.end(), name) == orderings.end()) orderings.push_back(name);
     }
     if (o.threads == "all") throw UsageError("--threads=all: traverse splits the loop into the blocks of the thread counts given, e.g. --threads=1,4");
-    const std::vector<int> threads = parse_thread_list(o.threads, 1024);
+    std::vector<int> threads;
+    try {
+        threads = parse_thread_list(o.threads, 1024);
+    } catch (const UsageError&) {  // its message speaks of this machine's processing units, which do not matter here
+        throw UsageError("--threads=" + o.threads + ": traverse splits the loop into 1 to 1024 static blocks; give a list such as 1,4 or a range such as 1-8");
+    }
     const int depth = o.depth ? o.depth : max_depth(counts.dim);
     if (depth < 1 || depth > max_depth(counts.dim))
         throw UsageError("--depth=" + std::to_string(o.depth) + ": the key depth must be 1.." + std::to_string(max_depth(counts.dim)) + " in " +
