@@ -27,6 +27,8 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--kernel,-k", o.kernels, "kernels, comma separated (see ./suite list); default: the default sweep");
     app.add_option("--pattern,-p", o.patterns, "access patterns: sequential, random, strided:S (default: the kernel's first)");
     app.add_option("--ordering", o.orderings, "data orderings of application kernels: natural, random, morton, hilbert, rcm");
+    app.add_option("--mesh", o.mesh, "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or thesis .txt)");
+    app.add_option("--phase", o.phases, "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
     app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, sequential only)");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
     app.add_option("--sizes", o.sizes, "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
@@ -53,7 +55,8 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
                   << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + plan.format + ")") << "\n";
         for (const auto& p : plan.points)
             std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
-                      << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads << "\n";
+                      << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads
+                      << (p.mesh.empty() ? "" : " mesh=" + p.mesh) << "\n";
         return 0;
     }
     struct sigaction sa{};

@@ -37,6 +37,7 @@ struct KernelConfig {
     std::uint64_t size = 0;  // footprint in bytes (SizeKind::bytes) or a count (SizeKind::count)
     std::uint64_t seed = 1;
     int threads = 1;
+    std::string mesh = "";   // kernels on a mesh: the --mesh spec; "" = a generated mesh of about `size` elements
 };
 
 // What one repetition does, counted once, from which the runner derives every rate.
@@ -98,6 +99,11 @@ struct KernelEntry {
     std::function<void(const KernelConfig&)> validate = [](const KernelConfig&) {};
     // A size at which the kernel runs in milliseconds, for the registry walk.
     std::uint64_t test_size = 64 << 10;
+    // Kernels on a mesh (null for the others): the element count of a --mesh spec, which is the
+    // point's size (throws UsageError for a bad spec or mesh file), and the meshes a run uses
+    // when neither --mesh nor a size is given.
+    std::function<std::uint64_t(const std::string& spec)> mesh_elements;
+    std::vector<std::string> default_meshes;
 };
 
 // The registry: kernels add themselves from their own .cpp with

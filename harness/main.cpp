@@ -18,6 +18,7 @@
 #include "harness/kernel.hpp"
 #include "harness/topology.hpp"
 #include "harness/units.hpp"
+#include "kernels/sfc/traverse.hpp"
 
 namespace suite {
 namespace {
@@ -30,6 +31,7 @@ Commands:
   compare         result files side by side: ./suite compare A.json B.json [--format=markdown]
   check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
   deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
+  traverse        how a loop walks a mesh, per ordering: ./suite traverse --mesh=... --out=DIR (see ./suite traverse --help)
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
@@ -46,6 +48,10 @@ Examples:
   ./suite check --baseline results/baseline/ci.json run.json   # exit 1 on a regression
   build/suite-x86-64-v3 deterministic --kernel=add --out=det.json   # exact counts under valgrind
   plots/plot.py results/triad.json --out=figures/          # PNG figures (python3-matplotlib)
+  ./suite --kernel=sfc-build --mesh=disk:refine=8 --ordering=morton,hilbert,morton-recursive,rcm --threads=1,2
+  ./suite --kernel=sfc-build --mesh=box:64,64,64 --phase=keys,sort,renumber,all   # each phase timed as its own point
+  ./suite --kernel=sfc-build --mesh=file:../shared/meshes/unit_circle_fine.txt:refine=3 --ordering=morton
+  ./suite traverse --mesh=disk:refine=4 --ordering=natural,morton,hilbert --threads=1,4 --out=traverse
 
 Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
 result file then holds the finished points and says "complete": false).
@@ -177,9 +183,10 @@ int main(int argc, char** argv) {
         if (command == "compare") return cmd_compare(args);
         if (command == "check") return cmd_check(args);
         if (command == "deterministic") return cmd_deterministic(args, all);
-        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic"});
+        if (command == "traverse") return sfc::cmd_traverse(args);
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic", "traverse"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info, compare, check, deterministic (see ./suite --help)");
+                         "; commands: run, list, info, compare, check, deterministic, traverse (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();

@@ -199,6 +199,21 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     for (const auto& e : kernels())
         if (std::find(e.info.variants.begin(), e.info.variants.end(), "nt") != e.info.variants.end()) with_nt.push_back(e.info.name);
 
+    // Kernels on a mesh are sized by it (KernelEntry::mesh_elements); kernels with phases have
+    // variants other than "" and "nt".
+    std::vector<std::string> on_mesh, with_phases;
+    for (const auto& e : kernels()) {
+        if (e.mesh_elements) on_mesh.push_back(e.info.name);
+        if (std::any_of(e.info.variants.begin(), e.info.variants.end(), [](const std::string& v) { return !v.empty() && v != "nt"; }))
+            with_phases.push_back(e.info.name);
+    }
+    if (!o.mesh.empty()) {
+        if (!default_size) throw UsageError("--mesh and --size/--sizes cannot be used together: the mesh gives the size (its element count)");
+        for (const auto& [k, defaults] : ks)
+            if (!k->mesh_elements)
+                throw UsageError("kernel '" + k->info.name + "' does not run on a mesh, so --mesh does not apply; kernels on a mesh: " + join(on_mesh, ", "));
+    }
+
     // The points: each kernel takes the patterns or orderings of its own axis.
     const std::vector<std::string> given_patterns = o.patterns.empty() ? std::vector<std::string>{} : unique_list(o.patterns);
     const std::vector<std::string> given_orderings = o.orderings.empty() ? std::vector<std::string>{} : unique_list(o.orderings);
@@ -215,6 +230,28 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         if (texts.empty()) texts = defaults.empty() ? std::vector<std::string>{info.accesses.front()} : defaults;
         if (!variant.empty() && std::find(info.variants.begin(), info.variants.end(), variant) == info.variants.end())
             throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt, ", "));
+        // --phase picks variants of the kernels that have phases; "all" is the plain kernel.
+        std::vector<std::string> kernel_variants{variant};
+        if (!o.phases.empty()) {
+            kernel_variants.clear();
+            std::vector<std::string> phases{"all"};
+            for (const auto& v : info.variants)
+                if (!v.empty() && v != "nt") phases.push_back(v);
+            if (phases.size() == 1)
+                throw UsageError("kernel '" + info.name + "' has no phases, so --phase does not apply; kernels with phases: " + join(with_phases, ", "));
+            for (const auto& ph : unique_list(o.phases)) {
+                if (std::find(phases.begin(), phases.end(), ph) == phases.end()) {
+                    std::string hint = nearest(ph, phases);
+                    throw UsageError("kernel '" + info.name + "' has no phase '" + ph + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                                     "; phases: " + join(phases, ", "));
+                }
+                kernel_variants.push_back(ph == "all" ? "" : ph);
+            }
+        }
+        // Its meshes: --mesh, or the kernel's defaults when no size is given either; "" = sized by --size.
+        std::vector<std::string> meshes{""};
+        if (k->mesh_elements && (!o.mesh.empty() || default_size))
+            meshes = o.mesh.empty() ? k->default_meshes : std::vector<std::string>{o.mesh};
         for (const auto& text : texts) {
             Access a = parse_access(text, axis);
             if (std::find(info.accesses.begin(), info.accesses.end(), a.name) == info.accesses.end()) {
@@ -222,12 +259,24 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
                 throw UsageError("kernel '" + info.name + "' has no " + axis + " '" + text + "'" +
                                  (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; it accepts: " + join(info.accesses, ", "));
             }
-            for (std::size_t s = 0; s < sizes_for(1).size(); ++s)
-                for (int t : threads) {
-                    const std::uint64_t size = sizes_for(t)[s];
-                    KernelConfig cfg{a, variant, size, plan.settings.seed, t};
-                    k->validate(cfg);
-                    plan.points.push_back({k, a, variant, size, t});
+            for (const auto& kv : kernel_variants)
+                for (const auto& mesh : meshes) {
+                    if (!mesh.empty()) {
+                        const std::uint64_t size = k->mesh_elements(mesh);
+                        for (int t : threads) {
+                            KernelConfig cfg{a, kv, size, plan.settings.seed, t, mesh};
+                            k->validate(cfg);
+                            plan.points.push_back({k, a, kv, size, t, mesh});
+                        }
+                        continue;
+                    }
+                    for (std::size_t s = 0; s < sizes_for(1).size(); ++s)
+                        for (int t : threads) {
+                            const std::uint64_t size = sizes_for(t)[s];
+                            KernelConfig cfg{a, kv, size, plan.settings.seed, t};
+                            k->validate(cfg);
+                            plan.points.push_back({k, a, kv, size, t});
+                        }
                 }
         }
     }

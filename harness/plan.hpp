@@ -15,6 +15,8 @@ struct RunOptions {
     std::string kernels;  // empty: the default sweep
     std::string patterns;
     std::string orderings;
+    std::string mesh;    // --mesh: the mesh of kernels on a mesh
+    std::string phases;  // --phase: the phases of kernels that have them (their variants)
     std::string stores = "default";
     std::string size;
     std::string sizes;

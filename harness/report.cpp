@@ -77,6 +77,7 @@ nlohmann::json to_json(const Record& r) {
     j["energy"] = to_json(r.energy);
     j["verification"] = {{"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
     j["seed"] = r.seed;
+    if (!r.mesh.empty()) j["mesh"] = r.mesh;
     return j;
 }
 

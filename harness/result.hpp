@@ -56,6 +56,7 @@ struct Record {
     CounterReadings counters;  // around the same repetitions as samples_s
     EnergyReadings energy;
     std::uint64_t seed = 0;
+    std::string mesh;          // the --mesh spec of a kernel on a mesh; "" otherwise
 };
 
 // A size as people read it: "64MiB" for a footprint, "1000000" for a count.

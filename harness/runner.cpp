@@ -61,6 +61,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     rec.pin = settings.pin.text;
     rec.placement = settings.placement.text;
     rec.seed = settings.seed;
+    rec.mesh = point.mesh;
 
     rec.bindings = bind_team(topo, settings.pin, point.threads);
     std::vector<int> cpus;  // every CPU a thread of the team may run on
@@ -75,6 +76,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     cfg.size = point.size;
     cfg.seed = settings.seed;
     cfg.threads = point.threads;
+    cfg.mesh = point.mesh;
 
     Arena arena(policy);
     auto kernel = point.kernel->make(cfg);

@@ -23,6 +23,7 @@ struct Point {
     std::string variant;
     std::uint64_t size = 0;
     int threads = 1;
+    std::string mesh = "";  // kernels on a mesh: the --mesh spec, or "" (see KernelConfig::mesh)
 };
 
 struct RunSettings {

@@ -1,0 +1,20 @@
+// libFuzzer target of the Gmsh .msh reader (2.2 and 4.1): any input must give either a mesh
+// that keeps the readers' promises or a MeshError; never a crash, an out-of-bounds access
+// (ASan), undefined behaviour (UBSan), a hang or an unbounded allocation.
+#include <cstdint>
+#include <cstdlib>
+#include <string_view>
+
+#include "kernels/mesh/mesh_error.hpp"
+#include "kernels/mesh/readers.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    try {
+        const suite::mesh::Mesh m = suite::mesh::read_msh(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.msh");
+        if (m.elements() == 0 || (m.dim != 2 && m.dim != 3) || (m.dim == 3) != !m.z.empty()) std::abort();
+        for (auto v : m.conn)
+            if (v >= m.vertices()) std::abort();
+    } catch (const suite::mesh::MeshError&) {
+    }
+    return 0;
+}
