@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "harness/cli_parse.hpp"
 #include "harness/report.hpp"
 #include "harness/text_table.hpp"
 
@@ -202,14 +203,7 @@ int cmd_check(const std::vector<std::string>& args) {
     app.add_option("run", runs, "the result file of the run to gate");
     app.add_option("--tolerance", tolerance, "allowed worsening beyond the runs' spread, in percent (default 10%)");
     app.add_option("--markdown", markdown, "also write a Markdown summary to FILE (for a CI comment)");
-    std::vector<const char*> argv{"suite check"};
-    for (const auto& a : args) argv.push_back(a.c_str());
-    try {
-        app.parse(static_cast<int>(argv.size()), argv.data());
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    }
+    if (!parse_command_line(app, "suite check", args)) return 0;
     if (baseline_path.empty()) throw UsageError("check needs --baseline=FILE, e.g. ./suite check --baseline results/baseline/ci.json run.json");
     if (runs.size() != 1) throw UsageError("check needs exactly one run file after the options, e.g. ./suite check --baseline base.json run.json");
     const double tol = parse_tolerance(tolerance);

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "harness/cli_parse.hpp"
 #include "harness/text_table.hpp"
 
 namespace suite {
@@ -190,14 +191,7 @@ int cmd_compare(const std::vector<std::string>& args) {
     std::string format = "table";
     app.add_option("files", paths, "result files written by suite --out=FILE.json; the first is the reference");
     app.add_option("--format", format, "table (default) | markdown");
-    std::vector<const char*> argv{"suite compare"};
-    for (const auto& a : args) argv.push_back(a.c_str());
-    try {
-        app.parse(static_cast<int>(argv.size()), argv.data());
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    }
+    if (!parse_command_line(app, "suite compare", args)) return 0;
     if (format != "table" && format != "markdown") throw UsageError("unknown --format '" + format + "'; accepted: table, markdown");
     if (paths.size() < 2)
         throw UsageError("compare needs at least two result files, e.g. ./suite compare a.json b.json (see ./suite compare --help)");

@@ -20,6 +20,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "harness/cli_parse.hpp"
 #include "harness/build_info.hpp"
 #include "harness/callgrind_marks.hpp"
 #include "harness/cli_run.hpp"
@@ -275,14 +276,7 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
     setup_run_options(app, opts);
     std::string valgrind;
     app.add_option("--valgrind", valgrind, "the valgrind program (default: valgrind on PATH)");
-    std::vector<const char*> argv{"suite deterministic"};
-    for (const auto& a : args) argv.push_back(a.c_str());
-    try {
-        app.parse(static_cast<int>(argv.size()), argv.data());
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    }
+    if (!parse_command_line(app, "suite deterministic", args)) return 0;
     if (opts.threads.empty()) opts.threads = "1";
     if (opts.size.empty() && opts.sizes.empty()) opts.sizes = "16KiB,1MiB,32MiB";
     if (opts.reps == -1) opts.reps = 3;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/check.hpp"
+#include "harness/cli_parse.hpp"
 #include "harness/cli_counters.hpp"
 #include "harness/cli_run.hpp"
 #include "harness/compare.hpp"
@@ -57,18 +58,7 @@ Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrup
 result file then holds the finished points and says "complete": false).
 )";
 
-// Parses `args` into `app`; prints the help and returns false for --help.
-bool parse(CLI::App& app, const char* name, const std::vector<std::string>& args) {
-    std::vector<const char*> argv{name};
-    for (const auto& a : args) argv.push_back(a.c_str());
-    try {
-        app.parse(static_cast<int>(argv.size()), argv.data());
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return false;
-    }
-    return true;
-}
+bool parse(CLI::App& app, const char* name, const std::vector<std::string>& args) { return parse_command_line(app, name, args); }
 
 std::string accesses_text(const KernelInfo& info) {
     std::string out;

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "harness/cli_parse.hpp"
 #include "harness/report.hpp"
 #include "harness/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
@@ -135,14 +136,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     app.add_option("--depth", o.depth, "key depth in bits per axis (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)");
     app.add_flag("--no-png", o.no_png, "write the .vtu files and numbers only");
     app.add_flag("--dry-run", o.dry_run, "check the options (and read the mesh file), list what would be written, and stop");
-    std::vector<const char*> argv{"suite traverse"};
-    for (const auto& a : args) argv.push_back(a.c_str());
-    try {
-        app.parse(static_cast<int>(argv.size()), argv.data());
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    }
+    if (!parse_command_line(app, "suite traverse", args)) return 0;
 
     // Everything is checked before anything is built or written.
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
