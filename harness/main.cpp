@@ -1,6 +1,7 @@
 // suite: the command line. main() only picks the command and maps errors to exit statuses:
 // 0 success, 1 a kernel failed verification or the run failed, 2 a usage error, 128+N a signal.
 #include <cstring>
+#include <optional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "harness/cache_probe.hpp"
 #include "harness/cli_counters.hpp"
 #include "harness/cli_run.hpp"
 #include "harness/instruments.hpp"
@@ -97,20 +99,26 @@ int cmd_list(const std::vector<std::string>& args) {
 
 int cmd_info(const std::vector<std::string>& args) {
     CLI::App app{"suite info: the machine as hwloc sees it"};
-    bool json = false;
+    bool json = false, probe = false;
     app.add_flag("--json", json, "machine-readable output");
+    app.add_flag("--probe", probe, "also measure the caches this process really gets (pointer chase and load bandwidth, a few seconds)");
     if (!parse(app, "suite info", args)) return 0;
     const Topology topo = Topology::load();
+    std::optional<CacheProbe> measured;
+    if (probe) measured = probe_caches(topo);
     // What a result's context would say about measuring here.
     const Instruments instruments = make_instruments("default", "auto", sysfs_root());
     const nlohmann::json context = build_context(topo, {}, instruments);
     if (json) {
         nlohmann::json j = to_json(topo);
         for (const char* key : {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set"}) j[key] = context[key];
+        if (measured) j["caches_measured"] = to_json(*measured, topo);
         std::cout << j.dump(2) << "\n";
         return 0;
     }
-    std::cout << format_table(topo) << "\nWhat can be measured here\n";
+    std::cout << format_table(topo);
+    if (measured) std::cout << "\n" << format_probe(*measured, topo);
+    std::cout << "\nWhat can be measured here\n";
     auto state = [](const nlohmann::json& inst) {
         return inst["available"].get<bool>() ? std::string("available") : "not available (" + inst["reason"].get<std::string>() + ")";
     };
@@ -144,6 +152,18 @@ int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>
     if (!parse(app, "suite", args)) return 0;
     const Topology topo = Topology::load();
     Plan plan = make_plan(opts, topo);
+    if (opts.probe_caches && !plan.dry_run) {
+        // The options are all checked before the seconds of probing; the plan is then made again
+        // with the measured last level, which only changes the default sizes.
+        if (!plan.quiet) std::cerr << "probing the caches (suite info --probe) ...\n";
+        ProbeOptions po;
+        po.hugepages = plan.settings.hugepages;
+        const CacheProbe probe = probe_caches(topo, po);
+        if (!plan.quiet) std::cerr << format_probe(probe, topo);
+        opts.measured_llc_bytes = measured_llc_total(probe, topo);
+        plan = make_plan(opts, topo);
+        plan.caches_measured = to_json(probe, topo);
+    }
     return execute_plan(plan, topo, full_argv);
 }
 

@@ -60,7 +60,9 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     rec.bindings = bind_team(topo, settings.pin, point.threads);
     std::vector<int> cpus;  // every CPU a thread of the team may run on
     for (const auto& b : rec.bindings) cpus.insert(cpus.end(), b.allowed.begin(), b.allowed.end());
-    const MemoryPolicy policy = resolve_policy(settings.placement, topo, cpus);
+    MemoryPolicy policy = resolve_policy(settings.placement, topo, cpus);
+    policy.hugepages = settings.hugepages;
+    rec.hugepages = hugepages_name(settings.hugepages);
     rec.placement_node = policy.node;
     rec.interleave_nodes = policy.nodes;
 
