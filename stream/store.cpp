@@ -128,7 +128,7 @@ private:
             for (int k = 0; k < calls; ++k) {
                 const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
                 for (std::int64_t i = blk.lo; i < blk.hi; ++i) a[p[i]] = v;
-#pragma omp barrier
+                barrier_between_calls();
             }
         }
     }
