@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the suite needs, if any is missing. As root it runs apt-get;
-# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test]
+# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test|bench]
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev)
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
   # clang builds the libFuzzer targets.
   want+=(binutils python3 python3-jsonschema clang)
+fi
+if [ "${1:-build}" = bench ]; then
+  # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by
+  # the build or the tests).
+  want+=(likwid python3)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2
