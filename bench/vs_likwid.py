@@ -52,6 +52,7 @@ p.add_argument("--out", default=os.path.join(top, "results", "bench"))
 p.add_argument("--reps", type=int, default=4, help="interleaved repetitions of every point (default 4)")
 p.add_argument("--seconds", type=float, default=0.2, help="the suite's --min-time per point (default 0.2)")
 p.add_argument("--window", type=float, default=0.002, help="seconds of one likwid-bench run (default 0.002, about one suite sample; at least 10 iterations)")
+p.add_argument("--hugepages", default="system", help="the suite's --hugepages (default system: as likwid-bench, no advice)")
 p.add_argument("--quick", action="store_true", help="two small sizes, one thread, one repetition: a check that it all runs (seconds)")
 a = p.parse_args()
 
@@ -92,7 +93,7 @@ def suite_points(size, threads, variant, kernels, tmp, pattern="sequential"):
     """One suite run over `kernels`; {(kernel, variant): record}."""
     out = os.path.join(tmp, "suite.json")
     argv = [a.suite, "--kernel=" + ",".join(kernels), f"--pattern={pattern}", f"--size={size}", f"--threads={threads}", "--pin=compact",
-            f"--min-time={a.seconds}", "--counters=none", "--energy=none"] + (["--stores=" + variant] if variant else []) + ["--quiet", f"--out={out}"]
+            f"--min-time={a.seconds}", f"--hugepages={a.hugepages}", "--counters=none", "--energy=none"] + (["--stores=" + variant] if variant else []) + ["--quiet", f"--out={out}"]
     run(argv)
     recs = {}
     for r in json.load(open(out))["results"]:
@@ -258,7 +259,7 @@ doc = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%
                       "vs likwid: the suite's median sample (>= 1 ms each) against likwid-bench's average over a short run "
                       "(window_s); random kernels: medians of samples on both sides; ratio = suite/reference (for latency "
                       "reference ns / suite ns) of the medians over the repetitions",
-       "window_s": a.window}
+       "window_s": a.window, "suite_hugepages": a.hugepages}
 
 os.makedirs(a.out, exist_ok=True)
 name = "vs_likwid_quick" if a.quick else "vs_likwid"

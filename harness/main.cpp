@@ -25,7 +25,7 @@ const char* const examples = R"(
 Commands:
   run (default)   measure kernels: ./suite [run] --kernel=... [options]
   list            kernels, patterns, placements: ./suite list [--json] [--counters]
-  info            topology, caches, NUMA nodes: ./suite info [--json]
+  info            topology, caches, NUMA nodes: ./suite info [--json] [--probe]
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
@@ -33,6 +33,11 @@ Examples:
   ./suite --kernel=triad --sizes=16KiB:1GiB --threads=1-2 --out=results/triad.json
   ./suite --kernel=copy,triad --stores=nt --size=1GiB      # non-temporal stores
   ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
+  ./suite --kernel=load,store --size=1GiB                  # one stream of loads, one of stores
+  ./suite --kernel=store --stores=nt --size=1GiB           # streaming stores: no write-allocate
+  ./suite --kernel=triad --size=1GiB --hugepages=thp       # arrays on transparent huge pages
+  ./suite --probe-caches --kernel=triad                    # default sizes from the measured caches
+  ./suite info --probe                                     # caches measured beside hwloc's
   ./suite --kernel=triad --placement=node:1 --pin=0,1 --threads=2   # arrays on node 1, threads on CPUs 0, 1
   ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
   ./suite --kernel=triad --size=1GiB --counters=cycles,instructions,LLC-load-misses
