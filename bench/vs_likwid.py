@@ -49,7 +49,7 @@ p.add_argument("--suite", default=os.path.join(top, "suite"))
 p.add_argument("--ref", default=os.path.join(top, "build", "ref_random"))
 p.add_argument("--likwid", default=shutil.which("likwid-bench") or "/usr/bin/likwid-bench")
 p.add_argument("--out", default=os.path.join(top, "results", "bench"))
-p.add_argument("--reps", type=int, default=4, help="interleaved repetitions of every point (default 4)")
+p.add_argument("--reps", type=int, default=3, help="interleaved repetitions of every point (default 3)")
 p.add_argument("--seconds", type=float, default=0.2, help="the suite's --min-time per point (default 0.2)")
 p.add_argument("--window", type=float, default=0.002, help="seconds of one likwid-bench run (default 0.002, about one suite sample; at least 10 iterations)")
 p.add_argument("--hugepages", default="system", help="the suite's --hugepages (default system: as likwid-bench, no advice)")
@@ -104,7 +104,9 @@ def suite_points(size, threads, variant, kernels, tmp, pattern="sequential"):
 
 
 def likwid_point(test, size, threads, seconds_per_call):
-    iters = max(10, math.ceil(a.window / max(seconds_per_call, 1e-9)))
+    # likwid-bench has no warm-up: below DRAM sizes, at least 50 iterations, so that a first pass
+    # over data that other processes evicted while it slept is a small part of the run.
+    iters = max(10 if size >= 256 * MiB else 50, math.ceil(a.window / max(seconds_per_call, 1e-9)))
     argv = [a.likwid, "-t", test, "-W", f"S0:{size}B:{threads}", "-i", str(iters)]
     text = run(argv)
     mbs = float(re.search(r"^MByte/s:\s+([0-9.]+)", text, re.M).group(1))

@@ -228,7 +228,7 @@ std::optional<std::uint64_t> anon_huge_bytes_in_smaps(const std::string& smaps, 
     return std::nullopt;
 }
 
-HugePages parse_hugepages(std::string_view text, const std::string& path) {
+HugePages parse_hugepages(std::string_view text, const std::string& path, std::string* note) {
     if (text == "system") return HugePages::system;
     if (text == "none") return HugePages::none;
     if (text != "thp") {
@@ -240,8 +240,11 @@ HugePages parse_hugepages(std::string_view text, const std::string& path) {
     std::string line;
     if (!in || !std::getline(in, line))
         throw UsageError("--hugepages=thp: this kernel offers no transparent huge pages (" + path + " is not readable); use none or system");
-    if (line.find("[never]") != std::string::npos)
-        throw UsageError("--hugepages=thp: transparent huge pages are switched off here (" + path + " says never); use none or system");
+    // Switched off, madvise still succeeds and simply gets no huge pages: the run goes on, says so
+    // first, and its records show how many bytes huge pages backed (none).
+    if (line.find("[never]") != std::string::npos && note)
+        *note = "--hugepages=thp: transparent huge pages are switched off here (" + path +
+                " says never), so the arrays get none; the records say so (hugepages.anon_huge_bytes)";
     return HugePages::thp;
 }
 

@@ -40,9 +40,10 @@ int choose_remote_node(const Topology& topo, const std::vector<int>& thread_node
 enum class HugePages { system, thp, none };
 
 // "thp" | "none" | "system". Throws UsageError for anything else, and for "thp" where the
-// kernel has no transparent huge pages or they are switched off ("never" in `thp_enabled`,
-// the kernel's file unless a test names another).
-HugePages parse_hugepages(std::string_view text, const std::string& thp_enabled = "/sys/kernel/mm/transparent_hugepage/enabled");
+// kernel has no transparent huge pages (no `thp_enabled` file, the kernel's unless a test names
+// another: madvise would fail); where they are switched off ("never") it sets `note`.
+HugePages parse_hugepages(std::string_view text, const std::string& thp_enabled = "/sys/kernel/mm/transparent_hugepage/enabled",
+                          std::string* note = nullptr);
 const char* hugepages_name(HugePages h);
 
 // What an Arena does with fresh pages: nothing (first touch decides), bind to one node, or

@@ -158,7 +158,9 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     if (plan.settings.pin.mode != PinMode::none && !topo.this_system)
         throw UsageError("the topology is not this machine's (HWLOC_SYNTHETIC or HWLOC_XMLFILE is set), so threads cannot be pinned; use --pin=none");
 
-    plan.settings.hugepages = parse_hugepages(o.hugepages);
+    std::string thp_note;
+    plan.settings.hugepages = parse_hugepages(o.hugepages, "/sys/kernel/mm/transparent_hugepage/enabled", &thp_note);
+    if (!thp_note.empty()) plan.notes.push_back(thp_note);
 
     // Placement, resolved now for every team size, so that "remote" fails before any point runs.
     plan.settings.placement = parse_placement(o.placement, topo);

@@ -145,7 +145,7 @@ private:
         }
     }
     // Streaming stores of a broadcast value from a vector boundary on, four vectors a step;
-    // each thread fences its own stores at the end of every call.
+    // each thread fences its own stores once, after its last call (see StreamKernel's nt loop).
     __attribute__((noinline)) static void nt_store_loop(double* __restrict a, std::int64_t n, int nt, std::uint64_t first_call, int calls) {
 #pragma omp parallel num_threads(nt)
         {
@@ -164,8 +164,9 @@ private:
                 }
                 for (; i + nt_width <= blk.hi; i += nt_width) nt_store(a + i, vv);
                 for (; i < blk.hi; ++i) a[i] = v;
-                _mm_sfence();
+                compiler_fence();
             }
+            _mm_sfence();
         }
     }
 

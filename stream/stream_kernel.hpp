@@ -258,7 +258,9 @@ private:
     }
     // A scalar prologue brings a[] to a vector boundary; the body is Op::apply on whole vectors
     // (GCC vector arithmetic, scalar operands broadcast) stored with streaming stores, two
-    // vectors a step; each thread fences its own stores at the end of every call.
+    // vectors a step. Each thread fences its own stores once, after its last call: a thread sees
+    // its own streaming stores in order anyway, and a fence after every call waited for the
+    // write-combining buffers to drain, which in cache cost half the bandwidth.
     __attribute__((noinline)) static void nt_store_loop(double* __restrict a, const double* __restrict b, const double* __restrict c,
                                                         std::int64_t n, int calls) {
 #pragma omp parallel
@@ -276,8 +278,9 @@ private:
                     nt_store(a + i + nt_width, Op::apply(vb1, vc1));
                 }
                 for (; i < blk.hi; ++i) a[i] = Op::apply(b[i], Op::reads > 1 ? c[i] : 0.0);
-                _mm_sfence();
+                compiler_fence();
             }
+            _mm_sfence();
         }
     }
 
