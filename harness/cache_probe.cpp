@@ -101,6 +101,17 @@ std::uint64_t measured_llc_total(const CacheProbe& probe, const Topology& topo) 
     return *h.levels.back().capacity_bytes * instances;
 }
 
+MeasuredCaches measured_caches(const CacheProbe& probe, const Topology& topo) {
+    MeasuredCaches m;
+    for (const auto& l : probe.hierarchy.levels) {
+        if (l.partial || !l.capacity_bytes) continue;
+        if (l.level == 1) m.l1 = *l.capacity_bytes;
+        if (l.level == 2) m.l2 = *l.capacity_bytes;
+    }
+    m.llc_total = measured_llc_total(probe, topo);
+    return m;
+}
+
 nlohmann::json to_json(const CacheProbe& probe, const Topology& topo) {
     using nlohmann::json;
     const Hierarchy& h = probe.hierarchy;

@@ -18,6 +18,12 @@
 
 namespace suite {
 
+// What a probe measured, as far as the default sizes care: one instance of L1 and of L2, and
+// the last level over all its instances; 0 where it measured nothing.
+struct MeasuredCaches {
+    std::uint64_t l1 = 0, l2 = 0, llc_total = 0;
+};
+
 struct ProbeOptions {
     // Largest footprint; 0: 4x the reported last-level cache (all instances), between 16 MiB and
     // 512 MiB. The sweep stops earlier once one octave and a half of points lie at memory latency.
@@ -46,6 +52,10 @@ CacheProbe probe_caches(const Topology& topo, const ProbeOptions& options = {});
 // times the instances hwloc reports for that level), when the sweep went on into memory; 0
 // when it did not find one.
 std::uint64_t measured_llc_total(const CacheProbe& probe, const Topology& topo);
+
+// L1 and L2 as measured (levels with a plateau of their own and a capacity) and
+// measured_llc_total().
+MeasuredCaches measured_caches(const CacheProbe& probe, const Topology& topo);
 
 // context.caches_measured of a result, and `suite info --probe --json`'s "caches_measured".
 nlohmann::json to_json(const CacheProbe& probe, const Topology& topo);

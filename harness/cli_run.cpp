@@ -39,7 +39,7 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--hugepages", o.hugepages,
                    "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
                    "leave the system's THP setting, see ./suite info)");
-    app.add_option("--reps", o.reps, "counted repetitions per point (default: enough for 0.2 s, at least 5; plus 1 warm-up)");
+    app.add_option("--reps", o.reps, "counted repetitions per point (default: enough for 0.2 s, at least 5; plus 1 warm-up, 3 for calls under 50 ms)");
     app.add_option("--min-time", o.min_time, "seconds of counted repetitions per point when --reps is not given (default 0.2)");
     app.add_option("--seed", o.seed, "seed of the random permutations (default 1)")->check(CLI::NonNegativeNumber);
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");

@@ -165,7 +165,7 @@ int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>
         po.hugepages = plan.settings.hugepages;
         const CacheProbe probe = probe_caches(topo, po);
         if (!plan.quiet) std::cerr << format_probe(probe, topo);
-        opts.measured_llc_bytes = measured_llc_total(probe, topo);
+        opts.measured = measured_caches(probe, topo);
         plan = make_plan(opts, topo);
         plan.caches_measured = to_json(probe, topo);
     }

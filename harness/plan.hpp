@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/cache_probe.hpp"
 #include "harness/runner.hpp"
 #include "harness/topology.hpp"
 
@@ -35,7 +36,7 @@ struct RunOptions {
     double energy_baseline = 0;        // seconds of idle power measured before the sweep
     std::string hugepages = "system";  // thp | none | system (leave the system's setting)
     bool probe_caches = false;         // measure the caches first (cache_probe.hpp)
-    std::uint64_t measured_llc_bytes = 0;  // the probe's last level, all instances; 0: not measured
+    MeasuredCaches measured;           // what the probe found; all 0: not measured
 };
 
 struct Plan {
@@ -55,9 +56,8 @@ Plan make_plan(const RunOptions& opts, const Topology& topo);
 // The sizes used when none are given, for a team of `threads`: half an L1 data cache and half
 // an L2 per thread, and a DRAM size of 16x the last level's total (so each array of a
 // three-array kernel is at least 4x, with room for an index array), between 64 MiB and 1 GiB.
-// The last level is the reported one or, when a probe measured a smaller one
-// (`measured_llc_bytes`, all instances), that.
-std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads, std::uint64_t measured_llc_bytes = 0);
+// Each cache is the reported one or, where a probe measured a smaller one, that.
+std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads, const MeasuredCaches& measured = {});
 
 // The last-level cache (all instances) that a DRAM size must exceed: the reported one, or the
 // measured one where it is smaller.

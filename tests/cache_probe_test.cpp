@@ -46,13 +46,22 @@ TEST(CacheProbe, RunWithProbeCachesRecordsThemAndSizesTheDramPointByThem) {
     ASSERT_TRUE(m.is_object());
     Outcome v = validate_against_schema(out);
     EXPECT_EQ(v.status, 0) << v.out << v.err;
-    const std::uint64_t measured = m["last_level_total_bytes"].is_number() ? m["last_level_total_bytes"].get<std::uint64_t>() : 0;
+    suite::MeasuredCaches measured;
+    if (m["last_level_total_bytes"].is_number()) measured.llc_total = m["last_level_total_bytes"];
+    for (const auto& l : m["levels"]) {
+        if (l["partial"].get<bool>() || !l["capacity_bytes"].is_number()) continue;
+        if (l["level"] == 1) measured.l1 = l["capacity_bytes"];
+        if (l["level"] == 2) measured.l2 = l["capacity_bytes"];
+    }
     const auto topo = suite::Topology::load();
     const auto expected = suite::default_sizes(topo, 1, measured);
     ASSERT_EQ(doc["results"].size(), expected.size());
-    EXPECT_EQ(doc["results"].back()["size"]["requested"].get<std::uint64_t>(), expected.back());
-    // Never larger than what the reported caches alone would ask for.
-    EXPECT_LE(expected.back(), suite::default_sizes(topo, 1).back());
+    const auto reported_only = suite::default_sizes(topo, 1);
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        EXPECT_EQ(doc["results"][i]["size"]["requested"].get<std::uint64_t>(), expected[i]) << i;
+        // Never larger than what the reported caches alone would ask for.
+        EXPECT_LE(expected[i], reported_only[i]) << i;
+    }
 }
 
 TEST(CacheProbe, DryRunDoesNotProbeAndSaysSo) {
@@ -60,4 +69,20 @@ TEST(CacheProbe, DryRunDoesNotProbeAndSaysSo) {
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.err.find("--probe-caches does not run with --dry-run"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find("probing the caches"), std::string::npos) << r.err;
+}
+
+TEST(CacheProbe, DefaultSizesTakeTheSmallerOfReportedAndMeasured) {
+    suite::Topology t;
+    t.caches = {{1, "data", 48 << 10, 64, 2, 1}, {2, "unified", 1 << 20, 64, 2, 1}, {3, "unified", 32 << 20, 64, 1, 2}};
+    // Reported only: half an L1d, half an L2, 16x the L3 (512 MiB).
+    EXPECT_EQ(suite::default_sizes(t, 1), (std::vector<std::uint64_t>{24 << 10, 512 << 10, 512ull << 20}));
+    // The development VM as probed: L1 46 KiB, L2 772 KiB, last level 2.03 MiB in all.
+    suite::MeasuredCaches m{46 << 10, 772 << 10, 2128609};
+    EXPECT_EQ(suite::default_sizes(t, 1, m), (std::vector<std::uint64_t>{23 << 10, 386 << 10, 64ull << 20}));
+    EXPECT_EQ(suite::default_sizes(t, 2, m), (std::vector<std::uint64_t>{46 << 10, 772 << 10, 64ull << 20}));
+    // A measured cache larger than the reported one changes nothing; the DRAM size rounds up to MiB.
+    suite::MeasuredCaches bigger{64 << 10, 2 << 20, 6'000'000};
+    EXPECT_EQ(suite::default_sizes(t, 1, bigger), (std::vector<std::uint64_t>{24 << 10, 512 << 10, 92ull << 20}));
+    EXPECT_EQ(suite::effective_llc_bytes(t, 0), 32ull << 20);
+    EXPECT_EQ(suite::effective_llc_bytes(t, 6'000'000), 6'000'000u);
 }
