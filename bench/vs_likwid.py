@@ -5,6 +5,7 @@ and plain C loops (bench/ref_random) for the suite's random kernels. Interleaved
 prints the ratios suite/reference of the medians and writes results/bench/vs_likwid.{json,md}.
 
 Usage: bench/vs_likwid.py [--quick] [--reps N] [--out DIR] [--suite ./suite] [--ref build/ref_random]
+       bench/vs_likwid.py --merge A.json B.json ... [--out DIR]   (pools the repetitions of several runs)
 
 Like with like:
   * sizes: likwid-bench's -W S0:SIZE:T is the size of all streams together, split over the T
@@ -53,6 +54,7 @@ p.add_argument("--reps", type=int, default=3, help="interleaved repetitions of e
 p.add_argument("--seconds", type=float, default=0.2, help="the suite's --min-time per point (default 0.2)")
 p.add_argument("--window", type=float, default=0.002, help="seconds of one likwid-bench run (default 0.002, about one suite sample; at least 10 iterations)")
 p.add_argument("--hugepages", default="system", help="the suite's --hugepages (default system: as likwid-bench, no advice)")
+p.add_argument("--merge", nargs="+", metavar="JSON", help="measure nothing: pool the repetitions of earlier runs' vs_likwid.json")
 p.add_argument("--quick", action="store_true", help="two small sizes, one thread, one repetition: a check that it all runs (seconds)")
 a = p.parse_args()
 
@@ -149,6 +151,31 @@ per_call = {}  # (kernel, variant, size, threads) -> the suite's latest mean sec
 rnd = {}  # (kernel, size, threads) -> {"suite": [...], "ref": [...]}
 commands = []
 pin_mismatch = []
+runs = 1
+if a.merge:
+    # Every repetition of every run, as if they had been one run; nothing is measured.
+    docs = [json.load(open(f)) for f in a.merge]
+    runs, reps = len(docs), 0
+    load_before = [d["load_average_before"] for d in docs]
+    load_after_runs = [d["load_average_after"] for d in docs]
+    commands = docs[0]["commands"]
+    for d in docs:
+        for r in d["likwid"]:
+            kernel, _, variant = r["suite"].partition("-")
+            e = lk.setdefault((kernel, variant, r["size_bytes"], r["threads"]),
+                              {"suite": [], "suite_best": [], "suite_mean": [], "likwid": [], "likwid_test": r["likwid"]})
+            for key, src in (("suite", "suite_gbps"), ("suite_best", "suite_best_gbps"), ("suite_mean", "suite_mean_gbps"), ("likwid", "likwid_gbps")):
+                e[key] += r[src]
+            e["suite_cpus"], e["likwid_cpus"] = r["suite_cpus"], r["likwid_cpus"]
+        for r in d["random"]:
+            e = rnd.setdefault((r["kernel"], r["size_bytes"], r["threads"]), {"suite": [], "ref": []})
+            e["suite"] += r["suite"]
+            e["ref"] += r["ref"]
+        pin_mismatch += [tuple(m) for m in d["pinning_mismatches"]]
+    sizes = sorted({k[2] for k in lk})
+    thread_counts = sorted({k[3] for k in lk} | {k[2] for k in rnd})
+    random_sizes = sorted({k[1] for k in rnd})
+    random_kernels = [k for k in ["add", "triad", "sin-add", "load", "store", "latency"] if any(key[0] == k for key in rnd)]
 with tempfile.TemporaryDirectory() as tmp:
     for rep in range(reps):
         points = [(s, t) for s in sizes for t in thread_counts]
@@ -219,8 +246,9 @@ with tempfile.TemporaryDirectory() as tmp:
                 f"{k} {(rnd[(k, size, threads)]['ref'][-1] / rnd[(k, size, threads)]['suite'][-1]) if k == 'latency' else (rnd[(k, size, threads)]['suite'][-1] / rnd[(k, size, threads)]['ref'][-1]):.2f}"
                 for k in random_kernels), flush=True)
 
-load_after = loadavg()
-elapsed = time.time() - started
+load_after = load_after_runs if a.merge else loadavg()
+elapsed = sum(d["elapsed_s"] for d in docs) if a.merge else time.time() - started
+total_reps = sum(d["repetitions"] for d in docs) if a.merge else reps
 
 
 likwid_rows = []
@@ -251,7 +279,8 @@ goals = {
     "in_cache_vs_likwid_>=0.90": goal(likwid_rows, lambda r: r["size_bytes"] <= MiB, 0.90),
     "random_vs_plain_loop_>=0.98": goal(random_rows, lambda r: True, 0.98),
 }
-doc = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), "quick": a.quick, "repetitions": reps,
+doc = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"), "quick": a.quick, "repetitions": total_reps,
+       "runs": runs, "merged_from": [os.path.basename(os.path.dirname(os.path.abspath(f))) + "/" + os.path.basename(f) for f in a.merge or []],
        "seconds_per_point": a.seconds, "elapsed_s": round(elapsed, 1), "load_average_before": load_before, "load_average_after": load_after,
        "cpu_model": info.get("cpu_model", ""), "pus": info["pus"], "instruction_set": info["instruction_set"],
        "transparent_hugepages": info["transparent_hugepages"]["value"], "likwid_available": have_likwid,
@@ -267,8 +296,13 @@ os.makedirs(a.out, exist_ok=True)
 name = "vs_likwid_quick" if a.quick else "vs_likwid"
 with open(os.path.join(a.out, name + ".json"), "w") as f:
     json.dump(doc, f, indent=1)
-lines = [f"# suite vs likwid-bench and plain loops ({doc['date']}, {doc['cpu_model']}, {doc['pus']} PUs)", "",
-         f"{reps} interleaved repetitions, medians; load average {load_before[0]} before, {load_after[0]} after; {elapsed:.0f} s.", ""]
+lines = [f"# suite vs likwid-bench and plain loops ({doc['date']}, {doc['cpu_model']}, {doc['pus']} PUs)", ""]
+if a.merge:
+    lines += [f"{runs} runs, {total_reps} interleaved repetitions in all, pooled: medians over all of them; 1-minute load "
+              f"average before/after each run: " + ", ".join(f"{b[0]}/{e[0]}" for b, e in zip(load_before, load_after)) +
+              f"; {elapsed:.0f} s in all.", ""]
+else:
+    lines += [f"{reps} interleaved repetitions, medians; load average {load_before[0]} before, {load_after[0]} after; {elapsed:.0f} s.", ""]
 if likwid_rows:
     lines += ["| size | threads | " + " | ".join(f"{k}{'-' + v if v else ''} / {t}" for k, v, t in pairs) + " |",
               "|---|---|" + "---|" * len(pairs)]
