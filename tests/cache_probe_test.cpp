@@ -28,7 +28,8 @@ TEST(CacheProbe, InfoProbeFindsTheFirstLevelWhereHwlocSaysItIs) {
     const json& l1 = m["levels"][0];
     EXPECT_EQ(l1["level"], 1);
     EXPECT_FALSE(l1["partial"].get<bool>());
-    const suite::Cache* reported = suite::Topology::load().find_cache(1);
+    const suite::Topology topo = suite::Topology::load();
+    const suite::Cache* reported = topo.find_cache(1);
     if (!reported || !l1["capacity_bytes"].is_number()) GTEST_SKIP() << "hwloc reports no L1 here, or the sweep ended in it";
     // Every L1 data cache is seen by a pointer chase, whatever a VM does to the last level.
     const double ratio = l1["capacity_bytes"].get<double>() / static_cast<double>(reported->size_bytes);
