@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps test-deps build run test test-numa test-sanitize clean
+.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs
 
 all: build
 
@@ -40,6 +40,16 @@ test-sanitize: test-deps
 	cmake --build build-sanitize -j $(JOBS)
 	cd build-sanitize && ASAN_OPTIONS=abort_on_error=1:detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j 2
+
+bench-deps:
+	@scripts/install-deps.sh bench
+
+# The suite against likwid-bench's assembly and plain C loops, interleaved on this machine (about
+# 10 minutes): ratios on the console and in results/bench/vs_likwid.{json,md}. BENCH_FLAGS=--quick
+# checks in seconds that it all runs.
+BENCH_FLAGS ?=
+bench-vs: bench-deps build
+	/usr/bin/python3 bench/vs_likwid.py --suite ./suite --ref $(BUILD)/ref_random --out results/bench $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(BUILD) build-sanitize suite

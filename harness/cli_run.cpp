@@ -29,13 +29,19 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--ordering", o.orderings, "data orderings of application kernels: natural, random, morton, hilbert, rcm");
     app.add_option("--mesh", o.mesh, "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or thesis .txt)");
     app.add_option("--phase", o.phases, "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
-    app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, sequential only)");
+    app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store; sequential only)");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
     app.add_option("--sizes", o.sizes, "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
     app.add_option("--threads,-t", o.threads, "thread counts: 1,2,4 | 1-8 | 1-8:2 | all (default: 1 and all)");
     app.add_option("--pin", o.pin, "compact | scatter | none | a CPU list such as 0,2,4-7 (default: compact)");
     app.add_option("--placement", o.placement, "local | node:N | remote | interleave (default: local, first touch)");
-    app.add_option("--reps", o.reps, "counted repetitions per point (default: enough for 0.2 s, at least 5; plus 1 warm-up)");
+    app.add_flag("--probe-caches", o.probe_caches,
+                 "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "
+                 "by the measured last level where it is smaller than the reported one");
+    app.add_option("--hugepages", o.hugepages,
+                   "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
+                   "leave the system's THP setting, see ./suite info)");
+    app.add_option("--reps", o.reps, "counted repetitions per point (default: enough for 0.2 s, at least 5; plus 1 warm-up, 3 for calls under 50 ms)");
     app.add_option("--min-time", o.min_time, "seconds of counted repetitions per point when --reps is not given (default 0.2)");
     app.add_option("--seed", o.seed, "seed of the random permutations (default 1)")->check(CLI::NonNegativeNumber);
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
@@ -77,6 +83,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
     const FileFormat format = plan.format == "csv" ? FileFormat::csv : plan.format == "gbench" ? FileFormat::gbench : FileFormat::json;
     ResultDocument doc{build_context(topo, argv, plan.instruments), {}};
+    if (!plan.caches_measured.is_null()) doc.context["caches_measured"] = plan.caches_measured;
 
     if (console_table) std::cout << table_header() << std::flush;
     int status = 0;

@@ -61,9 +61,10 @@ public:
     virtual ~Kernel() = default;
     // Allocate through `arena` and initialise in parallel (OpenMP team already sized and pinned).
     virtual void setup(Arena& arena) = 0;
-    // `calls` repetitions back to back, each complete (barrier included) before the next
-    // starts, inside one parallel region so that short calls do not measure fork and join.
-    // Never reads a clock.
+    // `calls` repetitions back to back inside one parallel region, so that short calls do not
+    // measure fork and join. A thread starts its next call only when what that call reads is
+    // complete: after a barrier where threads share data, at once where each thread touches
+    // only its own block. All of them are done when run() returns. Never reads a clock.
     virtual void run(int calls) = 0;
     // Checks the state after any number of run() calls against the analytic answer.
     virtual Verification verify() = 0;

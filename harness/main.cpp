@@ -1,6 +1,7 @@
 // suite: the command line. main() only picks the command and maps errors to exit statuses:
 // 0 success, 1 a kernel failed verification or the run failed, 2 a usage error, 128+N a signal.
 #include <cstring>
+#include <optional>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 
 #include "harness/check.hpp"
 #include "harness/cli_parse.hpp"
+#include "harness/cache_probe.hpp"
 #include "harness/cli_counters.hpp"
 #include "harness/cli_run.hpp"
 #include "harness/compare.hpp"
@@ -28,7 +30,7 @@ const char* const examples = R"(
 Commands:
   run (default)   measure kernels: ./suite [run] --kernel=... [options]
   list            kernels, patterns, placements: ./suite list [--json] [--counters]
-  info            topology, caches, NUMA nodes: ./suite info [--json]
+  info            topology, caches, NUMA nodes: ./suite info [--json] [--probe]
   compare         result files side by side: ./suite compare A.json B.json [--format=markdown]
   check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
   deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
@@ -40,6 +42,11 @@ Examples:
   ./suite --kernel=triad --sizes=16KiB:1GiB --threads=1-2 --out=results/triad.json
   ./suite --kernel=copy,triad --stores=nt --size=1GiB      # non-temporal stores
   ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
+  ./suite --kernel=load,store --size=1GiB                  # one stream of loads, one of stores
+  ./suite --kernel=store --stores=nt --size=1GiB           # streaming stores: no write-allocate
+  ./suite --kernel=triad --size=1GiB --hugepages=thp       # arrays on transparent huge pages
+  ./suite --probe-caches --kernel=triad                    # default sizes from the measured caches
+  ./suite info --probe                                     # caches measured beside hwloc's
   ./suite --kernel=triad --placement=node:1 --pin=0,1 --threads=2   # arrays on node 1, threads on CPUs 0, 1
   ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
   ./suite --kernel=triad --size=1GiB --counters=cycles,instructions,LLC-load-misses
@@ -104,20 +111,26 @@ int cmd_list(const std::vector<std::string>& args) {
 
 int cmd_info(const std::vector<std::string>& args) {
     CLI::App app{"suite info: the machine as hwloc sees it"};
-    bool json = false;
+    bool json = false, probe = false;
     app.add_flag("--json", json, "machine-readable output");
+    app.add_flag("--probe", probe, "also measure the caches this process really gets (pointer chase and load bandwidth, a few seconds)");
     if (!parse(app, "suite info", args)) return 0;
     const Topology topo = Topology::load();
+    std::optional<CacheProbe> measured;
+    if (probe) measured = probe_caches(topo);
     // What a result's context would say about measuring here.
     const Instruments instruments = make_instruments("default", "auto", sysfs_root());
     const nlohmann::json context = build_context(topo, {}, instruments);
     if (json) {
         nlohmann::json j = to_json(topo);
         for (const char* key : {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set"}) j[key] = context[key];
+        if (measured) j["caches_measured"] = to_json(*measured, topo);
         std::cout << j.dump(2) << "\n";
         return 0;
     }
-    std::cout << format_table(topo) << "\nWhat can be measured here\n";
+    std::cout << format_table(topo);
+    if (measured) std::cout << "\n" << format_probe(*measured, topo);
+    std::cout << "\nWhat can be measured here\n";
     auto state = [](const nlohmann::json& inst) {
         return inst["available"].get<bool>() ? std::string("available") : "not available (" + inst["reason"].get<std::string>() + ")";
     };
@@ -151,6 +164,18 @@ int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>
     if (!parse(app, "suite", args)) return 0;
     const Topology topo = Topology::load();
     Plan plan = make_plan(opts, topo);
+    if (opts.probe_caches && !plan.dry_run) {
+        // The options are all checked before the seconds of probing; the plan is then made again
+        // with the measured last level, which only changes the default sizes.
+        if (!plan.quiet) std::cerr << "probing the caches (suite info --probe) ...\n";
+        ProbeOptions po;
+        po.hugepages = plan.settings.hugepages;
+        const CacheProbe probe = probe_caches(topo, po);
+        if (!plan.quiet) std::cerr << format_probe(probe, topo);
+        opts.measured = measured_caches(probe, topo);
+        plan = make_plan(opts, topo);
+        plan.caches_measured = to_json(probe, topo);
+    }
     return execute_plan(plan, topo, full_argv);
 }
 

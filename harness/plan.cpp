@@ -88,15 +88,31 @@ std::vector<int> planned_cpus(const Topology& topo, const PinSpec& pin, int thre
 
 }  // namespace
 
-std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads) {
-    const Cache* l1 = topo.find_cache(1);
-    const Cache* l2 = topo.find_cache(2);
+std::uint64_t effective_llc_bytes(const Topology& topo, std::uint64_t measured) {
+    const std::uint64_t reported = topo.last_level_cache_total_bytes();
+    if (measured == 0) return reported;
+    return reported == 0 ? measured : std::min(reported, measured);
+}
+
+std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads, const MeasuredCaches& measured) {
+    // The smaller of the reported and the measured size of one instance of `level`, or `fallback`.
+    auto cache = [&](int level, std::uint64_t m, std::uint64_t fallback) {
+        const Cache* c = topo.find_cache(level);
+        const std::uint64_t reported = c ? c->size_bytes : 0;
+        if (reported == 0) return m ? m : fallback;
+        return m ? std::min(reported, m) : reported;
+    };
     const auto t = static_cast<std::uint64_t>(threads);
-    const std::uint64_t small = t * (l1 ? l1->size_bytes / 2 : 16ULL << 10);
-    const std::uint64_t medium = t * (l2 ? l2->size_bytes / 2 : 512ULL << 10);
+    // Half a cache per thread, in whole cache lines.
+    const std::uint64_t small = t * (cache(1, measured.l1, 32ULL << 10) / 2 / 64 * 64);
+    const std::uint64_t medium = t * (cache(2, measured.l2, 1ULL << 20) / 2 / 64 * 64);
+    const std::uint64_t measured_llc_bytes = measured.llc_total;
     // Capped at 1 GiB so the default sweep stays short where a VM reports a huge LLC that it
     // does not really give; each result records how its arrays compare with the LLC.
-    const std::uint64_t dram = std::clamp<std::uint64_t>(16 * topo.last_level_cache_total_bytes(), 64ULL << 20, 1ULL << 30);
+    // Whole MiB, so that a measured last level does not give an odd-looking size.
+    const std::uint64_t mib = 1ULL << 20;
+    const std::uint64_t sixteen_llc = (16 * effective_llc_bytes(topo, measured_llc_bytes) + mib - 1) / mib * mib;
+    const std::uint64_t dram = std::clamp<std::uint64_t>(sixteen_llc, 64 * mib, 1ULL << 30);
     return {small, medium, dram};
 }
 
@@ -149,6 +165,10 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     if (plan.settings.pin.mode != PinMode::none && !topo.this_system)
         throw UsageError("the topology is not this machine's (HWLOC_SYNTHETIC or HWLOC_XMLFILE is set), so threads cannot be pinned; use --pin=none");
 
+    std::string thp_note;
+    plan.settings.hugepages = parse_hugepages(o.hugepages, "/sys/kernel/mm/transparent_hugepage/enabled", &thp_note);
+    if (!thp_note.empty()) plan.notes.push_back(thp_note);
+
     // Placement, resolved now for every team size, so that "remote" fails before any point runs.
     plan.settings.placement = parse_placement(o.placement, topo);
     std::map<int, MemoryPolicy> policies;
@@ -190,7 +210,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     std::vector<std::uint64_t> sizes;
     if (!o.size.empty()) sizes = {parse_bytes(o.size)};
     else if (!o.sizes.empty()) sizes = parse_size_list(o.sizes);
-    auto sizes_for = [&](int t) { return default_size ? default_sizes(topo, t) : sizes; };
+    auto sizes_for = [&](int t) { return default_size ? default_sizes(topo, t, o.measured) : sizes; };
 
     // Stores.
     if (o.stores != "default" && o.stores != "nt") throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt");
@@ -293,11 +313,15 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
 
     // A DRAM figure needs every array well beyond the last-level cache; say so when the largest
     // size cannot give that (the default size is capped at 1 GiB).
-    const std::uint64_t llc = topo.last_level_cache_total_bytes();
-    const std::uint64_t largest = default_sizes(topo, 1).back();
+    const std::uint64_t llc = effective_llc_bytes(topo, o.measured.llc_total);
+    const std::uint64_t largest = default_sizes(topo, 1, o.measured).back();
+    const char* which = o.measured.llc_total > 0 && llc == o.measured.llc_total ? "measured" : "reported";
     if (default_size && llc > 0 && largest < 12 * llc)
-        plan.notes.push_back("the largest default size, " + format_bytes(largest) + ", is less than 4x the reported last-level cache (" +
+        plan.notes.push_back("the largest default size, " + format_bytes(largest) + ", is less than 4x the " + which + " last-level cache (" +
                              format_bytes(llc) + ") per array; it may not measure DRAM (see each record's size.smallest_array_over_llc)");
+    if (o.probe_caches && o.measured.llc_total == 0 && default_size)
+        plan.notes.push_back(o.dry_run ? "--probe-caches does not run with --dry-run: the default sizes shown follow the reported caches"
+                                       : "the cache probe found no last level below memory: the default sizes follow the reported caches");
 
     // Last, as it creates (and removes) a probe file: nothing is written before all else is checked.
     if (!o.out.empty()) check_output_path(o.out);

@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "harness/cache_probe.hpp"
 #include "harness/runner.hpp"
 #include "harness/topology.hpp"
 
@@ -33,6 +36,9 @@ struct RunOptions {
     std::string counters = "default";  // default | none | event names, comma separated
     std::string energy = "auto";       // auto | sysfs | perf | none
     double energy_baseline = 0;        // seconds of idle power measured before the sweep
+    std::string hugepages = "system";  // thp | none | system (leave the system's setting)
+    bool probe_caches = false;         // measure the caches first (cache_probe.hpp)
+    MeasuredCaches measured;           // what the probe found; all 0: not measured
 };
 
 struct Plan {
@@ -44,6 +50,7 @@ struct Plan {
     bool dry_run = false;
     std::vector<std::string> notes;  // things the user should know before trusting the numbers
     Instruments instruments;         // RunSettings::instruments points here once the plan has its place
+    nlohmann::json caches_measured;  // the probe's findings for context.caches_measured; null: no probe
 };
 
 Plan make_plan(const RunOptions& opts, const Topology& topo);
@@ -51,6 +58,11 @@ Plan make_plan(const RunOptions& opts, const Topology& topo);
 // The sizes used when none are given, for a team of `threads`: half an L1 data cache and half
 // an L2 per thread, and a DRAM size of 16x the last level's total (so each array of a
 // three-array kernel is at least 4x, with room for an index array), between 64 MiB and 1 GiB.
-std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads);
+// Each cache is the reported one or, where a probe measured a smaller one, that.
+std::vector<std::uint64_t> default_sizes(const Topology& topo, int threads, const MeasuredCaches& measured = {});
+
+// The last-level cache (all instances) that a DRAM size must exceed: the reported one, or the
+// measured one where it is smaller.
+std::uint64_t effective_llc_bytes(const Topology& topo, std::uint64_t measured_llc_bytes);
 
 }  // namespace suite

@@ -20,6 +20,23 @@ nlohmann::json opt(const std::optional<double>& v) { return v ? nlohmann::json(*
 
 const char* axis_name(AccessAxis a) { return a == AccessAxis::pattern ? "pattern" : "ordering"; }
 
+// What was asked of huge pages, and how much of the arrays they backed after first touch (the
+// sum over the arrays; null with the reason when an array's share could not be read).
+nlohmann::json hugepages_json(const Record& r) {
+    nlohmann::json j = {{"requested", r.hugepages}};
+    std::uint64_t total = 0;
+    for (const auto& a : r.pages) {
+        if (!a.anon_huge_bytes) {
+            j["anon_huge_bytes"] = nullptr;
+            j["reason"] = "array '" + a.name + "': " + (a.huge_error.empty() ? std::string("not read") : a.huge_error);
+            return j;
+        }
+        total += *a.anon_huge_bytes;
+    }
+    j["anon_huge_bytes"] = total;
+    return j;
+}
+
 std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
@@ -54,6 +71,7 @@ nlohmann::json to_json(const Record& r) {
                       {"node", r.placement_node >= 0 ? nlohmann::json(r.placement_node) : nlohmann::json(nullptr)},
                       {"interleave_nodes", r.interleave_nodes},
                       {"arrays", pages}};
+    j["hugepages"] = hugepages_json(r);
     j["repetitions"] = {{"counted", r.repetitions}, {"warmup", r.warmup}, {"batch", r.batch}};
     j["time_s"] = {{"min", r.time.min},     {"median", r.time.median}, {"max", r.time.max},
                    {"mean", r.time.mean},   {"cv", r.time.cv},         {"samples", r.samples_s}};

@@ -46,6 +46,7 @@ struct Record {
     int placement_node = -1;   // node chosen for node:N / remote
     std::vector<int> interleave_nodes;
     std::vector<ArrayPlacement> pages;  // as observed after first touch
+    std::string hugepages = "system";   // --hugepages as asked: system, thp or none
     int repetitions = 0;       // counted ones, after the warm-up
     int warmup = 0;            // uncounted calls before the repetitions (the runner sets it)
     int batch = 1;             // kernel calls per timed sample (tiny sizes); times are per call

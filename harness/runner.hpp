@@ -29,6 +29,7 @@ struct Point {
 struct RunSettings {
     PinSpec pin;
     PlacementSpec placement;
+    HugePages hugepages = HugePages::system;  // --hugepages: advice for every array of the point
     int reps = 0;               // counted repetitions; 0: adaptive (>= min_time in total, >= min_reps)
     int min_reps = 5;
     double min_time_s = 0.2;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the suite needs, if any is missing. As root it runs apt-get;
-# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test]
+# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test|bench]
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 want+=(libboost-graph-dev)  # RCM ordering (kernels/sfc)
@@ -11,6 +11,11 @@ if [ "${1:-build}" = test ]; then
   want+=(binutils python3 python3-jsonschema clang libclang-rt-dev valgrind python3-matplotlib python3-numpy)
   # make test-numa: an emulated two-node machine (the kernel itself is fetched by scripts/numa-vm/run.sh).
   want+=(qemu-system-x86 busybox-static cpio)
+fi
+if [ "${1:-build}" = bench ]; then
+  # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by
+  # the build or the tests).
+  want+=(likwid python3)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2

@@ -77,7 +77,8 @@ const std::vector<Case>& cases() {
         {"StridedWithoutStride", {"--kernel=add", "--pattern=strided", "--out={tmp}/r.json"}, {"--pattern=strided", "stride", "strided:8"}},
         {"StridedStrideZero", {"--kernel=add", "--pattern=strided:0", "--out={tmp}/r.json"}, {"strided:0", "positive", "strided:8"}},
         {"StoresNtWithRandomPattern", {"--kernel=add", "--stores=nt", "--pattern=random", "--out={tmp}/r.json"}, {"--stores=nt", "'random'", "sequential"}},
-        {"StoresNtWithSinAdd", {"--kernel=sin-add", "--stores=nt", "--out={tmp}/r.json"}, {"--stores=nt", "'sin-add'", "add, copy, scale, triad"}},
+        {"StoresNtWithSinAdd", {"--kernel=sin-add", "--stores=nt", "--out={tmp}/r.json"}, {"--stores=nt", "'sin-add'", "add, copy, scale, store, triad"}},
+        {"UnknownHugepagesSuggestsThp", {"--kernel=add", "--hugepages=thpp", "--out={tmp}/r.json"}, {"--hugepages", "'thpp'", "did you mean 'thp'?", "thp, none, system"}},
         {"StoresBogus", {"--kernel=add", "--stores=bogus", "--out={tmp}/r.json"}, {"'bogus'", "default, nt"}},
         {"OrderingForStreamKernel", {"--kernel=triad", "--ordering=morton", "--out={tmp}/r.json"}, {"'triad'", "--ordering", "--pattern"}},
 

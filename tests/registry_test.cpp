@@ -49,7 +49,8 @@ RunSettings tiny_settings(const Topology& topo) {
 }  // namespace
 
 TEST(RegistryContents, HoldsTheStreamKernels) {
-    for (const char* name : {"copy", "scale", "add", "triad", "sin-add", "latency"}) EXPECT_NE(find_kernel(name), nullptr) << name;
+    for (const char* name : {"copy", "scale", "add", "triad", "sin-add", "load", "store", "latency"})
+        EXPECT_NE(find_kernel(name), nullptr) << name;
     EXPECT_EQ(find_kernel("nonesuch"), nullptr);
 }
 

@@ -1,0 +1,210 @@
+// load (read-only):  for (i = 0; i < n; ++i) s += b[i];
+// 8 B per element by the STREAM convention (8 read, nothing written), 1 flop (the add that
+// keeps the loads observable). The counterpart of likwid-bench's load kernels: the reading half
+// of the memory system alone, with no store stream and so no write-allocate.
+// Patterns as the other stream kernels: random sums b[p[i]], strided:S walks each thread's block
+// S times with stride S. Each thread sums on over all the calls of a run (the accumulators stay
+// in registers, and a compiler fence after every call makes each call load b again), and stores
+// its total and its count of calls where verify() reads them: the total must be exactly calls
+// times the sum of the thread's elements (every partial sum of the initial values is a multiple
+// of 0.5 below 2^52, so neither the order of the additions nor their number changes it).
+#include "stream/stream_kernel.hpp"
+
+#include <stdexcept>
+#include <vector>
+
+namespace suite::stream {
+namespace {
+
+// One thread's result, on its own cache line so that the threads' stores do not share one.
+struct alignas(64) ThreadSum {
+    double total = 0;         // the sum over all the calls the thread made
+    std::uint64_t calls = 0;  // how many calls the thread finished
+};
+
+class Load final : public Kernel {
+public:
+    explicit Load(const KernelConfig& cfg) : cfg_(cfg) {}
+
+    void setup(Arena& arena) override {
+        pattern_ = pattern_of(cfg_.access);
+        stride_ = static_cast<std::int64_t>(cfg_.access.stride);
+        n_ = stream_elements(cfg_, 1);
+        b_ = arena.allocate<double>("b", n_);
+        if (pattern_ == Pattern::random) p_ = arena.allocate<std::uint32_t>("index", n_);
+        sums_.assign(static_cast<std::size_t>(cfg_.threads), ThreadSum{});
+        double* __restrict b = b_;
+        std::uint32_t* __restrict p = p_;
+        const std::int64_t n = static_cast<std::int64_t>(n_);
+        int team = 0;
+#pragma omp parallel num_threads(cfg_.threads) reduction(max : team)
+        {
+            team = omp_get_num_threads();
+            const Block blk = my_block(n);
+            for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
+                b[i] = init_b(static_cast<std::uint64_t>(i));
+                if (p) p[i] = 0;
+            }
+        }
+        if (team != cfg_.threads)
+            throw std::runtime_error("OpenMP gave " + std::to_string(team) + " threads where " + std::to_string(cfg_.threads) +
+                                     " were asked for (is OMP_THREAD_LIMIT set?)");
+        if (p) shuffled_permutation(p, n_, cfg_.seed);
+    }
+
+    // No pattern writes shared data, so no call waits for another thread.
+    void run(int calls) override {
+        const double* __restrict b = b_;
+        const std::uint32_t* __restrict p = p_;
+        const std::int64_t n = static_cast<std::int64_t>(n_), s = stride_;
+        ThreadSum* sums = sums_.data();
+        const int nt = cfg_.threads;
+        switch (pattern_) {
+            case Pattern::sequential: sequential_loop(b, sums, n, nt, calls); break;
+            case Pattern::random: random_loop(b, p, sums, n, nt, calls); break;
+            case Pattern::strided: strided_loop(b, sums, n, s, nt, calls); break;
+        }
+        calls_ += static_cast<std::uint64_t>(calls);
+    }
+
+    Verification verify() override {
+        const std::int64_t n = static_cast<std::int64_t>(n_);
+        const int nt = cfg_.threads;
+        std::vector<double> expected(static_cast<std::size_t>(nt), 0.0);
+#pragma omp parallel for num_threads(nt) schedule(static, 1)
+        for (int t = 0; t < nt; ++t) {
+            const Block blk = static_block(n, t, nt);
+            double sum = 0;
+            for (std::int64_t i = blk.lo; i < blk.hi; ++i)
+                sum += init_b(pattern_ == Pattern::random ? p_[i] : static_cast<std::uint64_t>(i));
+            expected[static_cast<std::size_t>(t)] = sum;
+        }
+        Verification v;
+        if (calls_ == 0) {
+            v.detail = "the kernel never ran";
+            return v;
+        }
+        for (int t = 0; t < nt; ++t) {
+            const ThreadSum& got = sums_[static_cast<std::size_t>(t)];
+            const double want = expected[static_cast<std::size_t>(t)] * static_cast<double>(calls_);
+            v.max_error = std::max(v.max_error, std::fabs(got.total - want));
+            std::string problem;
+            if (got.calls != calls_) problem = "ran " + std::to_string(got.calls) + " of " + std::to_string(calls_) + " calls";
+            else if (got.total != want) problem = "summed " + std::to_string(got.total) + " over its calls, expected " + std::to_string(want);
+            if (!problem.empty()) {
+                v.detail = "thread " + std::to_string(t) + " " + problem;
+                return v;
+            }
+        }
+        v.passed = true;
+        v.detail = "each thread's sum of its elements of b over " + std::to_string(calls_) + " calls, exactly";
+        return v;
+    }
+
+    Work work() const override {
+        const double n = static_cast<double>(n_);
+        Work w;
+        w.units = n;
+        w.stream_bytes = n * 8.0;
+        w.flops = n;
+        double granule = 8.0;  // bytes the memory system moves per access
+        if (pattern_ == Pattern::random) granule = line_bytes;
+        if (pattern_ == Pattern::strided) granule = std::min(line_bytes, 8.0 * static_cast<double>(stride_));
+        w.hardware_bytes = n * granule + (p_ ? n * 4.0 : 0.0);
+        w.footprint_bytes = n_ * (8ULL + (p_ ? 4 : 0));
+        return w;
+    }
+
+private:
+    // Adds a run's calls to the thread's slot.
+    static void record(ThreadSum& slot, double sum, int calls) {
+        slot.total += sum;
+        slot.calls += static_cast<std::uint64_t>(calls);
+    }
+
+    // 64 partial sums (eight 512-bit accumulators), so that the adds of consecutive vectors do
+    // not wait for one another and the loop runs at the speed of the loads.
+    __attribute__((noinline)) static void sequential_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n, int nt, int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_block(n);
+            ThreadSum& slot = sums[omp_get_thread_num()];
+            constexpr std::int64_t lanes = 64;
+            double acc[lanes] = {};
+            for (int k = 0; k < calls; ++k) {
+                std::int64_t i = blk.lo;
+                for (; i + lanes <= blk.hi; i += lanes) {
+#pragma omp simd
+                    for (std::int64_t j = 0; j < lanes; ++j) acc[j] += b[i + j];
+                }
+                for (std::int64_t j = 0; i + j < blk.hi; ++j) acc[j] += b[i + j];
+                compiler_fence();
+            }
+            // Folded in halves once a run (a tree, vector adds first), not once a call, where in
+            // L1 it cost a tenth of the loads.
+            for (std::int64_t j = 0; j < 32; ++j) acc[j] += acc[j + 32];
+            for (std::int64_t j = 0; j < 16; ++j) acc[j] += acc[j + 16];
+            for (std::int64_t j = 0; j < 8; ++j) acc[j] += acc[j + 8];
+            for (std::int64_t j = 0; j < 4; ++j) acc[j] += acc[j + 4];
+            record(slot, (acc[0] + acc[2]) + (acc[1] + acc[3]), calls);
+        }
+    }
+    static void random_loop(const double* __restrict b, const std::uint32_t* __restrict p, ThreadSum* sums, std::int64_t n, int nt, int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_block(n);
+            ThreadSum& slot = sums[omp_get_thread_num()];
+            double sum = 0;
+            for (int k = 0; k < calls; ++k) {
+                for (std::int64_t i = blk.lo; i < blk.hi; ++i) sum += b[p[i]];
+                compiler_fence();
+            }
+            record(slot, sum, calls);
+        }
+    }
+    static void strided_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n, std::int64_t s, int nt, int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_block(n);
+            ThreadSum& slot = sums[omp_get_thread_num()];
+            double sum = 0;
+            for (int k = 0; k < calls; ++k) {
+                for (std::int64_t r = 0; r < s; ++r)
+                    for (std::int64_t j = blk.lo + r; j < blk.hi; j += s) sum += b[j];
+                compiler_fence();
+            }
+            record(slot, sum, calls);
+        }
+    }
+
+    KernelConfig cfg_;
+    Pattern pattern_ = Pattern::sequential;
+    std::int64_t stride_ = 0;
+    std::uint64_t n_ = 0;
+    double* b_ = nullptr;
+    std::uint32_t* p_ = nullptr;
+    std::vector<ThreadSum> sums_;
+    std::uint64_t calls_ = 0;
+};
+
+const bool registered = [] {
+    KernelEntry e;
+    e.info.name = "load";
+    e.info.group = "stream";
+    e.info.formula = "s += b[i]";
+    e.info.unit = "element";
+    e.info.axis = AccessAxis::pattern;
+    e.info.accesses = {"sequential", "random", "strided"};
+    e.info.size_kind = SizeKind::bytes;
+    e.info.metric = Metric::bandwidth;
+    e.info.read_bytes_per_unit = 8;
+    e.info.write_bytes_per_unit = 0;
+    e.info.flops_per_unit = 1;
+    e.info.notes = "read-only: one stream of loads, each thread's sum kept and checked";
+    e.make = [](const KernelConfig& cfg) { return std::make_unique<Load>(cfg); };
+    e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, "load", 1); };
+    return register_kernel(std::move(e));
+}();
+
+}  // namespace
+}  // namespace suite::stream

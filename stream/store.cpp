@@ -1,0 +1,203 @@
+// store (write-only): for (i = 0; i < n; ++i) a[i] = v;      v = 1 + (call number mod 4096)
+// 8 B per element by the STREAM convention (nothing read, 8 written), no flops. The counterpart
+// of likwid-bench's store kernels: the writing half of the memory system alone. A plain store to
+// a line that is not in cache first reads it (write-allocate), so the hardware moves 16 B per
+// element; the nt variant streams the stores past the caches and moves 8 B.
+// Each call stores a value of its own, so verify() can tell that the latest call wrote every
+// element (not merely that some call did). Patterns as the other stream kernels.
+#include "stream/stream_kernel.hpp"
+
+#include <stdexcept>
+
+namespace suite::stream {
+namespace {
+
+// The value call number `call` (counted from 0 over the kernel's life) stores: never init_a.
+inline double stored_value(std::uint64_t call) { return 1.0 + static_cast<double>(call % 4096); }
+
+class Store final : public Kernel {
+public:
+    explicit Store(const KernelConfig& cfg) : cfg_(cfg) {}
+
+    void setup(Arena& arena) override {
+        pattern_ = pattern_of(cfg_.access);
+        stride_ = static_cast<std::int64_t>(cfg_.access.stride);
+        n_ = stream_elements(cfg_, 1);
+        a_ = arena.allocate<double>("a", n_);
+        if (pattern_ == Pattern::random) p_ = arena.allocate<std::uint32_t>("index", n_);
+        double* __restrict a = a_;
+        std::uint32_t* __restrict p = p_;
+        const std::int64_t n = static_cast<std::int64_t>(n_);
+        int team = 0;
+#pragma omp parallel num_threads(cfg_.threads) reduction(max : team)
+        {
+            team = omp_get_num_threads();
+            const Block blk = my_block(n);
+            for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
+                a[i] = init_a;
+                if (p) p[i] = 0;
+            }
+        }
+        if (team != cfg_.threads)
+            throw std::runtime_error("OpenMP gave " + std::to_string(team) + " threads where " + std::to_string(cfg_.threads) +
+                                     " were asked for (is OMP_THREAD_LIMIT set?)");
+        if (p) shuffled_permutation(p, n_, cfg_.seed);
+    }
+
+    // Sequential, strided and nt store only into the thread's own block: no barrier between
+    // calls. Random stores anywhere, and a later call must not be overtaken by an earlier one's
+    // stores from another thread, so its calls end at a barrier.
+    void run(int calls) override {
+        double* __restrict a = a_;
+        const std::uint32_t* __restrict p = p_;
+        const std::int64_t n = static_cast<std::int64_t>(n_), s = stride_;
+        const int nt = cfg_.threads;
+        if (cfg_.variant == "nt") nt_store_loop(a, n, nt, calls_, calls);
+        else
+            switch (pattern_) {
+                case Pattern::sequential: sequential_loop(a, n, nt, calls_, calls); break;
+                case Pattern::random: random_loop(a, p, n, nt, calls_, calls); break;
+                case Pattern::strided: strided_loop(a, n, s, nt, calls_, calls); break;
+            }
+        calls_ += static_cast<std::uint64_t>(calls);
+    }
+
+    Verification verify() override {
+        Verification v;
+        if (calls_ == 0) {
+            v.detail = "the kernel never ran";
+            return v;
+        }
+        const double expect = stored_value(calls_ - 1);
+        const std::int64_t n = static_cast<std::int64_t>(n_);
+        std::int64_t first_bad = n;
+        double max_err = 0;
+#pragma omp parallel for schedule(static) reduction(min : first_bad) reduction(max : max_err)
+        for (std::int64_t i = 0; i < n; ++i)
+            if (a_[i] != expect) {
+                first_bad = std::min(first_bad, i);
+                max_err = std::max(max_err, std::fabs(a_[i] - expect));
+            }
+        v.max_error = max_err;
+        v.passed = first_bad == n;
+        v.detail = "every a[i] holds the value of the latest of " + std::to_string(calls_) + " calls";
+        if (!v.passed)
+            v.detail += "; first mismatch at i=" + std::to_string(first_bad) + ": got " + std::to_string(a_[first_bad]) + ", expected " +
+                        std::to_string(expect);
+        return v;
+    }
+
+    Work work() const override {
+        const double n = static_cast<double>(n_);
+        Work w;
+        w.units = n;
+        w.stream_bytes = n * 8.0;
+        const double store_cost = cfg_.variant == "nt" ? 1.0 : 2.0;  // write-allocate unless non-temporal
+        double granule = 8.0;
+        if (pattern_ == Pattern::random) granule = line_bytes;
+        if (pattern_ == Pattern::strided) granule = std::min(line_bytes, 8.0 * static_cast<double>(stride_));
+        w.hardware_bytes = n * granule * store_cost + (p_ ? n * 4.0 : 0.0);
+        w.footprint_bytes = n_ * (8ULL + (p_ ? 4 : 0));
+        return w;
+    }
+
+private:
+    // Unrolled by hand like the other sequential loops (see stream_kernel.hpp).
+    __attribute__((noinline)) static void sequential_loop(double* __restrict a, std::int64_t n, int nt, std::uint64_t first_call,
+                                                          int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_block(n);
+            for (int k = 0; k < calls; ++k) {
+                const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
+                std::int64_t i = blk.lo;
+                for (; i + unroll_elements <= blk.hi; i += unroll_elements) {
+#pragma omp simd
+                    for (std::int64_t j = i; j < i + unroll_elements; ++j) a[j] = v;
+                }
+                for (; i < blk.hi; ++i) a[i] = v;
+                compiler_fence();
+            }
+        }
+    }
+    static void random_loop(double* __restrict a, const std::uint32_t* __restrict p, std::int64_t n, int nt, std::uint64_t first_call,
+                            int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_block(n);
+            for (int k = 0; k < calls; ++k) {
+                const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
+                for (std::int64_t i = blk.lo; i < blk.hi; ++i) a[p[i]] = v;
+                barrier_between_calls();
+            }
+        }
+    }
+    static void strided_loop(double* __restrict a, std::int64_t n, std::int64_t s, int nt, std::uint64_t first_call, int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_block(n);
+            for (int k = 0; k < calls; ++k) {
+                const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
+                for (std::int64_t r = 0; r < s; ++r)
+                    for (std::int64_t j = blk.lo + r; j < blk.hi; j += s) a[j] = v;
+                compiler_fence();
+            }
+        }
+    }
+    // Streaming stores of a broadcast value from a vector boundary on, four vectors a step;
+    // each thread fences its own stores once, after its last call (see StreamKernel's nt loop).
+    __attribute__((noinline)) static void nt_store_loop(double* __restrict a, std::int64_t n, int nt, std::uint64_t first_call, int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_block(n);
+            for (int k = 0; k < calls; ++k) {
+                const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
+                ntvec vv;
+                for (std::int64_t l = 0; l < nt_width; ++l) vv[l] = v;
+                std::int64_t i = blk.lo;
+                for (; i < blk.hi && (reinterpret_cast<std::uintptr_t>(a + i) % sizeof(ntvec)) != 0; ++i) a[i] = v;
+                for (; i + 4 * nt_width <= blk.hi; i += 4 * nt_width) {
+                    nt_store(a + i, vv);
+                    nt_store(a + i + nt_width, vv);
+                    nt_store(a + i + 2 * nt_width, vv);
+                    nt_store(a + i + 3 * nt_width, vv);
+                }
+                for (; i + nt_width <= blk.hi; i += nt_width) nt_store(a + i, vv);
+                for (; i < blk.hi; ++i) a[i] = v;
+                compiler_fence();
+            }
+            _mm_sfence();
+        }
+    }
+
+    KernelConfig cfg_;
+    Pattern pattern_ = Pattern::sequential;
+    std::int64_t stride_ = 0;
+    std::uint64_t n_ = 0;
+    double* a_ = nullptr;
+    std::uint32_t* p_ = nullptr;
+    std::uint64_t calls_ = 0;
+};
+
+const bool registered = [] {
+    KernelEntry e;
+    e.info.name = "store";
+    e.info.group = "stream";
+    e.info.formula = "a[i] = v";
+    e.info.unit = "element";
+    e.info.axis = AccessAxis::pattern;
+    e.info.accesses = {"sequential", "random", "strided"};
+    e.info.variants = {"", "nt"};
+    e.info.size_kind = SizeKind::bytes;
+    e.info.metric = Metric::bandwidth;
+    e.info.read_bytes_per_unit = 0;
+    e.info.write_bytes_per_unit = 8;
+    e.info.flops_per_unit = 0;
+    e.info.notes = "write-only: one stream of stores of a value that changes every call";
+    e.make = [](const KernelConfig& cfg) { return std::make_unique<Store>(cfg); };
+    e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, "store", 1); };
+    return register_kernel(std::move(e));
+}();
+
+}  // namespace
+}  // namespace suite::stream
