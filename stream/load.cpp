@@ -40,7 +40,7 @@ public:
 #pragma omp parallel num_threads(cfg_.threads) reduction(max : team)
         {
             team = omp_get_num_threads();
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
                 b[i] = init_b(static_cast<std::uint64_t>(i));
                 if (p) p[i] = 0;
@@ -73,7 +73,7 @@ public:
         std::vector<double> expected(static_cast<std::size_t>(nt), 0.0);
 #pragma omp parallel for num_threads(nt) schedule(static, 1)
         for (int t = 0; t < nt; ++t) {
-            const Block blk = static_block(n, t, nt);
+            const Block blk = line_block(n, t, nt);
             double sum = 0;
             for (std::int64_t i = blk.lo; i < blk.hi; ++i)
                 sum += init_b(pattern_ == Pattern::random ? p_[i] : static_cast<std::uint64_t>(i));
@@ -127,7 +127,7 @@ private:
     __attribute__((noinline)) static void sequential_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n, int nt, int calls) {
 #pragma omp parallel num_threads(nt)
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             ThreadSum& slot = sums[omp_get_thread_num()];
             constexpr std::int64_t lanes = 64;
             double acc[lanes] = {};
@@ -152,7 +152,7 @@ private:
     static void random_loop(const double* __restrict b, const std::uint32_t* __restrict p, ThreadSum* sums, std::int64_t n, int nt, int calls) {
 #pragma omp parallel num_threads(nt)
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             ThreadSum& slot = sums[omp_get_thread_num()];
             double sum = 0;
             for (int k = 0; k < calls; ++k) {
@@ -165,7 +165,7 @@ private:
     static void strided_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n, std::int64_t s, int nt, int calls) {
 #pragma omp parallel num_threads(nt)
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             ThreadSum& slot = sums[omp_get_thread_num()];
             double sum = 0;
             for (int k = 0; k < calls; ++k) {

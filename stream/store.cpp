@@ -32,7 +32,7 @@ public:
 #pragma omp parallel num_threads(cfg_.threads) reduction(max : team)
         {
             team = omp_get_num_threads();
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
                 a[i] = init_a;
                 if (p) p[i] = 0;
@@ -107,7 +107,7 @@ private:
                                                           int calls) {
 #pragma omp parallel num_threads(nt)
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
                 std::int64_t i = blk.lo;
@@ -124,7 +124,7 @@ private:
                             int calls) {
 #pragma omp parallel num_threads(nt)
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
                 for (std::int64_t i = blk.lo; i < blk.hi; ++i) a[p[i]] = v;
@@ -135,7 +135,7 @@ private:
     static void strided_loop(double* __restrict a, std::int64_t n, std::int64_t s, int nt, std::uint64_t first_call, int calls) {
 #pragma omp parallel num_threads(nt)
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
                 for (std::int64_t r = 0; r < s; ++r)
@@ -149,7 +149,7 @@ private:
     __attribute__((noinline)) static void nt_store_loop(double* __restrict a, std::int64_t n, int nt, std::uint64_t first_call, int calls) {
 #pragma omp parallel num_threads(nt)
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 const double v = stored_value(first_call + static_cast<std::uint64_t>(k));
                 ntvec vv;

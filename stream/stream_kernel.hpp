@@ -8,7 +8,7 @@
 //   sequential  for i:                      a[i]    = f(b[i], c[i])
 //   random      for i:                      a[p[i]] = f(b[p[i]], c[p[i]])   p: seeded uniform shuffle (uint32)
 //   strided:S   in each thread's block [lo, hi): for r < S: for j = lo+r; j < hi; j += S: a[j] = f(b[j], c[j])
-// Every thread works on the block of i that it first touched (static_block), so with
+// Every thread works on the block of i that it first touched (line_block), so with
 // placement=local the sequential and strided patterns only touch the thread's own pages; the
 // random pattern reaches anywhere by design.
 #include <immintrin.h>
@@ -38,16 +38,27 @@ constexpr double line_bytes = 64.0;
 // same seed gives the same permutation on every machine). Filled into already-touched memory.
 void shuffled_permutation(std::uint32_t* p, std::uint64_t n, std::uint64_t seed);
 
-// Thread t's share [lo, hi) of n iterations split over nt threads: contiguous blocks whose
-// inner boundaries fall on whole cache lines (multiples of 8 doubles), so that no two threads
-// write the same line and each block of a page-aligned array starts on a vector boundary; the
-// blocks differ by at most 8 elements. First touch and every loop use it, so "the same
-// schedule" holds by construction rather than by what an OpenMP runtime happens to do.
+// Thread t's share [lo, hi) of n iterations split over nt threads: contiguous blocks, the
+// first n % nt threads one longer. The application kernels (kernels/sfc) split their elements
+// and vertices this way.
 struct Block {
     std::int64_t lo, hi;
 };
-constexpr std::int64_t block_grain = 8;
 inline Block static_block(std::int64_t n, int t, int nt) {
+    const std::int64_t q = n / nt, r = n % nt;
+    const std::int64_t lo = t * q + std::min<std::int64_t>(t, r);
+    return {lo, lo + q + (t < r ? 1 : 0)};
+}
+inline Block my_block(std::int64_t n) { return static_block(n, omp_get_thread_num(), omp_get_num_threads()); }
+
+// The stream kernels' split: contiguous blocks whose inner boundaries fall on whole cache lines
+// (multiples of 8 doubles), so that no two threads write the same line and each block of a
+// page-aligned array starts on a vector boundary; the blocks differ by at most 8 elements (a
+// thread's block may be empty when n < 8 x threads). First touch, every loop and verify() use
+// it, so "the same schedule" holds by construction rather than by what an OpenMP runtime
+// happens to do.
+constexpr std::int64_t block_grain = 8;
+inline Block line_block(std::int64_t n, int t, int nt) {
     auto boundary = [&](int k) {
         if (k >= nt) return n;
         const auto exact = static_cast<std::int64_t>(static_cast<__int128>(n) * k / nt);
@@ -55,7 +66,7 @@ inline Block static_block(std::int64_t n, int t, int nt) {
     };
     return {boundary(t), boundary(t + 1)};
 }
-inline Block my_block(std::int64_t n) { return static_block(n, omp_get_thread_num(), omp_get_num_threads()); }
+inline Block my_line_block(std::int64_t n) { return line_block(n, omp_get_thread_num(), omp_get_num_threads()); }
 
 // Non-temporal stores: the widest streaming store the build targets.
 #if defined(__AVX512F__)
@@ -128,7 +139,7 @@ public:
         // each thread's block of every array lands on that thread's node.
 #pragma omp parallel
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
                 a[i] = init_a;
                 b[i] = init_b(static_cast<std::uint64_t>(i));
@@ -218,7 +229,7 @@ private:
                                                           std::int64_t n, int calls) {
 #pragma omp parallel
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 std::int64_t i = blk.lo;
                 for (; i + unroll_elements <= blk.hi; i += unroll_elements) {
@@ -234,7 +245,7 @@ private:
                             const std::uint32_t* __restrict p, std::int64_t n, int calls) {
 #pragma omp parallel
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
                     const std::uint32_t j = p[i];
@@ -248,7 +259,7 @@ private:
                              std::int64_t s, int calls) {
 #pragma omp parallel
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 for (std::int64_t r = 0; r < s; ++r)
                     for (std::int64_t j = blk.lo + r; j < blk.hi; j += s) a[j] = Op::apply(b[j], Op::reads > 1 ? c[j] : 0.0);
@@ -265,7 +276,7 @@ private:
                                                         std::int64_t n, int calls) {
 #pragma omp parallel
         {
-            const Block blk = my_block(n);
+            const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 std::int64_t i = blk.lo;
                 for (; i < blk.hi && (reinterpret_cast<std::uintptr_t>(a + i) % sizeof(ntvec)) != 0; ++i)
