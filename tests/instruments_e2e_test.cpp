@@ -76,7 +76,15 @@ TEST(InstrumentRun, PinnedRunCountsNoMigrationsAndNoFaultsInTheTimedRepetitions)
         EXPECT_EQ((*mig)["per_call"]["max"].get<double>(), 0.0) << "threads=" << rec["threads"];
         EXPECT_TRUE(rec["pin"]["held_during_run"].get<bool>());
         // The pages were first touched in setup: the timed repetitions fault no more.
+#if defined(__SANITIZE_ADDRESS__)
+        // Under AddressSanitizer (make test-sanitize) its runtime maps bookkeeping pages lazily,
+        // now and then one or two inside a timed sample (more often on a busy machine): bounded
+        // here at 2 per sample, far below the 1024 pages of the 4 MiB arrays, which is what
+        // faulting on the arrays would show; exactly 0 in the plain build that make test runs.
+        EXPECT_LE((*event(rec, "page-faults"))["per_call"]["median"].get<double>() * rec["repetitions"]["batch"].get<double>(), 2.0);
+#else
         EXPECT_EQ((*event(rec, "page-faults"))["per_call"]["median"].get<double>(), 0.0);
+#endif
         // task-clock is CPU time summed over the threads. Its window is a little wider than the
         // clock's, and on a loaded machine a thread may wait for a CPU in either, so only
         // sanity bounds here (the summing itself is tested with page faults in counters_test).
