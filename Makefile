@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs
+.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs bench-noise
 
 all: build
 
@@ -51,6 +51,11 @@ bench-deps:
 BENCH_FLAGS ?=
 bench-vs: bench-deps build
 	/usr/bin/python3 bench/vs_likwid.py --suite ./suite --ref $(BUILD)/ref_random --out results/bench $(BENCH_FLAGS)
+
+# The noise floor of bench-vs at 1 GiB: the suite and likwid-bench each against itself (about 12
+# minutes), to results/bench/aa_noise.{json,md}.
+bench-noise: bench-deps build
+	/usr/bin/python3 bench/aa_noise.py --suite ./suite --out results/bench $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(BUILD) build-sanitize suite

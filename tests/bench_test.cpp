@@ -46,3 +46,33 @@ TEST(Bench, VsLikwidQuickRunsBothSidesAndWritesTheRatios) {
     const std::string md = slurp(dir.file("vs_likwid_quick.md"));
     EXPECT_NE(md.find("| size | threads |"), std::string::npos) << md;
 }
+
+// bench/aa_noise.py --quick: each program against itself, the JSON it writes holds one pair of
+// measured figures per point and program, and the suite's points are its seven kernels.
+TEST(Bench, AaNoiseQuickMeasuresEachProgramAgainstItself) {
+    TempDir dir;
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/aa_noise.py", "--quick", "--suite", SUITE_BINARY, "--out",
+                             dir.path().string()},
+                            300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json doc = json::parse(slurp(dir.file("aa_noise_quick.json")));
+    EXPECT_EQ(doc["repetitions"].get<int>(), 1);
+    EXPECT_EQ(doc["size_bytes"].get<std::uint64_t>(), 16u << 20);
+    const bool likwid = access("/usr/bin/likwid-bench", X_OK) == 0;
+    std::size_t suite_points = 0, likwid_points = 0;
+    for (const auto& row : doc["points"]) {
+        (row["program"] == "suite" ? suite_points : likwid_points) += 1;
+        ASSERT_EQ(row["gbps_pairs"].size(), 1u) << row.dump();
+        EXPECT_GT(row["gbps_pairs"][0][0].get<double>(), 0) << row.dump();
+        EXPECT_GT(row["gbps_pairs"][0][1].get<double>(), 0) << row.dump();
+        EXPECT_DOUBLE_EQ(row["ratio"].get<double>(), row["gbps_pairs"][0][0].get<double>() / row["gbps_pairs"][0][1].get<double>());
+    }
+    EXPECT_EQ(suite_points, 7u);  // copy, copy-nt, triad, triad-nt, load, store, store-nt
+    EXPECT_EQ(likwid_points, likwid ? 7u : 0u);
+    EXPECT_NE(slurp(dir.file("aa_noise_quick.md")).find("suite against itself"), std::string::npos);
+
+    r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/aa_noise.py", "--reps", "0", "--suite", SUITE_BINARY, "--out",
+                     dir.path().string()});
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("--reps must be at least 1"), std::string::npos) << r.err;
+}
