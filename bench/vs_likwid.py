@@ -344,29 +344,27 @@ if a.merge:
               f"; {elapsed:.0f} s in all.", ""]
 else:
     lines += [f"{reps} interleaved repetitions, medians; load average {load_before[0]} before, {load_after[0]} after; {elapsed:.0f} s.", ""]
-if likwid_rows:
-    lines += ["| size | threads | " + " | ".join(f"{k}{'-' + v if v else ''} / {t}" for k, v, t in pairs) + " |",
-              "|---|---|" + "---|" * len(pairs)]
-    for size in sizes:
+
+
+def likwid_table(rows, header, ratio, gbps):
+    """Markdown rows: one line per size and thread count, a cell per pair: ratio (suite/likwid GB/s)."""
+    out = ["| size | threads | " + " | ".join(header(k, v, t) for k, v, t in pairs) + " |", "|---|---|" + "---|" * len(pairs)]
+    for size in sorted({r["size_bytes"] for r in rows}):
         for t in thread_counts:
             cells = []
             for k, v, _ in pairs:
-                r = next((r for r in likwid_rows if r["suite"] == k + ("-" + v if v else "") and r["size_bytes"] == size and r["threads"] == t), None)
-                cells.append(f"{r['ratio']:.2f} ({r['suite_median_gbps']:.0f}/{r['likwid_median_gbps']:.0f})" if r else "-")
-            lines.append(f"| {label(size)} | {t} | " + " | ".join(cells) + " |")
-    lines.append("")
+                r = next((r for r in rows if r["suite"] == k + ("-" + v if v else "") and r["size_bytes"] == size and r["threads"] == t), None)
+                cells.append(f"{r[ratio]:.2f} ({r[gbps]:.0f}/{r['likwid_median_gbps']:.0f})" if r else "-")
+            out.append(f"| {label(size)} | {t} | " + " | ".join(cells) + " |")
+    return out + [""]
+
+
+if likwid_rows:
+    lines += likwid_table(likwid_rows, lambda k, v, t: f"{k}{'-' + v if v else ''} / {t}", "ratio", "suite_median_gbps")
     thp_rows = [r for r in likwid_rows if "ratio_thp" in r]
     if thp_rows:
-        lines += ["With `--hugepages=thp` (the suite's arrays on transparent huge pages; likwid-bench as the system gives it):", "",
-                  "| size | threads | " + " | ".join(f"{k}{'-' + v if v else ''}" for k, v, _ in pairs) + " |", "|---|---|" + "---|" * len(pairs)]
-        for size in sorted({r["size_bytes"] for r in thp_rows}):
-            for t in thread_counts:
-                cells = []
-                for k, v, _ in pairs:
-                    r = next((r for r in thp_rows if r["suite"] == k + ("-" + v if v else "") and r["size_bytes"] == size and r["threads"] == t), None)
-                    cells.append(f"{r['ratio_thp']:.2f} ({r['suite_thp_median_gbps']:.0f}/{r['likwid_median_gbps']:.0f})" if r else "-")
-                lines.append(f"| {label(size)} | {t} | " + " | ".join(cells) + " |")
-        lines.append("")
+        lines += ["With `--hugepages=thp` (the suite's arrays on transparent huge pages; likwid-bench as the system gives it):", ""]
+        lines += likwid_table(thp_rows, lambda k, v, t: f"{k}{'-' + v if v else ''}", "ratio_thp", "suite_thp_median_gbps")
 lines += ["| size | threads | " + " | ".join(f"{k} random" for k in random_kernels) + " |", "|---|---|" + "---|" * len(random_kernels)]
 for size in random_sizes:
     for t in thread_counts:
