@@ -94,6 +94,12 @@ std::vector<int> pin_order(const Topology& topo, const PinSpec& spec) {
     return order;
 }
 
+void require_team_size(int got, int asked) {
+    if (got != asked)
+        throw std::runtime_error("OpenMP gave " + std::to_string(got) + " thread(s) where " + std::to_string(asked) +
+                                 " were asked for (is OMP_THREAD_LIMIT set?)");
+}
+
 std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, int threads) {
     const std::vector<int> order = pin_order(topo, spec);
     if (spec.mode != PinMode::none && static_cast<int>(order.size()) < threads)
@@ -125,9 +131,7 @@ std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, 
         team[t].thread = t;
         team[t].cpu = sched_getcpu();
     }
-    if (team_size != threads)
-        throw std::runtime_error("OpenMP gave " + std::to_string(team_size) + " thread(s) where " + std::to_string(threads) +
-                                 " were asked for (is OMP_THREAD_LIMIT set?)");
+    require_team_size(team_size, threads);
     for (const auto& e : errors)
         if (!e.empty()) throw std::runtime_error(e);
     for (auto& b : team)

@@ -44,6 +44,10 @@ struct ThreadBinding {
 // when the OS refuses a binding.
 std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, int threads);
 
+// Throws std::runtime_error when an OpenMP team came out with `got` threads where `asked` were
+// asked for (bind_team, and the kernels' parallel first touch, check their team with it).
+void require_team_size(int got, int asked);
+
 // Whether every thread of the current OpenMP team of team.size() threads still has the CPU set
 // bind_team() read back: run after the timed repetitions, it shows that the kernels ran on the
 // pinned threads (and not on threads the OpenMP runtime created afterwards).

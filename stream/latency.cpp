@@ -10,10 +10,10 @@
 
 #include <cmath>
 #include <random>
-#include <stdexcept>
 #include <vector>
 
 #include "harness/kernel.hpp"
+#include "harness/team.hpp"
 #include "harness/units.hpp"
 
 namespace suite::stream {
@@ -62,9 +62,7 @@ public:
             for (std::uint64_t k = 0; k < L; ++k) base[base[k].order].next = &base[base[(k + 1) % L].order];
             start_[t] = pos_[t] = &base[base[0].order];
         }
-        if (team != nt)
-            throw std::runtime_error("OpenMP gave " + std::to_string(team) + " threads where " + std::to_string(nt) +
-                                     " were asked for (is OMP_THREAD_LIMIT set?)");
+        require_team_size(team, nt);
     }
 
     void run(int calls) override {

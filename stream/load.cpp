@@ -10,8 +10,9 @@
 // of 0.5 below 2^52, so neither the order of the additions nor their number changes it).
 #include "stream/stream_kernel.hpp"
 
-#include <stdexcept>
 #include <vector>
+
+#include "harness/team.hpp"
 
 namespace suite::stream {
 namespace {
@@ -46,9 +47,7 @@ public:
                 if (p) p[i] = 0;
             }
         }
-        if (team != cfg_.threads)
-            throw std::runtime_error("OpenMP gave " + std::to_string(team) + " threads where " + std::to_string(cfg_.threads) +
-                                     " were asked for (is OMP_THREAD_LIMIT set?)");
+        require_team_size(team, cfg_.threads);
         if (p) shuffled_permutation(p, n_, cfg_.seed);
     }
 
@@ -188,19 +187,8 @@ private:
 };
 
 const bool registered = [] {
-    KernelEntry e;
-    e.info.name = "load";
-    e.info.group = "stream";
-    e.info.formula = "s += b[i]";
-    e.info.unit = "element";
-    e.info.axis = AccessAxis::pattern;
-    e.info.accesses = {"sequential", "random", "strided"};
-    e.info.size_kind = SizeKind::bytes;
-    e.info.metric = Metric::bandwidth;
-    e.info.read_bytes_per_unit = 8;
-    e.info.write_bytes_per_unit = 0;
-    e.info.flops_per_unit = 1;
-    e.info.notes = "read-only: one stream of loads, each thread's sum kept and checked";
+    KernelEntry e = stream_entry("load", "s += b[i]", false, 8, 0, 1,
+                                 "read-only: one stream of loads, each thread's sum kept and checked");
     e.make = [](const KernelConfig& cfg) { return std::make_unique<Load>(cfg); };
     e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, "load", 1); };
     return register_kernel(std::move(e));

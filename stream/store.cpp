@@ -7,7 +7,8 @@
 // element (not merely that some call did). Patterns as the other stream kernels.
 #include "stream/stream_kernel.hpp"
 
-#include <stdexcept>
+#include "harness/team.hpp"
+
 
 namespace suite::stream {
 namespace {
@@ -38,9 +39,7 @@ public:
                 if (p) p[i] = 0;
             }
         }
-        if (team != cfg_.threads)
-            throw std::runtime_error("OpenMP gave " + std::to_string(team) + " threads where " + std::to_string(cfg_.threads) +
-                                     " were asked for (is OMP_THREAD_LIMIT set?)");
+        require_team_size(team, cfg_.threads);
         if (p) shuffled_permutation(p, n_, cfg_.seed);
     }
 
@@ -180,20 +179,8 @@ private:
 };
 
 const bool registered = [] {
-    KernelEntry e;
-    e.info.name = "store";
-    e.info.group = "stream";
-    e.info.formula = "a[i] = v";
-    e.info.unit = "element";
-    e.info.axis = AccessAxis::pattern;
-    e.info.accesses = {"sequential", "random", "strided"};
-    e.info.variants = {"", "nt"};
-    e.info.size_kind = SizeKind::bytes;
-    e.info.metric = Metric::bandwidth;
-    e.info.read_bytes_per_unit = 0;
-    e.info.write_bytes_per_unit = 8;
-    e.info.flops_per_unit = 0;
-    e.info.notes = "write-only: one stream of stores of a value that changes every call";
+    KernelEntry e = stream_entry("store", "a[i] = v", true, 0, 8, 0,
+                                 "write-only: one stream of stores of a value that changes every call");
     e.make = [](const KernelConfig& cfg) { return std::make_unique<Store>(cfg); };
     e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, "store", 1); };
     return register_kernel(std::move(e));

@@ -305,22 +305,30 @@ private:
     std::uint32_t* p_ = nullptr;
 };
 
-template <class Op>
-bool register_stream_kernel() {
+// The registry entry every stream kernel shares: element unit, the three patterns, bytes.
+// The caller adds make and validate.
+inline KernelEntry stream_entry(const char* name, const char* formula, bool has_nt, double read_bytes, double write_bytes, double flops,
+                                const char* notes) {
     KernelEntry e;
-    e.info.name = Op::name;
+    e.info.name = name;
     e.info.group = "stream";
-    e.info.formula = Op::formula;
+    e.info.formula = formula;
     e.info.unit = "element";
     e.info.axis = AccessAxis::pattern;
     e.info.accesses = {"sequential", "random", "strided"};
-    e.info.variants = Op::has_nt ? std::vector<std::string>{"", "nt"} : std::vector<std::string>{""};
+    e.info.variants = has_nt ? std::vector<std::string>{"", "nt"} : std::vector<std::string>{""};
     e.info.size_kind = SizeKind::bytes;
     e.info.metric = Metric::bandwidth;
-    e.info.read_bytes_per_unit = 8.0 * Op::reads;
-    e.info.write_bytes_per_unit = 8.0;
-    e.info.flops_per_unit = Op::flops;
-    e.info.notes = Op::notes;
+    e.info.read_bytes_per_unit = read_bytes;
+    e.info.write_bytes_per_unit = write_bytes;
+    e.info.flops_per_unit = flops;
+    e.info.notes = notes;
+    return e;
+}
+
+template <class Op>
+bool register_stream_kernel() {
+    KernelEntry e = stream_entry(Op::name, Op::formula, Op::has_nt, 8.0 * Op::reads, 8.0, Op::flops, Op::notes);
     e.make = [](const KernelConfig& cfg) { return std::make_unique<StreamKernel<Op>>(cfg); };
     e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, Op::name, StreamKernel<Op>::arrays()); };
     return register_kernel(std::move(e));
