@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "harness/instruments.hpp"
+#include "harness/measure/instrument_set.hpp"
 
 int main(int argc, char** argv) {
     using namespace suite;

@@ -6,7 +6,7 @@ execute_process(COMMAND git describe --always --dirty --abbrev=12
 if(NOT rc EQUAL 0 OR rev STREQUAL "")
   set(rev "unknown")
 endif()
-set(content "// Generated at build time by cmake/git_revision.cmake.\n#include \"harness/build_info.hpp\"\nconst char* const suite::build::git_revision = \"${rev}\";\n")
+set(content "// Generated at build time by cmake/git_revision.cmake.\n#include \"harness/results/build_info.hpp\"\nconst char* const suite::build::git_revision = \"${rev}\";\n")
 if(EXISTS "${OUT}")
   file(READ "${OUT}" old)
 endif()

@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "harness/kernel.hpp"
-#include "harness/placement.hpp"
-#include "harness/report.hpp"
-#include "harness/result.hpp"
-#include "harness/plan.hpp"
-#include "harness/team.hpp"
-#include "harness/topology.hpp"
-#include "harness/units.hpp"
+#include "harness/kernel/kernel.hpp"
+#include "harness/machine/placement.hpp"
+#include "harness/results/report.hpp"
+#include "harness/measure/result.hpp"
+#include "harness/measure/plan.hpp"
+#include "harness/machine/team.hpp"
+#include "harness/machine/topology.hpp"
+#include "harness/common/units.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/measurements.hpp"
+#include "harness/instruments/measurements.hpp"
 
 namespace suite {
 

@@ -5,7 +5,7 @@
 #include <thread>
 #include <utility>
 
-#include "harness/stats.hpp"
+#include "harness/common/stats.hpp"
 #include "rapl/energy.hpp"
 
 namespace suite {

@@ -11,8 +11,8 @@
 #include <map>
 #include <regex>
 
-#include "harness/counters.hpp"
-#include "harness/units.hpp"
+#include "harness/instruments/counters.hpp"
+#include "harness/common/units.hpp"
 #include "rapl/energy.hpp"
 
 namespace fs = std::filesystem;

@@ -12,9 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "harness/kernel.hpp"
-#include "harness/team.hpp"
-#include "harness/units.hpp"
+#include "harness/kernel/kernel.hpp"
+#include "harness/common/units.hpp"
 
 namespace suite::stream {
 namespace {

@@ -12,7 +12,6 @@
 
 #include <vector>
 
-#include "harness/team.hpp"
 
 namespace suite::stream {
 namespace {

@@ -7,7 +7,6 @@
 // element (not merely that some call did). Patterns as the other stream kernels.
 #include "stream/stream_kernel.hpp"
 
-#include "harness/team.hpp"
 
 
 namespace suite::stream {

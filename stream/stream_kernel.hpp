@@ -21,8 +21,10 @@
 #include <memory>
 #include <string>
 
-#include "harness/kernel.hpp"
-#include "harness/units.hpp"
+#include "harness/kernel/blocks.hpp"
+#include "harness/kernel/kernel.hpp"
+#include "harness/kernel/permutation.hpp"
+#include "harness/common/units.hpp"
 
 namespace suite::stream {
 
@@ -33,40 +35,6 @@ inline double init_c(std::uint64_t i) { return 2.0 + static_cast<double>(i % 777
 constexpr double init_a = -1.0;
 constexpr double scalar = 3.0;  // the s of scale and triad
 constexpr double line_bytes = 64.0;
-
-// A seeded uniformly random permutation of 0..n-1 (Fisher-Yates with a fixed generator, so the
-// same seed gives the same permutation on every machine). Filled into already-touched memory.
-void shuffled_permutation(std::uint32_t* p, std::uint64_t n, std::uint64_t seed);
-
-// Thread t's share [lo, hi) of n iterations split over nt threads: contiguous blocks, the
-// first n % nt threads one longer. The application kernels (kernels/sfc) split their elements
-// and vertices this way.
-struct Block {
-    std::int64_t lo, hi;
-};
-inline Block static_block(std::int64_t n, int t, int nt) {
-    const std::int64_t q = n / nt, r = n % nt;
-    const std::int64_t lo = t * q + std::min<std::int64_t>(t, r);
-    return {lo, lo + q + (t < r ? 1 : 0)};
-}
-inline Block my_block(std::int64_t n) { return static_block(n, omp_get_thread_num(), omp_get_num_threads()); }
-
-// The stream kernels' split: contiguous blocks whose inner boundaries fall on whole cache lines
-// (multiples of 8 doubles), so that no two threads write the same line and each block of a
-// page-aligned array starts on a vector boundary; the blocks differ by at most 8 elements (a
-// thread's block may be empty when n < 8 x threads). First touch, every loop and verify() use
-// it, so "the same schedule" holds by construction rather than by what an OpenMP runtime
-// happens to do.
-constexpr std::int64_t block_grain = 8;
-inline Block line_block(std::int64_t n, int t, int nt) {
-    auto boundary = [&](int k) {
-        if (k >= nt) return n;
-        const auto exact = static_cast<std::int64_t>(static_cast<__int128>(n) * k / nt);
-        return exact / block_grain * block_grain;
-    };
-    return {boundary(t), boundary(t + 1)};
-}
-inline Block my_line_block(std::int64_t n) { return line_block(n, omp_get_thread_num(), omp_get_num_threads()); }
 
 // Non-temporal stores: the widest streaming store the build targets.
 #if defined(__AVX512F__)

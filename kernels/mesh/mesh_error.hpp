@@ -3,7 +3,7 @@
 // with the file name and line number, "PATH:LINE: what is wrong; what is accepted".
 #include <string>
 
-#include "harness/units.hpp"
+#include "harness/common/units.hpp"
 
 namespace suite::mesh {
 

@@ -5,7 +5,7 @@
 #include <map>
 #include <mutex>
 
-#include "harness/units.hpp"
+#include "harness/common/units.hpp"
 #include "kernels/mesh/edges.hpp"
 #include "kernels/mesh/generate.hpp"
 #include "kernels/mesh/readers.hpp"

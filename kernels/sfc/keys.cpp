@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "stream/stream_kernel.hpp"
+#include "harness/kernel/blocks.hpp"
 
 namespace suite::sfc {
 
@@ -30,7 +30,7 @@ void keys_loop(const mesh::MeshView& m, const KeyFrame& f, std::uint64_t* keys) 
     const std::int64_t ne = static_cast<std::int64_t>(m.elements);
 #pragma omp parallel
     {
-        const stream::Block b = stream::my_block(ne);
+        const Block b = my_block(ne);
         // The corners' coordinates are gathered from anywhere in the vertex arrays; asking for
         // those of the element 16 ahead keeps several misses in flight (1.3-1.6x on the VM).
         constexpr std::int64_t ahead = 16;

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <numeric>
 
-#include "harness/units.hpp"
+#include "harness/common/units.hpp"
 #include "kernels/sfc/rcm.hpp"
-#include "stream/stream_kernel.hpp"
+#include "harness/kernel/blocks.hpp"
+#include "harness/kernel/permutation.hpp"
 
 namespace suite::sfc {
 
@@ -27,7 +28,7 @@ void Pipeline::keys() {
         const std::int64_t ne = static_cast<std::int64_t>(in_.elements);
 #pragma omp parallel
         {
-            const stream::Block b = stream::my_block(ne);
+            const Block b = my_block(ne);
             for (std::int64_t e = b.lo; e < b.hi; ++e) {
                 const std::uint32_t* c = in_.conn + e * k;
                 std::uint32_t low = a_.new_id[c[0]];
@@ -86,9 +87,9 @@ Reordered shuffled(const mesh::Mesh& m, std::uint64_t seed) {
     Reordered r;
     r.perm.resize(m.elements());
     r.new_id.resize(m.vertices());
-    stream::shuffled_permutation(r.perm.data(), r.perm.size(), seed);
+    shuffled_permutation(r.perm.data(), r.perm.size(), seed);
     // A different stream of the same seed for the vertices, so the two shuffles are unrelated.
-    stream::shuffled_permutation(r.new_id.data(), r.new_id.size(), seed ^ 0x9e3779b97f4a7c15ULL);
+    shuffled_permutation(r.new_id.data(), r.new_id.size(), seed ^ 0x9e3779b97f4a7c15ULL);
     r.mesh = permuted(m, r.perm, r.new_id);
     return r;
 }

@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "kernels/mesh/edges.hpp"
-#include "stream/stream_kernel.hpp"
+#include "harness/kernel/blocks.hpp"
 
 namespace suite::sfc {
 
@@ -62,7 +62,7 @@ std::vector<double> shared_key_fraction(const mesh::MeshView& m, Curve c) {
 }
 
 std::pair<std::uint64_t, std::uint64_t> thread_block(std::uint64_t n, int t, int threads) {
-    const stream::Block b = stream::static_block(static_cast<std::int64_t>(n), t, threads);
+    const Block b = static_block(static_cast<std::int64_t>(n), t, threads);
     return {static_cast<std::uint64_t>(b.lo), static_cast<std::uint64_t>(b.hi)};
 }
 

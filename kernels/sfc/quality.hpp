@@ -33,7 +33,7 @@ struct ThreadSharing {
 };
 ThreadSharing thread_sharing(const mesh::MeshView& m, int threads);
 
-// Thread t's block [lo, hi) of n elements: the harness's static split (stream::static_block).
+// Thread t's block [lo, hi) of n elements: the harness's static split (static_block).
 std::pair<std::uint64_t, std::uint64_t> thread_block(std::uint64_t n, int t, int threads);
 
 }  // namespace suite::sfc

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <vector>
 
-#include "stream/stream_kernel.hpp"
+#include "harness/kernel/blocks.hpp"
 
 namespace suite::sfc {
 
@@ -85,7 +85,7 @@ void sort_by_key(const std::uint64_t* keys, std::size_t n, int key_bits, std::ui
 #pragma omp parallel num_threads(threads)
     {
         const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-        const stream::Block blk = stream::static_block(ni, t, nt);
+        const Block blk = static_block(ni, t, nt);
         std::uint64_t* mine = offset.data() + static_cast<std::size_t>(t) * buckets;
         for (std::int64_t i = blk.lo; i < blk.hi; ++i) ++mine[keys[i] >> shift];
 #pragma omp barrier

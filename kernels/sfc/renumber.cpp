@@ -16,7 +16,7 @@
 #include <limits>
 #include <vector>
 
-#include "stream/stream_kernel.hpp"
+#include "harness/kernel/blocks.hpp"
 
 namespace suite::sfc {
 
@@ -31,14 +31,14 @@ void rewrite(const mesh::MeshView& in, const std::uint32_t* perm, const std::uin
     const std::int64_t ne = static_cast<std::int64_t>(in.elements), nv = static_cast<std::int64_t>(in.vertices);
 #pragma omp parallel
     {
-        const stream::Block eb = stream::my_block(ne);
+        const Block eb = my_block(ne);
         for (std::int64_t i = eb.lo; i < eb.hi; ++i) {
             const std::uint32_t* c = in.conn + static_cast<std::size_t>(perm[i]) * k;
             for (int j = 0; j < k; ++j) out.conn[i * k + j] = c[j];
         }
         number(eb);  // ends with a barrier
         for (std::int64_t p = eb.lo * k; p < eb.hi * k; ++p) out.conn[p] = new_id[out.conn[p]];
-        const stream::Block vb = stream::my_block(nv);
+        const Block vb = my_block(nv);
         for (std::int64_t v = vb.lo; v < vb.hi; ++v) {
             const std::uint32_t to = new_id[v];
             out.x[to] = in.x[v];
@@ -57,9 +57,9 @@ void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, s
     const std::int64_t words = static_cast<std::int64_t>(rank_words(in.elements, k));
     const int threads = omp_get_max_threads();
     std::vector<std::uint64_t> touched(static_cast<std::size_t>(threads) + 1), untouched(static_cast<std::size_t>(threads) + 1);
-    rewrite(in, perm, new_id, out, [&](const stream::Block& eb) {
+    rewrite(in, perm, new_id, out, [&](const Block& eb) {
         const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-        const stream::Block vb = stream::my_block(nv), wb = stream::my_block(words);
+        const Block vb = my_block(nv), wb = my_block(words);
         for (std::int64_t v = vb.lo; v < vb.hi; ++v) sc.first[v] = unset;
         for (std::int64_t w = wb.lo; w < wb.hi; ++w) sc.bits[w] = 0;
 #pragma omp barrier
@@ -105,7 +105,7 @@ void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, s
 }
 
 void apply_vertex_order(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id, const MeshOut& out) {
-    rewrite(in, perm, new_id, out, [](const stream::Block&) {
+    rewrite(in, perm, new_id, out, [](const Block&) {
 #pragma omp barrier
     });
 }

@@ -20,12 +20,12 @@
 #include <string>
 #include <vector>
 
-#include "harness/kernel.hpp"
-#include "harness/units.hpp"
+#include "harness/kernel/kernel.hpp"
+#include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/sfc/pipeline.hpp"
 #include "kernels/sfc/sfc_checks.hpp"
-#include "stream/stream_kernel.hpp"
+#include "harness/kernel/blocks.hpp"
 
 namespace suite::sfc {
 
@@ -72,7 +72,7 @@ public:
         std::uint32_t* conn = conn_;
 #pragma omp parallel
         {
-            const stream::Block eb = stream::my_block(ne);
+            const Block eb = my_block(ne);
             for (std::int64_t e = eb.lo; e < eb.hi; ++e) {
                 for (int j = 0; j < k; ++j) {
                     conn[e * k + j] = m.conn[e * k + j];
@@ -83,7 +83,7 @@ public:
                 a.sort.keys_a[e] = a.sort.keys_b[e] = 0;
                 a.sort.index_a[e] = a.sort.index_b[e] = 0;
             }
-            const stream::Block vb = stream::my_block(nv);
+            const Block vb = my_block(nv);
             for (std::int64_t v = vb.lo; v < vb.hi; ++v) {
                 for (int d = 0; d < dim; ++d) {
                     in_xyz[d][v] = src[d][v];
@@ -92,7 +92,7 @@ public:
                 a.new_id[v] = poison32;
                 a.renumber.first[v] = poison32;
             }
-            const stream::Block wb = stream::my_block(static_cast<std::int64_t>(words));
+            const Block wb = my_block(static_cast<std::int64_t>(words));
             for (std::int64_t w = wb.lo; w < wb.hi; ++w) a.renumber.bits[w] = a.renumber.rank[w] = 0;
         }
         in_ = {dim_, nv_, ne_, in_xyz[0], in_xyz[1], in_xyz[2], conn_};

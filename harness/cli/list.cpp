@@ -1,0 +1,117 @@
+// `suite list`: the kernels and what they accept; with --counters, the events this machine can
+// count, and why the others cannot.
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/cli/commands.hpp"
+#include "harness/cli/parse.hpp"
+#include "harness/instruments/counters.hpp"
+#include "harness/kernel/kernel.hpp"
+
+namespace suite {
+
+namespace {
+
+// The names perf(1) users know, each tried here.
+const char* const kGeneric[] = {"cycles", "instructions", "cache-references", "cache-misses", "branches", "branch-misses",
+                                "bus-cycles", "L1-dcache-loads", "L1-dcache-load-misses", "LLC-loads", "LLC-load-misses",
+                                "LLC-store-misses", "dTLB-load-misses", "task-clock", "page-faults", "minor-faults",
+                                "major-faults", "context-switches", "cpu-migrations"};
+
+
+std::string accesses_text(const KernelInfo& info) {
+    std::string out;
+    for (const auto& a : info.accesses) out += (out.empty() ? "" : ",") + (a == "strided" ? std::string("strided:S") : a);
+    return out;
+}
+
+}  // namespace
+
+static int list_counters(bool json) {
+    const PerfAccess access = perf_access();
+    nlohmann::json generic = nlohmann::json::array();
+    for (const char* name : kGeneric) {
+        CounterSpec spec = parse_counters(name, access).events.front();
+        const std::string why = probe_event(spec, access);
+        generic.push_back({{"name", name}, {"canonical", spec.canonical}, {"hardware", spec.hardware}, {"available", why.empty()},
+                           {"reason", why.empty() ? nlohmann::json(nullptr) : nlohmann::json(why)}});
+    }
+    const auto pmus = known_events();
+    if (json) {
+        nlohmann::json p = nlohmann::json::array();
+        for (const auto& pmu : pmus) p.push_back({{"pmu", pmu.pmu}, {"description", pmu.description}, {"events", pmu.events}});
+        std::cout << nlohmann::json{{"scope", access.scope()}, {"perf_event_paranoid", access.paranoid}, {"privileged", access.privileged},
+                                    {"generic", generic}, {"pmus", p}}
+                         .dump(2)
+                  << "\n";
+        return 0;
+    }
+    std::printf("Counting scope here: %s (perf_event_paranoid=%d, %s)\n\n", access.scope().c_str(), access.paranoid,
+                access.privileged ? "privileged" : "unprivileged");
+    std::printf("%-24s %-9s %s\n", "event", "kind", "counted here?");
+    for (const auto& g : generic)
+        std::printf("%-24s %-9s %s\n", g["name"].get<std::string>().c_str(), g["hardware"].get<bool>() ? "hardware" : "software",
+                    g["available"].get<bool>() ? "yes" : ("no: " + g["reason"].get<std::string>()).c_str());
+    std::printf("\nEvery name libpfm4 knows here (use as --counters=NAME, with :UMASK where the PMU has them):\n");
+    for (const auto& pmu : pmus) {
+        std::printf("  %s (%s), %zu events:\n   ", pmu.pmu.c_str(), pmu.description.c_str(), pmu.events.size());
+        std::size_t col = 3;
+        for (const auto& e : pmu.events) {
+            if (col + e.size() + 1 > 100) {
+                std::printf("\n   ");
+                col = 3;
+            }
+            std::printf(" %s", e.c_str());
+            col += e.size() + 1;
+        }
+        std::printf("\n");
+    }
+    std::printf("\n--counters=default counts cycles, instructions, L1-dcache-load-misses, LLC-load-misses and bus-cycles where\n"
+                "this PMU offers them, and task-clock, page-faults, context-switches and cpu-migrations.\n");
+    return 0;
+}
+
+int cmd_list(const std::vector<std::string>& args) {
+    CLI::App app{"suite list: the kernels and what they accept"};
+    bool json = false, counters = false;
+    app.add_flag("--json", json, "machine-readable output");
+    app.add_flag("--counters", counters, "the events that can be counted here (generic and this PMU's), and why not");
+    if (!parse_command_line(app, "suite list", args)) return 0;
+    if (counters) return list_counters(json);
+    if (json) {
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto& e : kernels()) {
+            const auto& i = e.info;
+            j.push_back({{"name", i.name}, {"group", i.group}, {"formula", i.formula}, {"unit", i.unit},
+                         {"axis", i.axis == AccessAxis::pattern ? "pattern" : "ordering"}, {"accesses", i.accesses},
+                         {"variants", i.variants}, {"size", i.size_kind == SizeKind::bytes ? "bytes" : "count"},
+                         {"metric", i.metric == Metric::bandwidth ? "bandwidth" : "latency"},
+                         {"read_bytes_per_unit", i.read_bytes_per_unit}, {"write_bytes_per_unit", i.write_bytes_per_unit},
+                         {"flops_per_unit", i.flops_per_unit}, {"notes", i.notes}});
+        }
+        std::cout << j.dump(2) << "\n";
+        return 0;
+    }
+    std::printf("%-9s %-8s %-30s %-28s %-6s %-12s %s\n", "kernel", "group", "formula", "patterns/orderings", "nt", "B/unit r+w", "flops");
+    for (const auto& e : kernels()) {
+        const auto& i = e.info;
+        char bytes[32];
+        std::snprintf(bytes, sizeof bytes, "%g+%g", i.read_bytes_per_unit, i.write_bytes_per_unit);
+        const bool nt = std::find(i.variants.begin(), i.variants.end(), "nt") != i.variants.end();
+        std::printf("%-9s %-8s %-30s %-28s %-6s %-12s %g\n", i.name.c_str(), i.group.c_str(), i.formula.c_str(),
+                    accesses_text(i).c_str(), nt ? "yes" : "-", bytes, i.flops_per_unit);
+    }
+    std::printf("\nPlacements: local (first touch by the computing threads), node:N, remote (a node none of the threads\n"
+                "runs on), interleave (pages round-robin over all nodes).  Pinning: compact, scatter, none, CPU list.\n"
+                "Counters: --counters=default|none|NAME,... (./suite list --counters).  Energy: --energy=auto|sysfs|perf|none.\n");
+    return 0;
+}
+
+}  // namespace suite

@@ -1,0 +1,45 @@
+// suite: the command line. main() only picks the command (one file each in this folder) and maps
+// errors to exit statuses: 0 success, 1 a kernel failed verification or the run failed, 2 a
+// usage error, 128+N a signal.
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "harness/cli/commands.hpp"
+#include "harness/common/units.hpp"
+
+int main(int argc, char** argv) {
+    using namespace suite;
+    std::vector<std::string> all(argv, argv + argc);
+    std::vector<std::string> args(all.begin() + 1, all.end());
+    std::string command = "run";
+    if (!args.empty() && !args[0].empty() && args[0][0] != '-') {
+        command = args[0];
+        args.erase(args.begin());
+    }
+    try {
+        if (command == "run") return cmd_run(args, all);
+        if (command == "list") return cmd_list(args);
+        if (command == "info") return cmd_info(args);
+        if (command == "compare") return cmd_compare(args);
+        if (command == "check") return cmd_check(args);
+        if (command == "deterministic") return cmd_deterministic(args, all);
+        if (command == "traverse") return cmd_traverse(args);
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic", "traverse"});
+        throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                         "; commands: run, list, info, compare, check, deterministic, traverse (see ./suite --help)");
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return 0;
+        std::string msg = e.what();
+        std::cerr << "suite: error: " << msg << " (see ./suite --help)\n";
+        return 2;
+    } catch (const UsageError& e) {
+        std::cerr << "suite: error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "suite: error: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,201 @@
+#include "harness/cli/run.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <cstdio>
+#include <iostream>
+
+#include "harness/cli/commands.hpp"
+#include "harness/cli/parse.hpp"
+#include "harness/measure/cache_probe.hpp"
+#include "harness/results/context.hpp"
+#include "harness/results/report.hpp"
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+namespace {
+
+const char* const examples = R"(
+Commands:
+  run (default)   measure kernels: ./suite [run] --kernel=... [options]
+  list            kernels, patterns, placements: ./suite list [--json] [--counters]
+  info            topology, caches, NUMA nodes: ./suite info [--json] [--probe]
+  compare         result files side by side: ./suite compare A.json B.json [--format=markdown]
+  check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
+  deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
+  traverse        how a loop walks a mesh, per ordering: ./suite traverse --mesh=... --out=DIR (see ./suite traverse --help)
+
+Examples:
+  ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
+  ./suite --kernel=add,sin-add --pattern=sequential,random --size=256MiB --threads=1,2
+  ./suite --kernel=triad --sizes=16KiB:1GiB --threads=1-2 --out=results/triad.json
+  ./suite --kernel=copy,triad --stores=nt --size=1GiB      # non-temporal stores
+  ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
+  ./suite --kernel=load,store --size=1GiB                  # one stream of loads, one of stores
+  ./suite --kernel=store --stores=nt --size=1GiB           # streaming stores: no write-allocate
+  ./suite --kernel=triad --size=1GiB --hugepages=thp       # arrays on transparent huge pages
+  ./suite --probe-caches --kernel=triad                    # default sizes from the measured caches
+  ./suite info --probe                                     # caches measured beside hwloc's
+  ./suite --kernel=triad --placement=node:1 --pin=0,1 --threads=2   # arrays on node 1, threads on CPUs 0, 1
+  ./suite --kernel=triad --placement=remote --threads=1    # arrays on another node than the thread's
+  ./suite --kernel=triad --size=1GiB --counters=cycles,instructions,LLC-load-misses
+  ./suite --kernel=add --pattern=random --energy=sysfs --energy-baseline=2   # energy above idle power
+  ./suite --kernel=triad --sizes=16KiB:64MiB --format=gbench --out=triad-gb.json   # Google Benchmark's JSON
+  ./suite compare results/a.json results/b.json            # two machines or builds (see ./suite compare --help)
+  ./suite check --baseline results/baseline/ci.json run.json   # exit 1 on a regression
+  build/suite-x86-64-v3 deterministic --kernel=add --out=det.json   # exact counts under valgrind
+  plots/plot.py results/triad.json --out=figures/          # PNG figures (python3-matplotlib)
+  ./suite --kernel=sfc-build --mesh=disk:refine=8 --ordering=morton,hilbert,morton-recursive,rcm --threads=1,2
+  ./suite --kernel=sfc-build --mesh=box:64,64,64 --phase=keys,sort,renumber,all   # each phase timed as its own point
+  ./suite --kernel=sfc-build --mesh=file:../shared/meshes/unit_circle_fine.txt:refine=3 --ordering=morton
+  ./suite traverse --mesh=disk:refine=4 --ordering=natural,morton,hilbert --threads=1,4 --out=traverse
+
+Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
+result file then holds the finished points and says "complete": false).
+)";
+
+std::atomic<int> g_signal{0};
+
+extern "C" void on_signal(int sig) { g_signal.store(sig); }
+
+}  // namespace
+
+void setup_run_options(CLI::App& app, RunOptions& o) {
+    app.add_option("--kernel,-k", o.kernels, "kernels, comma separated (see ./suite list); default: the default sweep");
+    app.add_option("--pattern,-p", o.patterns, "access patterns: sequential, random, strided:S (default: the kernel's first)");
+    app.add_option("--ordering", o.orderings, "data orderings of application kernels: natural, random, morton, hilbert, rcm");
+    app.add_option("--mesh", o.mesh, "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or thesis .txt)");
+    app.add_option("--phase", o.phases, "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
+    app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store; sequential only)");
+    app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
+    app.add_option("--sizes", o.sizes, "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
+    app.add_option("--threads,-t", o.threads, "thread counts: 1,2,4 | 1-8 | 1-8:2 | all (default: 1 and all)");
+    app.add_option("--pin", o.pin, "compact | scatter | none | a CPU list such as 0,2,4-7 (default: compact)");
+    app.add_option("--placement", o.placement, "local | node:N | remote | interleave (default: local, first touch)");
+    app.add_flag("--probe-caches", o.probe_caches,
+                 "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "
+                 "by the measured last level where it is smaller than the reported one");
+    app.add_option("--hugepages", o.hugepages,
+                   "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
+                   "leave the system's THP setting, see ./suite info)");
+    app.add_option("--reps", o.reps, "counted repetitions per point (default: enough for 0.2 s, at least 5; plus 1 warm-up, 3 for calls under 50 ms)");
+    app.add_option("--min-time", o.min_time, "seconds of counted repetitions per point when --reps is not given (default 0.2)");
+    app.add_option("--seed", o.seed, "seed of the random permutations (default 1)")->check(CLI::NonNegativeNumber);
+    app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
+    app.add_option("--format", o.format, "table | json | csv | gbench (Google Benchmark's JSON): format of --out, or of stdout without --out");
+    app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
+    app.add_flag("--dry-run", o.dry_run, "check the options, list the points that would run, and stop");
+    app.add_option("--counters", o.counters,
+                   "default | none | events, e.g. cycles,instructions,LLC-load-misses,page-faults (see ./suite list --counters)");
+    app.add_option("--energy", o.energy, "auto | sysfs | perf | none: where RAPL energy is read (default auto; root: SUITE_SYSFS_ROOT)");
+    app.add_option("--energy-baseline", o.energy_baseline, "measure idle power for SECONDS first and report energy above idle");
+}
+
+int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv) {
+    for (const auto& note : plan.notes) std::cerr << "suite: note: " << note << "\n";
+    if (plan.dry_run) {
+        std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text << ", placement=" << plan.settings.placement.text
+                  << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + plan.format + ")") << "\n";
+        for (const auto& p : plan.points)
+            std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
+                      << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads
+                      << (p.mesh.empty() ? "" : " mesh=" + p.mesh) << "\n";
+        return 0;
+    }
+    struct sigaction sa{};
+    sa.sa_handler = on_signal;
+    sa.sa_flags = SA_RESETHAND;  // a second Ctrl-C ends the program at once; the file on disk stays valid
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+    plan.settings.stop = &g_signal;
+    plan.settings.instruments = &plan.instruments;
+    if (plan.instruments.energy_baseline_s > 0 && plan.instruments.energy.available()) {
+        if (!plan.quiet) std::cerr << "measuring idle power for " << plan.instruments.energy_baseline_s << " s ...\n";
+        plan.instruments.energy.measure_idle(plan.instruments.energy_baseline_s);
+    }
+
+    const bool to_file = !plan.out_path.empty();
+    const bool console_table = !plan.quiet && (to_file || plan.format == "table");
+    const bool progress = !plan.quiet && isatty(STDERR_FILENO);
+    const FileFormat format = plan.format == "csv" ? FileFormat::csv : plan.format == "gbench" ? FileFormat::gbench : FileFormat::json;
+    ResultDocument doc{build_context(topo, argv, plan.instruments), {}};
+    if (!plan.caches_measured.is_null()) doc.context["caches_measured"] = plan.caches_measured;
+
+    if (console_table) std::cout << table_header() << std::flush;
+    int status = 0;
+    const std::size_t total = plan.points.size();
+    for (std::size_t i = 0; i < total && g_signal.load() == 0; ++i) {
+        const Point& p = plan.points[i];
+        if (progress) {
+            std::fprintf(stderr, "\r[%zu/%zu] %s %s %s threads=%d ...", i + 1, total, display_name(p.kernel->info.name, p.variant).c_str(),
+                         p.access.label().c_str(), size_label(p.kernel->info.size_kind, p.size).c_str(), p.threads);
+            std::fflush(stderr);
+        }
+        Record rec;
+        try {
+            rec = run_point(p, plan.settings, topo);
+        } catch (const Interrupted&) {
+            break;
+        } catch (...) {
+            // The finished points are kept: in the file (already saved) or on stdout.
+            if (progress) std::fprintf(stderr, "\r\033[K");
+            if (!to_file && plan.format != "table") std::cout << doc.render(format, false) << std::flush;
+            throw;
+        }
+        if (progress) std::fprintf(stderr, "\r\033[K");
+        if (!rec.verification.passed) {
+            std::cerr << "suite: error: " << rec.name << " " << rec.access << " " << size_label(rec.size_kind, rec.size_requested)
+                      << " failed verification: " << rec.verification.detail << "\n";
+            status = 1;
+        }
+        if (console_table) std::cout << table_row(i + 1, total, rec) << std::flush;
+        doc.records.push_back(std::move(rec));
+        if (to_file) write_atomically(plan.out_path, doc.render(format, false));
+    }
+    if (progress) std::fprintf(stderr, "\r\033[K");
+    const int sig = g_signal.load();
+    if (to_file) {
+        write_atomically(plan.out_path, doc.render(format, sig == 0));
+        if (!plan.quiet)
+            std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path << (sig ? " (incomplete: interrupted)" : "") << "\n";
+    } else if (plan.format != "table") {
+        std::cout << doc.render(format, sig == 0) << std::flush;
+    }
+    if (sig) {
+        std::cerr << "suite: interrupted by signal " << sig << " after " << doc.records.size() << " of " << total << " point(s)\n";
+        return 128 + sig;
+    }
+    return status;
+}
+
+int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {
+    CLI::App app{"suite: NUMA/cache micro-benchmarks with verified results"};
+    app.footer(examples);
+    app.get_formatter()->column_width(28);
+    RunOptions opts;
+    setup_run_options(app, opts);
+    if (!parse_command_line(app, "suite", args)) return 0;
+    const Topology topo = Topology::load();
+    Plan plan = make_plan(opts, topo);
+    if (opts.probe_caches && !plan.dry_run) {
+        // The options are all checked before the seconds of probing; the plan is then made again
+        // with the measured last level, which only changes the default sizes.
+        if (!plan.quiet) std::cerr << "probing the caches (suite info --probe) ...\n";
+        ProbeOptions po;
+        po.hugepages = plan.settings.hugepages;
+        const CacheProbe probe = probe_caches(topo, po);
+        if (!plan.quiet) std::cerr << format_probe(probe, topo);
+        opts.measured = measured_caches(probe, topo);
+        plan = make_plan(opts, topo);
+        plan.caches_measured = to_json(probe, topo);
+    }
+    return execute_plan(plan, topo, full_argv);
+}
+
+}  // namespace suite

@@ -1,0 +1,255 @@
+// `suite traverse`: how a loop over a mesh's elements walks it, per ordering and thread count.
+// Writes, into --out=DIR, a .vtu per ordering and thread count with each element's visit index,
+// owning thread and step within its thread's block; PNG snapshots of the loop at 0, 20, ...,
+// 100 % (plots/traverse.py); and summary.json with the numbers that go under the figures
+// (elements whose vertices are shared between threads, bandwidth, profile, vertex spread, and
+// the fraction of elements sharing a key by depth).
+#include "harness/cli/commands.hpp"
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "harness/cli/parse.hpp"
+#include "harness/results/report.hpp"
+#include "harness/common/units.hpp"
+#include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mesh/writers.hpp"
+#include "kernels/sfc/pipeline.hpp"
+#include "kernels/sfc/quality.hpp"
+
+namespace suite {
+
+using namespace sfc;
+
+namespace {
+
+const char* const footer = R"(
+Examples:
+  ./suite traverse --mesh=disk:refine=4 --out=traverse         # natural, morton, hilbert; 1 and 4 threads
+  ./suite traverse --mesh=file:../shared/meshes/unit_circle.txt --ordering=natural,random,morton,hilbert,rcm --threads=1,4 --out=circle
+  ./suite traverse --mesh=box:8,8,8 --ordering=natural,hilbert --threads=2 --no-png --out=box
+
+In DIR: ORDERING-tT.vtu (cell data: visit = position in the loop, thread = owner under the static
+split, step = position within the thread's block), ORDERING-tT-PPP.png after PPP % of the loop
+(colour: visit order with one thread, owning thread with more), summary.json with the numbers.
+)";
+
+const std::vector<std::string> orderings_accepted = {"natural", "random", "morton", "hilbert", "morton-recursive", "rcm"};
+constexpr std::uint64_t max_traverse_elements = 4'000'000;
+
+struct Options {
+    std::string mesh = "disk:refine=4";
+    std::string orderings = "natural,morton,hilbert";
+    std::string threads = "1,4";
+    std::string out;
+    std::uint64_t seed = 1;
+    int depth = 0;  // 0: the deepest
+    bool no_png = false;
+    bool dry_run = false;
+};
+
+std::string join(const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s;
+}
+
+// The directory must exist and be a directory, or be creatable (its parent must exist).
+void check_out_dir(const std::string& dir) {
+    if (dir.empty()) throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
+    struct stat st{};
+    if (stat(dir.c_str(), &st) == 0) {
+        if (!S_ISDIR(st.st_mode)) throw UsageError("--out=" + dir + " exists and is not a directory; traverse writes several files into a directory");
+        if (access(dir.c_str(), W_OK) != 0) throw UsageError("--out=" + dir + ": the directory is not writable");
+        return;
+    }
+    const auto slash = dir.find_last_of('/', dir.find_last_not_of('/'));
+    const std::string parent = slash == std::string::npos ? "." : (slash == 0 ? "/" : dir.substr(0, slash));
+    if (stat(parent.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw UsageError("--out=" + dir + ": the directory '" + parent + "' does not exist");
+}
+
+// The interpreter and script that draw the PNGs, or why there are none.
+struct Plotter {
+    std::string python, script, reason;
+};
+Plotter find_plotter() {
+    Plotter p;
+    p.script = std::string(SUITE_PLOTS_DIR) + "/traverse.py";
+    if (access(p.script.c_str(), R_OK) != 0) {
+        p.reason = p.script + " is not readable (the source tree this suite was built from has moved)";
+        return p;
+    }
+    if (const char* env = std::getenv("SUITE_PYTHON"); env && *env) p.python = env;
+    else if (access("/usr/bin/python3", X_OK) == 0) p.python = "/usr/bin/python3";  // Debian's, which has matplotlib
+    else p.python = "python3";
+    return p;
+}
+
+// Runs the plot script on DIR; "" on success, else why it failed (its last line of stderr).
+std::string draw(const Plotter& p, const std::string& dir) {
+    const std::string err_file = dir + "/.plot-stderr";
+    std::fflush(nullptr);  // or the child would write out its copy of what is still buffered
+    const pid_t pid = fork();
+    if (pid < 0) return std::string("fork failed: ") + std::strerror(errno);
+    if (pid == 0) {
+        if (!std::freopen(err_file.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) _exit(126);
+        execlp(p.python.c_str(), p.python.c_str(), p.script.c_str(), dir.c_str(), static_cast<char*>(nullptr));
+        std::fprintf(stderr, "cannot run %s: %s\n", p.python.c_str(), std::strerror(errno));
+        _exit(127);
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    std::string last;
+    if (FILE* f = std::fopen(err_file.c_str(), "r")) {
+        char line[512];
+        while (std::fgets(line, sizeof line, f))
+            if (line[0] != '\n') last = line;
+        std::fclose(f);
+    }
+    unlink(err_file.c_str());
+    while (!last.empty() && last.back() == '\n') last.pop_back();
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+    return last.empty() ? "the plot script failed (status " + std::to_string(status) + ")" : last;
+}
+
+mesh::Mesh ordered(const mesh::Mesh& m, const std::string& ordering, std::uint64_t seed, int depth) {
+    if (ordering == "natural") return m;
+    if (ordering == "random") return shuffled(m, seed).mesh;
+    return reorder(m, parse_method(ordering), depth).mesh;
+}
+
+}  // namespace
+
+int cmd_traverse(const std::vector<std::string>& args) {
+    CLI::App app{"suite traverse: the order in which a loop over a mesh visits its elements, per ordering and thread count"};
+    app.footer(footer);
+    app.get_formatter()->column_width(28);
+    Options o;
+    app.add_option("--mesh", o.mesh, "disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default disk:refine=4)");
+    app.add_option("--ordering", o.orderings, "natural, random, morton, hilbert, morton-recursive, rcm (default natural,morton,hilbert)");
+    app.add_option("--threads,-t", o.threads, "how many static blocks the loop is split into: 1,4 | 1-8 (default 1,4)");
+    app.add_option("--out,-o", o.out, "directory for the files (created if missing)");
+    app.add_option("--seed", o.seed, "seed of the random ordering (default 1)");
+    app.add_option("--depth", o.depth, "key depth in bits per axis (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)");
+    app.add_flag("--no-png", o.no_png, "write the .vtu files and numbers only");
+    app.add_flag("--dry-run", o.dry_run, "check the options (and read the mesh file), list what would be written, and stop");
+    if (!parse_command_line(app, "suite traverse", args)) return 0;
+
+    // Everything is checked before anything is built or written.
+    const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
+    const mesh::MeshCounts counts = mesh::mesh_counts(spec);
+    if (counts.elements > max_traverse_elements)
+        throw UsageError("--mesh=" + o.mesh + " has " + std::to_string(counts.elements) + " elements; traverse writes every element to .vtu files, so at most " +
+                         std::to_string(max_traverse_elements));
+    std::vector<std::string> orderings;
+    for (const auto& name : split(o.orderings, ',')) {
+        if (std::find(orderings_accepted.begin(), orderings_accepted.end(), name) == orderings_accepted.end()) {
+            const std::string hint = nearest(name, orderings_accepted);
+            throw UsageError("unknown ordering '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + join(orderings_accepted));
+        }
+        if (std::find(orderings.begin(), orderings.end(), name) == orderings.end()) orderings.push_back(name);
+    }
+    if (o.threads == "all") throw UsageError("--threads=all: traverse splits the loop into the blocks of the thread counts given, e.g. --threads=1,4");
+    std::vector<int> threads;
+    try {
+        threads = parse_thread_list(o.threads, 1024);
+    } catch (const UsageError&) {  // its message speaks of this machine's processing units, which do not matter here
+        throw UsageError("--threads=" + o.threads + ": traverse splits the loop into 1 to 1024 static blocks; give a list such as 1,4 or a range such as 1-8");
+    }
+    const int depth = o.depth ? o.depth : max_depth(counts.dim);
+    if (depth < 1 || depth > max_depth(counts.dim))
+        throw UsageError("--depth=" + std::to_string(o.depth) + ": the key depth must be 1.." + std::to_string(max_depth(counts.dim)) + " in " +
+                         std::to_string(counts.dim) + "D");
+    check_out_dir(o.out);
+    if (o.dry_run) {
+        std::printf("mesh %s: %llu %s; into %s: %zu .vtu file(s)%s and summary.json\n", o.mesh.c_str(),
+                    static_cast<unsigned long long>(counts.elements), mesh::element_word(counts.dim, true).c_str(), o.out.c_str(),
+                    orderings.size() * threads.size(), o.no_png ? "" : ", 6 .png snapshots each");
+        for (const auto& name : orderings)
+            for (int t : threads) std::printf("  %s-t%d.vtu\n", name.c_str(), t);
+        return 0;
+    }
+    if (mkdir(o.out.c_str(), 0755) != 0 && errno != EEXIST) throw std::runtime_error("cannot create " + o.out + ": " + std::strerror(errno));
+
+    const mesh::Mesh base = mesh::load_mesh(spec);
+    nlohmann::json summary = {{"mesh", o.mesh}, {"dim", base.dim}, {"elements", base.elements()}, {"vertices", base.vertices()},
+                              {"depth", depth}, {"seed", o.seed}, {"threads", threads}, {"orderings", nlohmann::json::array()}};
+    std::printf("mesh %s: %zu %s, %zu vertices\n\n", o.mesh.c_str(), base.elements(), mesh::element_word(base.dim, true).c_str(), base.vertices());
+    std::printf("%-17s %10s %14s %12s %11s   elements with vertices shared between threads\n", "ordering", "bandwidth", "profile",
+                "spread-mean", "spread-p95");
+    for (const auto& name : orderings) {
+        const mesh::Mesh m = ordered(base, name, o.seed, depth);
+        const OrderingQuality q = ordering_quality(m);
+        nlohmann::json entry = {{"ordering", name},
+                                {"bandwidth", q.bandwidth},
+                                {"profile", q.profile},
+                                {"spread_mean", q.spread_mean},
+                                {"spread_p95", q.spread_p95},
+                                {"threads", nlohmann::json::array()}};
+        std::string shared_text;
+        for (int t : threads) {
+            const ThreadSharing s = thread_sharing(m.view(), t);
+            std::vector<std::int64_t> visit(m.elements()), owner(m.elements()), step(m.elements());
+            for (int u = 0; u < t; ++u) {
+                const auto [lo, hi] = thread_block(m.elements(), u, t);
+                for (std::uint64_t e = lo; e < hi; ++e) {
+                    visit[e] = static_cast<std::int64_t>(e);
+                    owner[e] = u;
+                    step[e] = static_cast<std::int64_t>(e - lo);
+                }
+            }
+            const std::string file = name + "-t" + std::to_string(t) + ".vtu";
+            write_atomically(o.out + "/" + file, mesh::vtu_text(m, {{"visit", visit}, {"thread", owner}, {"step", step}}));
+            const double fraction = static_cast<double>(s.elements) / static_cast<double>(m.elements());
+            entry["threads"].push_back({{"threads", t}, {"shared_elements", s.elements}, {"shared_fraction", fraction},
+                                        {"shared_vertices", s.vertices}, {"vtu", file}});
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "%st=%d: %llu (%.1f%%)", shared_text.empty() ? "" : ", ", t, static_cast<unsigned long long>(s.elements),
+                          100 * fraction);
+            shared_text += buf;
+        }
+        std::printf("%-17s %10llu %14llu %12.1f %11llu   %s\n", name.c_str(), static_cast<unsigned long long>(q.bandwidth),
+                    static_cast<unsigned long long>(q.profile), q.spread_mean, static_cast<unsigned long long>(q.spread_p95), shared_text.c_str());
+        summary["orderings"].push_back(entry);
+    }
+    // Keys at depth d name cells of the same grid whatever the curve, so one curve gives the
+    // fraction for all (the tests check that Morton and Hilbert agree).
+    const std::vector<double> shared = shared_key_fraction(base.view(), Curve::morton);
+    summary["shared_key_fraction"] = shared;
+    std::printf("\nelements that share their key with another at depth d (the thesis's relative error; the same for every curve):\n ");
+    for (std::size_t d = 0; d < shared.size(); ++d) {
+        std::printf(" d%zu=%.3f", d + 1, shared[d]);
+        if (shared[d] == 0) break;  // deeper levels only split cells further
+    }
+    std::printf("\n");
+    const std::string summary_path = o.out + "/summary.json";
+    write_atomically(summary_path, summary.dump(1) + "\n");
+    if (o.no_png) {
+        summary["png"] = {{"available", false}, {"reason", "--no-png"}};
+    } else {
+        const Plotter p = find_plotter();
+        const std::string why = p.reason.empty() ? draw(p, o.out) : p.reason;
+        if (why.empty()) {
+            summary["png"] = {{"available", true}, {"percent", {0, 20, 40, 60, 80, 100}}, {"pattern", "ORDERING-tT-PPP.png"}};
+        } else {
+            summary["png"] = {{"available", false}, {"reason", why}};
+            std::cerr << "suite: note: no PNG snapshots: " << why << "\n";
+        }
+    }
+    write_atomically(summary_path, summary.dump(1) + "\n");
+    std::printf("\nwrote %s (.vtu per ordering and thread count%s, summary.json)\n", o.out.c_str(),
+                summary["png"]["available"].get<bool>() ? ", .png snapshots" : "");
+    return 0;
+}
+
+}  // namespace suite

@@ -1,0 +1,121 @@
+#pragma once
+// The contract between the harness and a kernel. A kernel allocates through the Arena and
+// touches its memory first from the computing threads, runs one repetition per run() call,
+// and checks its own answer in verify(). A Kernel never reads a clock, pins a thread or
+// prints: the runner does all of that, at the same points for every kernel.
+//
+// Two kinds of kernel share this interface:
+//  - streaming kernels (stream/): sized by their memory footprint in bytes, walking memory
+//    in an access *pattern* (sequential, random, strided:S);
+//  - application kernels (kernels/): sized by a count (mesh elements, particles), their data
+//    laid out in an *ordering* (natural, random, morton, hilbert, rcm).
+// KernelInfo says which; the CLI, runner and reports only look at that data.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/kernel/arena.hpp"
+
+namespace suite {
+
+enum class AccessAxis { pattern, ordering };
+enum class SizeKind { bytes, count };
+enum class Metric { bandwidth, latency };
+
+// One access pattern or data ordering, e.g. {"strided", 8} or {"morton", 0}.
+struct Access {
+    std::string name;
+    std::uint64_t stride = 0;  // only for "strided"
+    std::string label() const { return name == "strided" ? name + ":" + std::to_string(stride) : name; }
+};
+
+struct KernelConfig {
+    Access access;
+    std::string variant;     // "" for the plain kernel, "nt" for non-temporal stores
+    std::uint64_t size = 0;  // footprint in bytes (SizeKind::bytes) or a count (SizeKind::count)
+    std::uint64_t seed = 1;
+    int threads = 1;
+    std::string mesh = "";   // kernels on a mesh: the --mesh spec; "" = a generated mesh of about `size` elements
+};
+
+// What one repetition does, counted once, from which the runner derives every rate.
+struct Work {
+    double units = 0;           // elements updated, loads chased, triangles assembled, ...
+    double stream_bytes = 0;    // bytes by the STREAM convention (each array access once, 8 B a double)
+    double hardware_bytes = 0;  // estimate of what the memory system moves (write-allocate, index
+                                // arrays, whole 64 B lines for scattered accesses)
+    double flops = 0;
+    std::uint64_t footprint_bytes = 0;  // all of the kernel's arrays together
+};
+
+struct Verification {
+    bool passed = false;
+    std::string detail;     // what was checked, and the first mismatch if any
+    double max_error = 0;   // largest |computed - expected| seen
+};
+
+class Kernel {
+public:
+    virtual ~Kernel() = default;
+    // Allocate through `arena` and initialise in parallel (OpenMP team already sized and pinned).
+    virtual void setup(Arena& arena) = 0;
+    // `calls` repetitions back to back inside one parallel region, so that short calls do not
+    // measure fork and join. A thread starts its next call only when what that call reads is
+    // complete: after a barrier where threads share data, at once where each thread touches
+    // only its own block. All of them are done when run() returns. Never reads a clock.
+    virtual void run(int calls) = 0;
+    // Checks the state after any number of run() calls against the analytic answer.
+    virtual Verification verify() = 0;
+    // Work of one repetition; valid after setup().
+    virtual Work work() const = 0;
+};
+
+// Facts about a kernel, as data.
+struct KernelInfo {
+    std::string name;     // "add", "sin-add", "latency", "fem-spmv"
+    std::string group;    // "stream", "latency", "fem", ...
+    std::string formula;  // the reference loop in one line
+    std::string unit;     // what Work::units counts: "element", "load", "triangle"
+    AccessAxis axis = AccessAxis::pattern;
+    std::vector<std::string> accesses;  // patterns or orderings supported ("strided" stands for strided:S)
+    std::vector<std::string> variants = {""};
+    SizeKind size_kind = SizeKind::bytes;
+    Metric metric = Metric::bandwidth;
+    // STREAM-convention bytes and flops per unit, as documentation (Work is authoritative).
+    double read_bytes_per_unit = 0;
+    double write_bytes_per_unit = 0;
+    double flops_per_unit = 0;
+    std::string notes;
+};
+
+using KernelFactory = std::function<std::unique_ptr<Kernel>(const KernelConfig&)>;
+
+struct KernelEntry {
+    KernelInfo info;
+    KernelFactory make;
+    // Throws UsageError for a configuration the kernel cannot run (too small, too large, a
+    // variant that does not fit the pattern); called for every point before anything runs.
+    std::function<void(const KernelConfig&)> validate = [](const KernelConfig&) {};
+    // A size at which the kernel runs in milliseconds, for the registry walk.
+    std::uint64_t test_size = 64 << 10;
+    // Kernels on a mesh (null for the others): the element count of a --mesh spec, which is the
+    // point's size (throws UsageError for a bad spec or mesh file), and the meshes a run uses
+    // when neither --mesh nor a size is given.
+    std::function<std::uint64_t(const std::string& spec)> mesh_elements;
+    std::vector<std::string> default_meshes;
+};
+
+// The registry: kernels add themselves from their own .cpp with
+//   static const bool registered = register_kernel({...});
+bool register_kernel(KernelEntry entry);
+const std::vector<KernelEntry>& kernels();
+const KernelEntry* find_kernel(const std::string& name);
+std::vector<std::string> kernel_names();
+
+// Throws std::runtime_error when an OpenMP team came out with `got` threads where `asked` were
+// asked for (bind_team, and the kernels' parallel first touch, check their team with it).
+void require_team_size(int got, int asked);
+
+}  // namespace suite

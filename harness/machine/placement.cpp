@@ -1,0 +1,116 @@
+#include "harness/machine/placement.hpp"
+
+#include <numa.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
+    PlacementSpec spec;
+    spec.text = std::string(text);
+    const std::string accepted = "accepted: local, node:N, remote, interleave";
+    if (text == "local") spec.kind = PlacementKind::local;
+    else if (text == "interleave") spec.kind = PlacementKind::interleave;
+    else if (text == "remote") {
+        spec.kind = PlacementKind::remote;
+        if (topo.nodes.size() < 2)
+            throw UsageError("--placement=remote needs at least 2 NUMA nodes, and this machine has " +
+                             std::to_string(topo.nodes.size()) + "; use local, node:N or interleave");
+    } else if (text.rfind("node:", 0) == 0) {
+        spec.kind = PlacementKind::node;
+        std::string n(text.substr(5));
+        if (n.empty() || !std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }) || n.size() > 6)
+            throw UsageError("invalid --placement '" + std::string(text) + "': expected node:N with N a node number, e.g. node:0");
+        spec.node = std::stoi(n);
+        if (!topo.find_node(spec.node)) {
+            std::string have;
+            for (const auto& node : topo.nodes) {
+                if (!have.empty()) have += ',';
+                have += std::to_string(node.os_index);
+            }
+            throw UsageError("--placement=node:" + n + ": this machine has no NUMA node " + n + " (its nodes are " + have + ")");
+        }
+    } else {
+        std::string hint = nearest(text, {"local", "remote", "interleave", "node:0"});
+        throw UsageError("unknown --placement '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                         "; " + accepted);
+    }
+    return spec;
+}
+
+int choose_remote_node(const Topology& topo, const std::vector<int>& thread_nodes) {
+    int best = -1;
+    long best_distance = std::numeric_limits<long>::max();
+    for (std::size_t i = 0; i < topo.nodes.size(); ++i) {
+        int candidate = topo.nodes[i].os_index;
+        if (std::find(thread_nodes.begin(), thread_nodes.end(), candidate) != thread_nodes.end()) continue;
+        long distance = 0;  // summed distance from the threads' nodes
+        if (!topo.distances.empty()) {
+            for (int tn : thread_nodes)
+                for (std::size_t k = 0; k < topo.nodes.size(); ++k)
+                    if (topo.nodes[k].os_index == tn) distance += topo.distances[k][i];
+        }
+        if (distance < best_distance) { best_distance = distance; best = candidate; }
+    }
+    return best;
+}
+
+MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, const std::vector<int>& thread_cpus) {
+    MemoryPolicy policy;
+    policy.kind = spec.kind;
+    switch (spec.kind) {
+        case PlacementKind::local: break;
+        case PlacementKind::node: policy.node = spec.node; break;
+        case PlacementKind::interleave:
+            for (const auto& n : topo.nodes) policy.nodes.push_back(n.os_index);
+            break;
+        case PlacementKind::remote: {
+            std::vector<int> used;  // every node a thread may run on counts as the threads' own
+            for (int cpu : thread_cpus)
+                if (const Pu* pu = topo.find_pu(cpu); pu && std::find(used.begin(), used.end(), pu->numa_node) == used.end())
+                    used.push_back(pu->numa_node);
+            policy.node = choose_remote_node(topo, used);
+            if (policy.node < 0)
+                throw UsageError("--placement=remote: the threads may run on every NUMA node, so no node is remote to them; "
+                                 "use fewer threads or pin them to one node's CPUs (--pin=compact or a CPU list)");
+            break;
+        }
+    }
+    return policy;
+}
+
+HugePages parse_hugepages(std::string_view text, const std::string& path, std::string* note) {
+    if (text == "system") return HugePages::system;
+    if (text == "none") return HugePages::none;
+    if (text != "thp") {
+        const std::string hint = nearest(text, {"thp", "none", "system"});
+        throw UsageError("unknown --hugepages '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                         "; accepted: thp, none, system (the default: leave the system's setting)");
+    }
+    std::ifstream in(path);
+    std::string line;
+    if (!in || !std::getline(in, line))
+        throw UsageError("--hugepages=thp: this kernel offers no transparent huge pages (" + path + " is not readable); use none or system");
+    // Switched off, madvise still succeeds and simply gets no huge pages: the run goes on, says so
+    // first, and its records show how many bytes huge pages backed (none).
+    if (line.find("[never]") != std::string::npos && note)
+        *note = "--hugepages=thp: transparent huge pages are switched off here (" + path +
+                " says never), so the arrays get none; the records say so (hugepages.anon_huge_bytes)";
+    return HugePages::thp;
+}
+
+}  // namespace suite

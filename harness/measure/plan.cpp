@@ -1,0 +1,303 @@
+#include "harness/measure/plan.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <map>
+
+#include <omp.h>
+
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+namespace {
+
+// The default sweep, as data: which kernels, in which patterns. sin-add random is left out
+// (ask for it): at a DRAM size it alone would take most of the 2 minutes the sweep may last.
+const std::vector<std::pair<std::string, std::vector<std::string>>> default_sweep = {
+    {"copy", {"sequential"}},
+    {"triad", {"sequential"}},
+    {"add", {"sequential", "random"}},
+    {"sin-add", {"sequential"}},
+    {"latency", {"random"}},
+};
+
+// A comma list without repeats, in the order given.
+std::vector<std::string> unique_list(const std::string& text) {
+    std::vector<std::string> out;
+    for (auto& s : split(text, ','))
+        if (std::find(out.begin(), out.end(), s) == out.end()) out.push_back(s);
+    return out;
+}
+
+Access parse_access(const std::string& text, const std::string& option) {
+    Access a;
+    if (text.rfind("strided", 0) != 0) {
+        a.name = text;
+        return a;
+    }
+    a.name = "strided";
+    if (text.size() < 9 || text[7] != ':')
+        throw UsageError("--" + option + "=" + text + ": strided needs a stride in elements, e.g. strided:8");
+    const std::string s = text.substr(8);
+    if (s.size() > 9 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; }) || std::stoll(s) < 1)
+        throw UsageError("--" + option + "=" + text + ": the stride must be a positive integer number of elements, e.g. strided:8");
+    a.stride = std::stoull(s);
+    return a;
+}
+
+// The directory of `path` must exist and take a new file; `path` itself, if it exists, must
+// be a regular file (the result replaces it by renaming a temporary file over it, which would
+// replace a symlink, a FIFO or a device node rather than write through it).
+void check_output_path(const std::string& path) {
+    if (path.empty()) throw UsageError("--out needs a file name, e.g. --out=results/run.json");
+    struct stat st{};
+    if (lstat(path.c_str(), &st) == 0) {
+        if (S_ISDIR(st.st_mode)) throw UsageError("--out=" + path + " is a directory; give a file name, e.g. " + path + "/run.json");
+        if (!S_ISREG(st.st_mode))
+            throw UsageError("--out=" + path + " exists and is not a regular file (a symlink, device or pipe); give a plain file name");
+    }
+    auto slash = path.rfind('/');
+    std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+        throw UsageError("--out=" + path + ": the directory '" + dir + "' does not exist");
+    // Create and remove a probe file: access(W_OK) says yes to root even where nothing can be
+    // created (e.g. /proc), and the result file is written through a temporary file beside it.
+    const std::string probe = path + ".probe." + std::to_string(getpid());
+    int fd = open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) throw UsageError("--out=" + path + ": the directory '" + dir + "' is not writable (" + std::strerror(errno) + ")");
+    close(fd);
+    unlink(probe.c_str());
+}
+
+// The CPUs a team of `threads` may run on under `pin`, before it exists.
+std::vector<int> planned_cpus(const Topology& topo, const PinSpec& pin, int threads) {
+    std::vector<int> order = pin_order(topo, pin);
+    if (pin.mode == PinMode::none) {
+        for (const auto& p : topo.pus) order.push_back(p.os_index);
+        return order;
+    }
+    order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(threads)));
+    return order;
+}
+
+}  // namespace
+
+Plan make_plan(const RunOptions& o, const Topology& topo) {
+    Plan plan;
+    plan.quiet = o.quiet;
+    plan.dry_run = o.dry_run;
+
+    // Kernels, each with the patterns or orderings asked for ("" = the kernel's default).
+    std::vector<std::pair<const KernelEntry*, std::vector<std::string>>> ks;
+    const bool use_default_sweep = o.kernels.empty();
+    std::vector<std::pair<std::string, std::vector<std::string>>> wanted;
+    if (use_default_sweep) wanted = default_sweep;
+    else
+        for (const auto& name : unique_list(o.kernels)) wanted.push_back({name, {}});
+    for (const auto& [name, defaults] : wanted) {
+        const KernelEntry* k = find_kernel(name);
+        if (!k) {
+            std::string hint = nearest(name, kernel_names());
+            throw UsageError("unknown kernel '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                             "; kernels: " + join(kernel_names(), ", ") + " (see ./suite list)");
+        }
+        ks.push_back({k, defaults});
+    }
+
+    // Output.
+    if (!o.format.empty() && o.format != "table" && o.format != "json" && o.format != "csv" && o.format != "gbench")
+        throw UsageError("unknown --format '" + o.format + "'; accepted: table, json, csv, gbench (Google Benchmark's JSON)");
+    if (!o.out.empty()) {
+        if (o.format == "table") throw UsageError("--format=table cannot be written to a file; use json or csv (or gbench) with --out");
+        plan.out_path = o.out;
+        const bool csv_name = o.out.size() > 4 && o.out.substr(o.out.size() - 4) == ".csv";
+        plan.format = o.format.empty() ? (csv_name ? "csv" : "json") : o.format;
+    } else {
+        plan.format = o.format.empty() ? "table" : o.format;
+    }
+
+    // Threads and pinning.
+    std::vector<int> threads;
+    for (int t : o.threads.empty() ? std::vector<int>{1, topo.pu_count()} : parse_thread_list(o.threads, topo.pu_count()))
+        if (std::find(threads.begin(), threads.end(), t) == threads.end()) threads.push_back(t);
+    plan.settings.pin = parse_pin(o.pin, topo);
+    const int most_threads = *std::max_element(threads.begin(), threads.end());
+    if (most_threads > omp_get_thread_limit())
+        throw UsageError(std::to_string(most_threads) + " threads were asked for but OpenMP allows at most " +
+                         std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT); ask for fewer or unset it");
+    if (plan.settings.pin.mode == PinMode::list && static_cast<int>(plan.settings.pin.cpus.size()) < most_threads)
+        throw UsageError("--pin=" + o.pin + " lists " + std::to_string(plan.settings.pin.cpus.size()) + " CPU(s) but up to " +
+                         std::to_string(most_threads) + " threads were asked for; list at least one CPU per thread");
+    if (plan.settings.pin.mode != PinMode::none && !topo.this_system)
+        throw UsageError("the topology is not this machine's (HWLOC_SYNTHETIC or HWLOC_XMLFILE is set), so threads cannot be pinned; use --pin=none");
+
+    std::string thp_note;
+    plan.settings.hugepages = parse_hugepages(o.hugepages, "/sys/kernel/mm/transparent_hugepage/enabled", &thp_note);
+    if (!thp_note.empty()) plan.notes.push_back(thp_note);
+
+    // Placement, resolved now for every team size, so that "remote" fails before any point runs.
+    plan.settings.placement = parse_placement(o.placement, topo);
+    std::map<int, MemoryPolicy> policies;
+    for (int t : threads) policies[t] = resolve_policy(plan.settings.placement, topo, planned_cpus(topo, plan.settings.pin, t));
+
+    // Repetitions.
+    if (o.reps == 0 || o.reps < -1) throw UsageError("--reps=" + std::to_string(o.reps) + ": at least 1 counted repetition is needed");
+    if (o.reps > 10000000) throw UsageError("--reps=" + std::to_string(o.reps) + " is too many; at most 10000000");
+    plan.settings.reps = o.reps > 0 ? o.reps : 0;
+    if (!(o.min_time > 0) || o.min_time > 3600) throw UsageError("--min-time must be more than 0 and at most 3600 seconds");
+    plan.settings.min_time_s = o.min_time;
+    plan.settings.seed = o.seed;
+
+    // Instruments: an unknown event or backend is a usage error; one that cannot measure here is
+    // recorded as unavailable, and said once when it was asked for by name.
+    if (!(o.energy_baseline >= 0) || o.energy_baseline > 600)
+        throw UsageError("--energy-baseline=" + std::to_string(o.energy_baseline) + ": accepted: 0 (none) to 600 seconds");
+    plan.instruments = make_instruments(o.counters, o.energy, sysfs_root());
+    plan.instruments.energy_baseline_s = o.energy_baseline;
+    for (int level = 4; level >= 1; --level)
+        if (const Cache* c = topo.find_cache(level); c && c->line_bytes > 0) {
+            plan.instruments.line_bytes = c->line_bytes;
+            break;
+        }
+    const bool named_events = o.counters != "default" && o.counters != "none" && !o.counters.empty();
+    if (named_events)
+        for (const auto& e : plan.instruments.counters.events)
+            if (std::string why = probe_event(e, plan.instruments.access); !why.empty())
+                plan.notes.push_back("counter " + e.name + " cannot be counted here: " + why);
+    const EnergyMeter& meter = plan.instruments.energy;
+    if ((o.energy == "sysfs" || o.energy == "perf" || o.energy_baseline > 0) && meter.requested() && !meter.available())
+        plan.notes.push_back("energy cannot be measured here: " + meter.reason());
+
+    // Sizes.
+    if (!o.size.empty() && !o.sizes.empty()) throw UsageError("--size and --sizes cannot be used together; give one of them");
+    // Without a size, the cache-level sizes are per thread (each thread's share stays in its
+    // cache whatever the team), so they are chosen with the thread count, point by point.
+    const bool default_size = o.size.empty() && o.sizes.empty();
+    std::vector<std::uint64_t> sizes;
+    if (!o.size.empty()) sizes = {parse_bytes(o.size)};
+    else if (!o.sizes.empty()) sizes = parse_size_list(o.sizes);
+    auto sizes_for = [&](int t) { return default_size ? default_sizes(topo, t, o.measured) : sizes; };
+
+    // Stores.
+    if (o.stores != "default" && o.stores != "nt") throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt");
+    const std::string variant = o.stores == "nt" ? "nt" : "";
+    std::vector<std::string> with_nt;
+    for (const auto& e : kernels())
+        if (std::find(e.info.variants.begin(), e.info.variants.end(), "nt") != e.info.variants.end()) with_nt.push_back(e.info.name);
+
+    // Kernels on a mesh are sized by it (KernelEntry::mesh_elements); kernels with phases have
+    // variants other than "" and "nt".
+    std::vector<std::string> on_mesh, with_phases;
+    for (const auto& e : kernels()) {
+        if (e.mesh_elements) on_mesh.push_back(e.info.name);
+        if (std::any_of(e.info.variants.begin(), e.info.variants.end(), [](const std::string& v) { return !v.empty() && v != "nt"; }))
+            with_phases.push_back(e.info.name);
+    }
+    if (!o.mesh.empty()) {
+        if (!default_size) throw UsageError("--mesh and --size/--sizes cannot be used together: the mesh gives the size (its element count)");
+        for (const auto& [k, defaults] : ks)
+            if (!k->mesh_elements)
+                throw UsageError("kernel '" + k->info.name + "' does not run on a mesh, so --mesh does not apply; kernels on a mesh: " + join(on_mesh, ", "));
+    }
+
+    // The points: each kernel takes the patterns or orderings of its own axis.
+    const std::vector<std::string> given_patterns = o.patterns.empty() ? std::vector<std::string>{} : unique_list(o.patterns);
+    const std::vector<std::string> given_orderings = o.orderings.empty() ? std::vector<std::string>{} : unique_list(o.orderings);
+    for (const auto& [k, defaults] : ks) {
+        const KernelInfo& info = k->info;
+        const bool by_pattern = info.axis == AccessAxis::pattern;
+        const char* axis = by_pattern ? "pattern" : "ordering";
+        if (by_pattern && !given_orderings.empty())
+            throw UsageError("kernel '" + info.name + "' takes --pattern, not --ordering=" + o.orderings +
+                             " (orderings are for application kernels)");
+        if (!by_pattern && !given_patterns.empty())
+            throw UsageError("kernel '" + info.name + "' takes --ordering, not --pattern=" + o.patterns);
+        std::vector<std::string> texts = by_pattern ? given_patterns : given_orderings;
+        if (texts.empty()) texts = defaults.empty() ? std::vector<std::string>{info.accesses.front()} : defaults;
+        if (!variant.empty() && std::find(info.variants.begin(), info.variants.end(), variant) == info.variants.end())
+            throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt, ", "));
+        // --phase picks variants of the kernels that have phases; "all" is the plain kernel.
+        std::vector<std::string> kernel_variants{variant};
+        if (!o.phases.empty()) {
+            kernel_variants.clear();
+            std::vector<std::string> phases{"all"};
+            for (const auto& v : info.variants)
+                if (!v.empty() && v != "nt") phases.push_back(v);
+            if (phases.size() == 1)
+                throw UsageError("kernel '" + info.name + "' has no phases, so --phase does not apply; kernels with phases: " + join(with_phases, ", "));
+            for (const auto& ph : unique_list(o.phases)) {
+                if (std::find(phases.begin(), phases.end(), ph) == phases.end()) {
+                    std::string hint = nearest(ph, phases);
+                    throw UsageError("kernel '" + info.name + "' has no phase '" + ph + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                                     "; phases: " + join(phases, ", "));
+                }
+                kernel_variants.push_back(ph == "all" ? "" : ph);
+            }
+        }
+        // Its meshes: --mesh, or the kernel's defaults when no size is given either; "" = sized by --size.
+        std::vector<std::string> meshes{""};
+        if (k->mesh_elements && (!o.mesh.empty() || default_size))
+            meshes = o.mesh.empty() ? k->default_meshes : std::vector<std::string>{o.mesh};
+        for (const auto& text : texts) {
+            Access a = parse_access(text, axis);
+            if (std::find(info.accesses.begin(), info.accesses.end(), a.name) == info.accesses.end()) {
+                std::string hint = nearest(a.name, info.accesses);
+                throw UsageError("kernel '" + info.name + "' has no " + axis + " '" + text + "'" +
+                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; it accepts: " + join(info.accesses, ", "));
+            }
+            for (const auto& kv : kernel_variants)
+                for (const auto& mesh : meshes) {
+                    if (!mesh.empty()) {
+                        const std::uint64_t size = k->mesh_elements(mesh);
+                        for (int t : threads) {
+                            KernelConfig cfg{a, kv, size, plan.settings.seed, t, mesh};
+                            k->validate(cfg);
+                            plan.points.push_back({k, a, kv, size, t, mesh});
+                        }
+                        continue;
+                    }
+                    for (std::size_t s = 0; s < sizes_for(1).size(); ++s)
+                        for (int t : threads) {
+                            const std::uint64_t size = sizes_for(t)[s];
+                            KernelConfig cfg{a, kv, size, plan.settings.seed, t};
+                            k->validate(cfg);
+                            plan.points.push_back({k, a, kv, size, t});
+                        }
+                }
+        }
+    }
+
+    // Memory: refuse before allocating anything.
+    for (const auto& p : plan.points) {
+        if (p.kernel->info.size_kind != SizeKind::bytes) continue;
+        const MemoryPolicy& policy = policies.at(p.threads);
+        const std::uint64_t available = available_memory_bytes(policy);
+        if (p.size > available)
+            throw UsageError("size " + format_bytes(p.size) + " is larger than the memory available (" + format_bytes(available) +
+                             (policy.node >= 0 ? " free on node " + std::to_string(policy.node) : std::string()) + ")");
+    }
+
+    // A DRAM figure needs every array well beyond the last-level cache; say so when the largest
+    // size cannot give that (the default size is capped at 1 GiB).
+    const std::uint64_t llc = effective_llc_bytes(topo, o.measured.llc_total);
+    const std::uint64_t largest = default_sizes(topo, 1, o.measured).back();
+    const char* which = o.measured.llc_total > 0 && llc == o.measured.llc_total ? "measured" : "reported";
+    if (default_size && llc > 0 && largest < 12 * llc)
+        plan.notes.push_back("the largest default size, " + format_bytes(largest) + ", is less than 4x the " + which + " last-level cache (" +
+                             format_bytes(llc) + ") per array; it may not measure DRAM (see each record's size.smallest_array_over_llc)");
+    if (o.probe_caches && o.measured.llc_total == 0 && default_size)
+        plan.notes.push_back(o.dry_run ? "--probe-caches does not run with --dry-run: the default sizes shown follow the reported caches"
+                                       : "the cache probe found no last level below memory: the default sizes follow the reported caches");
+
+    // Last, as it creates (and removes) a probe file: nothing is written before all else is checked.
+    if (!o.out.empty()) check_output_path(o.out);
+    return plan;
+}
+
+}  // namespace suite

@@ -1,0 +1,59 @@
+#pragma once
+// From the options of `suite run`, as given, to a Plan: every point of the sweep, validated
+// completely (kernels, patterns, sizes, threads, pinning, placement, memory, output path)
+// before anything runs or any file is written. Every problem is a UsageError.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/measure/cache_probe.hpp"
+#include "harness/measure/default_sizes.hpp"
+#include "harness/measure/runner.hpp"
+#include "harness/machine/topology.hpp"
+
+namespace suite {
+
+struct RunOptions {
+    std::string kernels;  // empty: the default sweep
+    std::string patterns;
+    std::string orderings;
+    std::string mesh;    // --mesh: the mesh of kernels on a mesh
+    std::string phases;  // --phase: the phases of kernels that have them (their variants)
+    std::string stores = "default";
+    std::string size;
+    std::string sizes;
+    std::string threads;
+    std::string pin = "compact";
+    std::string placement = "local";
+    int reps = -1;  // -1: adaptive
+    double min_time = 0.2;
+    std::uint64_t seed = 1;
+    std::string out;
+    std::string format;  // table | json | csv; "" = from --out's extension, table on the console
+    bool quiet = false;
+    bool dry_run = false;  // print the points and stop
+    std::string counters = "default";  // default | none | event names, comma separated
+    std::string energy = "auto";       // auto | sysfs | perf | none
+    double energy_baseline = 0;        // seconds of idle power measured before the sweep
+    std::string hugepages = "system";  // thp | none | system (leave the system's setting)
+    bool probe_caches = false;         // measure the caches first (cache_probe.hpp)
+    MeasuredCaches measured;           // what the probe found; all 0: not measured
+};
+
+struct Plan {
+    std::vector<Point> points;
+    RunSettings settings;
+    std::string out_path;
+    std::string format;  // json | csv (for out_path), or what goes to stdout: table | json | csv
+    bool quiet = false;
+    bool dry_run = false;
+    std::vector<std::string> notes;  // things the user should know before trusting the numbers
+    Instruments instruments;         // RunSettings::instruments points here once the plan has its place
+    nlohmann::json caches_measured;  // the probe's findings for context.caches_measured; null: no probe
+};
+
+Plan make_plan(const RunOptions& opts, const Topology& topo);
+
+}  // namespace suite

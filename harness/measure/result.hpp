@@ -1,0 +1,72 @@
+#pragma once
+// One measured point, as a plain struct. The runner fills it; reporters only render it.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/kernel/kernel.hpp"
+#include "harness/instruments/measurements.hpp"
+#include "harness/machine/placement.hpp"
+#include "harness/common/stats.hpp"
+#include "harness/machine/team.hpp"
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+// Rates derived from Work and the time statistics, in one place (derive_rates in runner.cpp).
+struct Rates {
+    // Metric::bandwidth: GB/s with 1 GB = 1e9 B, from the best (minimum) and the median time.
+    std::optional<double> stream_gbps_best, stream_gbps_median;
+    std::optional<double> hardware_gbps_best, hardware_gbps_median;
+    // Metric::latency: nanoseconds per dependent load of one thread.
+    std::optional<double> ns_per_load_best, ns_per_load_median;
+    double units_per_second_best = 0;
+    std::optional<double> gflops_best;
+};
+
+struct Record {
+    std::string kernel;
+    std::string variant;       // "" or "nt"
+    std::string name;          // kernel plus variant, e.g. "copy-nt": the name reports use
+    AccessAxis axis = AccessAxis::pattern;
+    std::string access;        // "sequential", "random", "strided:8", "morton", ...
+    SizeKind size_kind = SizeKind::bytes;
+    std::uint64_t size_requested = 0;
+    // The smallest array over all last-level cache instances together: a DRAM figure wants >= 4.
+    std::optional<double> smallest_array_over_llc;
+    Work work;                 // per repetition
+    std::string unit;
+    Metric metric = Metric::bandwidth;
+    int threads = 1;
+    std::string pin;
+    std::vector<ThreadBinding> bindings;
+    bool binding_held = false;  // every thread still had its CPU set after the timed repetitions
+    std::string placement;     // as asked
+    int placement_node = -1;   // node chosen for node:N / remote
+    std::vector<int> interleave_nodes;
+    std::vector<ArrayPlacement> pages;  // as observed after first touch
+    std::string hugepages = "system";   // --hugepages as asked: system, thp or none
+    int repetitions = 0;       // counted ones, after the warm-up
+    int warmup = 0;            // uncounted calls before the repetitions (the runner sets it)
+    int batch = 1;             // kernel calls per timed sample (tiny sizes); times are per call
+    std::vector<double> samples_s;  // per call, one per counted repetition
+    TimeStats time;
+    Rates rates;
+    Verification verification;
+    CounterReadings counters;  // around the same repetitions as samples_s
+    EnergyReadings energy;
+    std::uint64_t seed = 0;
+    std::string mesh;          // the --mesh spec of a kernel on a mesh; "" otherwise
+};
+
+// A size as people read it: "64MiB" for a footprint, "1000000" for a count.
+inline std::string size_label(SizeKind kind, std::uint64_t size) {
+    return kind == SizeKind::bytes ? format_bytes(size) : std::to_string(size);
+}
+
+inline std::string display_name(const std::string& kernel, const std::string& variant) {
+    return variant.empty() ? kernel : kernel + "-" + variant;
+}
+
+}  // namespace suite

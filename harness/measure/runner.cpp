@@ -1,0 +1,153 @@
+#include "harness/measure/runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "harness/instruments/callgrind_marks.hpp"
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC on Linux
+static_assert(Clock::is_steady);
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void check_stop(const RunSettings& s) {
+    if (s.stop && s.stop->load() != 0) throw Interrupted();
+}
+
+}  // namespace
+
+std::string callgrind_label(const Record& r) {
+    return "suite point " + r.name + " " + r.access + " " + size_label(r.size_kind, r.size_requested) + " t=" + std::to_string(r.threads);
+}
+
+Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads) {
+    Rates r;
+    if (time.min <= 0) return r;
+    r.units_per_second_best = work.units / time.min;
+    if (work.flops > 0) r.gflops_best = work.flops / time.min / 1e9;
+    if (metric == Metric::bandwidth) {
+        r.stream_gbps_best = work.stream_bytes / time.min / 1e9;
+        r.stream_gbps_median = work.stream_bytes / time.median / 1e9;
+        r.hardware_gbps_best = work.hardware_bytes / time.min / 1e9;
+        r.hardware_gbps_median = work.hardware_bytes / time.median / 1e9;
+    } else {
+        // Each thread chases units/threads loads one after another.
+        const double loads_per_thread = work.units / threads;
+        r.ns_per_load_best = time.min / loads_per_thread * 1e9;
+        r.ns_per_load_median = time.median / loads_per_thread * 1e9;
+    }
+    return r;
+}
+
+Record run_point(const Point& point, const RunSettings& settings, const Topology& topo) {
+    const KernelInfo& info = point.kernel->info;
+    Record rec;
+    rec.kernel = info.name;
+    rec.variant = point.variant;
+    rec.name = display_name(info.name, point.variant);
+    rec.axis = info.axis;
+    rec.access = point.access.label();
+    rec.size_kind = info.size_kind;
+    rec.size_requested = point.size;
+    rec.unit = info.unit;
+    rec.metric = info.metric;
+    rec.threads = point.threads;
+    rec.pin = settings.pin.text;
+    rec.placement = settings.placement.text;
+    rec.seed = settings.seed;
+    rec.mesh = point.mesh;
+
+    rec.bindings = bind_team(topo, settings.pin, point.threads);
+    std::vector<int> cpus;  // every CPU a thread of the team may run on
+    for (const auto& b : rec.bindings) cpus.insert(cpus.end(), b.allowed.begin(), b.allowed.end());
+    MemoryPolicy policy = resolve_policy(settings.placement, topo, cpus);
+    policy.hugepages = settings.hugepages;
+    rec.hugepages = hugepages_name(settings.hugepages);
+    rec.placement_node = policy.node;
+    rec.interleave_nodes = policy.nodes;
+
+    KernelConfig cfg;
+    cfg.access = point.access;
+    cfg.variant = point.variant;
+    cfg.size = point.size;
+    cfg.seed = settings.seed;
+    cfg.threads = point.threads;
+    cfg.mesh = point.mesh;
+
+    Arena arena(policy);
+    auto kernel = point.kernel->make(cfg);
+    kernel->setup(arena);
+    rec.pages = arena.observe();
+    if (const std::uint64_t llc = topo.last_level_cache_total_bytes(); llc > 0 && !rec.pages.empty()) {
+        std::uint64_t smallest = rec.pages.front().bytes;
+        for (const auto& a : rec.pages) smallest = std::min(smallest, a.bytes);
+        rec.smallest_array_over_llc = static_cast<double>(smallest) / static_cast<double>(llc);
+    }
+    rec.work = kernel->work();
+    check_stop(settings);
+
+    // Warm-up: not counted; it also tells how long one call takes.
+    rec.warmup = 1;
+    auto t0 = Clock::now();
+    kernel->run(rec.warmup);
+    double first = std::max(seconds_since(t0), 1e-9);
+    // A call shorter than 50 samples is timed twice more, warm, and the fastest of the three
+    // sizes the batch: the first runs on cold caches and TLBs, any may lose its CPU to another
+    // process for a moment, and a batch sized from a slow one would be so small that the fixed
+    // cost of a sample (the region's fork and join, the counter reads) weighs on every call.
+    for (int extra = 0; extra < 2 && first < 50 * settings.min_sample_s; ++extra) {
+        t0 = Clock::now();
+        kernel->run(1);
+        first = std::max(std::min(first, seconds_since(t0)), 1e-9);
+        ++rec.warmup;
+    }
+    rec.batch = first >= settings.min_sample_s ? 1 : static_cast<int>(std::ceil(settings.min_sample_s / first));
+    const double per_sample = first * rec.batch;
+    rec.repetitions = settings.reps > 0
+                          ? settings.reps
+                          : std::clamp(static_cast<int>(std::ceil(settings.min_time_s / per_sample)), settings.min_reps, 1000000);
+
+    // Counters are opened by the team's own threads; energy is read by this one. Both bracket
+    // exactly the clock's interval, the counters innermost so that they see little but the kernel.
+    Instruments* in = settings.instruments;
+    TeamCounters counters;
+    if (in && in->counters.requested) counters = TeamCounters(in->counters.events, point.threads, in->access);
+    EnergyMeter* energy = in && in->energy.available() ? &in->energy : nullptr;
+
+    rec.samples_s.reserve(static_cast<std::size_t>(rec.repetitions));
+    for (int r = 0; r < rec.repetitions; ++r) {
+        check_stop(settings);
+        if (energy) energy->start();
+        counters.start();
+        t0 = Clock::now();
+        callgrind::toggle_collect();  // under `suite deterministic`, only the kernel's calls are counted
+        kernel->run(rec.batch);
+        callgrind::toggle_collect();
+        const double seconds = seconds_since(t0);
+        counters.stop();
+        if (energy) energy->stop(seconds);
+        rec.samples_s.push_back(seconds / rec.batch);
+    }
+    counters.check_team();
+    callgrind::dump(callgrind_label(rec).c_str());
+    rec.binding_held = team_still_bound(rec.bindings);
+    rec.verification = kernel->verify();
+    rec.time = summarise(rec.samples_s);
+    rec.rates = derive_rates(rec.work, rec.time, rec.metric, rec.threads);
+    if (in) {
+        rec.counters = counters.readings(rec.batch, rec.work.units, rec.work.stream_bytes, in->line_bytes);
+        rec.counters.requested = in->counters.requested;
+        rec.counters.omitted = in->counters.omitted;
+        if (rec.counters.requested && in->counters.events.empty()) rec.counters.reason = "no event can be opened here";
+        rec.energy = in->energy.take(rec.batch, rec.work.units, rec.work.stream_bytes, rec.time.median);
+    }
+    return rec;
+}
+
+}  // namespace suite

@@ -1,0 +1,175 @@
+#include "harness/results/check.hpp"
+#include "harness/common/stats.hpp"
+#include "harness/results/context_fields.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include "harness/results/report.hpp"
+#include "harness/results/text_table.hpp"
+
+namespace suite {
+
+namespace {
+
+std::string pct(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f%%", x * 100);
+    return buf;
+}
+
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, (v != 0 && (std::fabs(v) >= 1e6 || std::fabs(v) < 1e-2)) ? "%.4e" : "%.4g", v);
+    return buf;
+}
+
+const char* verdict_word(Verdict v) { return v == Verdict::regressed ? "REGRESSED" : v == Verdict::improved ? "improved" : "unchanged"; }
+
+std::string change_text(const Finding& f) {
+    if (f.note == "failed verification") return "failed verification";
+    if (std::isinf(f.worse_by)) return "was 0";
+    return f.worse_by >= 0 ? pct(f.worse_by) + " worse" : pct(-f.worse_by) + " better";
+}
+
+}  // namespace
+
+std::size_t CheckReport::count(Verdict v) const {
+    std::size_t n = 0;
+    for (const auto& f : findings) n += f.verdict == v;
+    return n;
+}
+
+Finding judge(const Measure& b, const Measure& r, double tolerance) {
+    Finding f;
+    f.figure = b.name + " " + b.unit;
+    f.direction = b.direction;
+    f.baseline = b.median;
+    f.run = r.median;
+    f.allowed = tolerance + std::sqrt(b.noise * b.noise + r.noise * r.noise);
+    // How many times worse the run is (above 1: worse), the same way for both directions.
+    const double bad = b.direction == Direction::lower_is_better ? r.median : b.median;
+    const double good = b.direction == Direction::lower_is_better ? b.median : r.median;
+    double factor;
+    if (good > 0) factor = bad / good;
+    else factor = bad > 0 ? INFINITY : 1.0;  // 0 -> 0 is no change; 0 misses -> some is worse
+    f.worse_by = factor - 1;
+    if (factor > 1 + f.allowed) f.verdict = Verdict::regressed;
+    else if (factor < 1 / (1 + f.allowed)) f.verdict = Verdict::improved;
+    return f;
+}
+
+CheckReport check_run(const ResultFile& base, const ResultFile& run, double tolerance) {
+    CheckReport rep;
+    rep.baseline_path = base.path;
+    rep.run_path = run.path;
+    rep.tolerance = tolerance;
+    std::map<PointKey, const LoadedPoint*> in_base, in_run;
+    for (const auto& p : base.points) in_base[p.key] = &p;
+    for (const auto& p : run.points) in_run[p.key] = &p;
+    for (const auto& [field, values] : context_differences({&base, &run}))
+        rep.notes.push_back("the context differs from the baseline's: " + field + " '" + values[0] + "' -> '" + values[1] +
+                            "'; differences may come from that");
+    for (const auto& p : base.points)
+        if (!in_run.count(p.key)) rep.missing_from_run.push_back(p.key);
+    for (const auto& p : run.points) {
+        auto it = in_base.find(p.key);
+        if (it == in_base.end()) {
+            rep.not_in_baseline.push_back(p.key);
+            continue;
+        }
+        const LoadedPoint& b = *it->second;
+        ++rep.points_compared;
+        if (!b.verified) {
+            rep.notes.push_back(p.key.label() + ": the baseline failed verification there; not gated");
+            continue;
+        }
+        if (!p.verified) {
+            Finding f;
+            f.key = p.key;
+            f.figure = "verification";
+            f.verdict = Verdict::regressed;
+            f.note = "failed verification";
+            rep.findings.push_back(f);
+            continue;
+        }
+        bool any = false;
+        for (const auto& bm : b.measures)
+            for (const auto& rm : p.measures)
+                if (bm.name == rm.name && bm.unit == rm.unit) {
+                    Finding f = judge(bm, rm, tolerance);
+                    f.key = p.key;
+                    rep.findings.push_back(f);
+                    any = true;
+                }
+        if (!any) rep.notes.push_back(p.key.label() + ": no figure in both files (e.g. one was measured under callgrind); not gated");
+    }
+    if (rep.points_compared == 0)
+        throw InputError("none of the " + std::to_string(run.points.size()) + " point(s) of " + run.path + " is in the baseline " + base.path +
+                         " (points are matched by kernel, variant, pattern, size, threads, pinning and placement); run the baseline's configuration");
+    if (rep.findings.empty())
+        throw InputError(run.path + " and the baseline " + base.path + " have points in common but no figure to compare in any of them");
+    return rep;
+}
+
+std::string render_check_text(const CheckReport& rep) {
+    std::string out = "suite check: " + rep.run_path + " against the baseline " + rep.baseline_path + " (tolerance " + pct(rep.tolerance) +
+                      " plus the runs' spread)\n";
+    for (const auto& n : rep.notes) out += "note: " + n + "\n";
+    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change", "allowed"}, {}, {false, false, false, true, true, true, true}};
+    for (Verdict v : {Verdict::regressed, Verdict::improved})
+        for (const auto& f : rep.findings)
+            if (f.verdict == v)
+                t.rows.push_back({verdict_word(v), f.key.label(), f.figure, f.note.empty() ? num(f.baseline) : "-", f.note.empty() ? num(f.run) : "-",
+                                  change_text(f), f.note.empty() ? pct(f.allowed) : "-"});
+    if (!t.rows.empty()) out += t.render_text();
+    out += std::to_string(rep.points_compared) + " point(s) compared, " + std::to_string(rep.findings.size()) + " figure(s): " +
+           std::to_string(rep.count(Verdict::regressed)) + " regressed, " + std::to_string(rep.count(Verdict::improved)) + " improved, " +
+           std::to_string(rep.count(Verdict::unchanged)) + " within the threshold.\n";
+    if (!rep.missing_from_run.empty()) {
+        out += std::to_string(rep.missing_from_run.size()) + " point(s) of the baseline are missing from the run:";
+        for (const auto& k : rep.missing_from_run) out += " [" + k.label() + "]";
+        out += "\n";
+    }
+    if (!rep.not_in_baseline.empty()) out += std::to_string(rep.not_in_baseline.size()) + " point(s) of the run are not in the baseline (not gated).\n";
+    return out;
+}
+
+std::string render_check_markdown(const CheckReport& rep) {
+    const std::size_t bad = rep.count(Verdict::regressed), good = rep.count(Verdict::improved);
+    std::string out = "### suite check: " + std::string(bad ? "**" + std::to_string(bad) + " regression(s)**" : "no regression") +
+                      (good ? ", " + std::to_string(good) + " improvement(s)" : "") + "\n\n";
+    out += "Run `" + rep.run_path + "` against the baseline `" + rep.baseline_path + "`: " + std::to_string(rep.points_compared) +
+           " point(s), " + std::to_string(rep.findings.size()) + " figure(s) compared; tolerance " + pct(rep.tolerance) +
+           " plus the runs' spread.\n\n";
+    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change", "allowed"}, {}, {false, false, false, true, true, true, true}};
+    for (Verdict v : {Verdict::regressed, Verdict::improved})
+        for (const auto& f : rep.findings)
+            if (f.verdict == v)
+                t.rows.push_back({verdict_word(v), "`" + f.key.label() + "`", f.figure, f.note.empty() ? num(f.baseline) : "-",
+                                  f.note.empty() ? num(f.run) : "-", change_text(f), f.note.empty() ? pct(f.allowed) : "-"});
+    if (!t.rows.empty()) out += t.render_markdown() + "\n";
+    for (const auto& n : rep.notes) out += "- " + n + "\n";
+    if (!rep.missing_from_run.empty()) out += "- " + std::to_string(rep.missing_from_run.size()) + " point(s) of the baseline are missing from the run\n";
+    if (!rep.not_in_baseline.empty()) out += "- " + std::to_string(rep.not_in_baseline.size()) + " point(s) of the run are not in the baseline (not gated)\n";
+    return out;
+}
+
+double parse_tolerance(const std::string& text) {
+    std::string t = text;
+    if (!t.empty() && t.back() == '%') t.pop_back();
+    std::size_t used = 0;
+    double v = -1;
+    try {
+        v = std::stod(t, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (t.empty() || used != t.size() || !std::isfinite(v) || v < 0 || v > 1000)
+        throw UsageError("--tolerance='" + text + "': give a percentage from 0 to 1000, e.g. --tolerance=10% or --tolerance=2.5");
+    return v / 100;
+}
+
+}  // namespace suite

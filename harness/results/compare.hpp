@@ -1,0 +1,15 @@
+#pragma once
+// `suite compare A.json B.json [...]`: the points that the files have in common, side by side,
+// each file's best and median and its ratio to the first file, a geometric mean per kernel,
+// and before that the differences of context that change what a benchmark measures.
+#include <string>
+#include <vector>
+
+#include "harness/results/result_file.hpp"
+
+namespace suite {
+
+// The comparison as text (markdown = a Markdown document for a review or CI comment).
+// Throws InputError when the files differ in schema_version or have no point in common.
+std::string render_comparison(const std::vector<ResultFile>& files, bool markdown);
+}  // namespace suite

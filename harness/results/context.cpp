@@ -1,0 +1,140 @@
+#include "harness/results/context.hpp"
+
+#include <sys/utsname.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/results/build_info.hpp"
+
+namespace suite {
+
+namespace {
+
+// Reads one line of a sysfs/procfs file; "" when it cannot be read.
+std::string read_first_line(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    if (in) std::getline(in, line);
+    return line;
+}
+
+// "always [madvise] never" -> "madvise".
+std::string bracketed_choice(const std::string& line) {
+    auto open = line.find('['), close = line.find(']');
+    if (open == std::string::npos || close == std::string::npos || close < open) return line;
+    return line.substr(open + 1, close - open - 1);
+}
+
+// A setting that may be unreadable: {"value": ...} or {"value": null, "reason": ...}.
+nlohmann::json readable(const std::string& path, bool bracketed, const std::string& why_missing) {
+    std::string line = read_first_line(path);
+    if (line.empty()) return {{"value", nullptr}, {"reason", why_missing + "; " + path + " is not readable"}};
+    return {{"value", bracketed ? bracketed_choice(line) : line}, {"source", path}};
+}
+
+double timer_resolution_ns() {
+    timespec res{};
+    clock_getres(CLOCK_MONOTONIC, &res);
+    return static_cast<double>(res.tv_sec) * 1e9 + static_cast<double>(res.tv_nsec);
+}
+
+std::string utc_now() {
+    std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return buf;
+}
+
+std::string cpu_model_fallback() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            auto colon = line.find(':');
+            return colon == std::string::npos ? "" : line.substr(colon + 2);
+        }
+    return "";
+}
+
+}  // namespace
+
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments) {
+    nlohmann::json c;
+    c["suite_version"] = build::version;
+    c["git_revision"] = build::git_revision;
+    c["compiler"] = build::compiler;
+    c["compiler_flags"] = build::flags;
+    c["build_type"] = build::build_type;
+    // What -march resolved to, as the compiler saw it when it built the kernels.
+    c["instruction_set"] = {
+        {"avx512f",
+#ifdef __AVX512F__
+         true
+#else
+         false
+#endif
+        },
+        {"avx2",
+#ifdef __AVX2__
+         true
+#else
+         false
+#endif
+        },
+        {"fma",
+#ifdef __FMA__
+         true
+#else
+         false
+#endif
+        },
+        {"nt_store_bits",
+#if defined(__AVX512F__)
+         512
+#elif defined(__AVX__)
+         256
+#else
+         128
+#endif
+        },
+    };
+    c["date"] = utc_now();
+    char host[256] = {0};
+    gethostname(host, sizeof host - 1);
+    c["host"] = host;
+    c["command_line"] = argv;
+    c["cpu_model"] = topo.cpu_model.empty() ? cpu_model_fallback() : topo.cpu_model;
+    c["sockets"] = topo.packages;
+    c["cores"] = topo.cores;
+    c["pus"] = topo.pu_count();
+    c["numa_node_count"] = topo.nodes.size();
+    c["topology"] = to_json(topo);
+    utsname u{};
+    uname(&u);
+    c["os_kernel"] = std::string(u.sysname) + " " + u.release;
+    c["memory_bytes"] = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE));
+    c["page_size_bytes"] = sysconf(_SC_PAGESIZE);
+    c["transparent_hugepages"] = readable("/sys/kernel/mm/transparent_hugepage/enabled", true, "THP setting unknown");
+    c["frequency_governor"] = readable("/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor", false,
+                                       "no cpufreq driver exposes a governor here (common in VMs)");
+    c["instruments"] = instruments_context(instruments, timer_resolution_ns());
+    c["conventions"] = {
+        {"bandwidth", "STREAM convention: each array element read or written counts once, 8 B per double; "
+                      "copy/scale 16 B, add/triad/sin-add 24 B per element; index arrays not counted"},
+        {"gigabyte", "1 GB/s = 1e9 B/s"},
+        {"hardware_bytes", "estimate of memory-system traffic: +1 read per store (write-allocate) unless non-temporal, "
+                           "4 B per index for random, whole 64 B lines for random and wide-strided accesses"},
+        {"headline", "best = minimum time over the counted repetitions; the first repetition is a warm-up, not counted"},
+        {"timing", "monotonic clock around the whole parallel region, barriers included"},
+    };
+    return c;
+}
+
+}  // namespace suite

@@ -1,0 +1,16 @@
+#pragma once
+// The `context` of a result document: what machine, what build, what settings, and which
+// instruments could measure here (with the reason when one could not).
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "harness/measure/instrument_set.hpp"
+#include "harness/machine/topology.hpp"
+
+namespace suite {
+
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments);
+
+}  // namespace suite

@@ -1,0 +1,76 @@
+#include "harness/results/context_fields.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+using nlohmann::json;
+
+namespace {
+
+// A setting read from the system: its value, or "unknown" when the record says why not.
+std::string setting_text(const json& v) {
+    if (!v.is_object()) return "?";
+    auto it = v.find("value");
+    if (it == v.end()) return "?";
+    return it->is_string() ? it->get<std::string>() : "unknown";
+}
+
+
+}  // namespace
+
+std::string context_text(const json& c, const std::string& field) {
+    if (!c.is_object()) return "?";
+    if (field == "caches") {
+        const auto topo = c.find("topology");
+        if (topo == c.end() || !topo->is_object() || !topo->contains("caches") || !(*topo)["caches"].is_array()) return "?";
+        std::string out;
+        for (const auto& cache : (*topo)["caches"]) {
+            if (!cache.is_object() || !cache.contains("level") || !cache["level"].is_number_integer() || !cache.contains("size_bytes") ||
+                !cache["size_bytes"].is_number_unsigned())
+                return "?";
+            const std::string type = cache.contains("type") && cache["type"].is_string() ? cache["type"].get<std::string>() : "";
+            std::string item = "L" + std::to_string(cache["level"].get<std::int64_t>()) + (type == "data" ? "d" : type == "instruction" ? "i" : "") +
+                               " " + format_bytes(cache["size_bytes"].get<std::uint64_t>());
+            if (cache.contains("instances") && cache["instances"].is_number_integer())
+                item += " x" + std::to_string(cache["instances"].get<std::int64_t>());
+            out += (out.empty() ? "" : ", ") + item;
+        }
+        return out.empty() ? "none reported" : out;
+    }
+    const auto it = c.find(field);
+    if (it == c.end()) return "?";
+    if (field == "transparent_hugepages" || field == "frequency_governor") return setting_text(*it);
+    if (field == "instruction_set") {
+        if (!it->is_object()) return "?";
+        auto flag = [&](const char* k) { return it->contains(k) && (*it)[k].is_boolean() && (*it)[k].get<bool>(); };
+        return flag("avx512f") ? "AVX-512" : flag("avx2") ? "AVX2" : "SSE2";
+    }
+    if (field == "memory_bytes" && it->is_number_unsigned()) return format_bytes(it->get<std::uint64_t>());
+    if (it->is_string()) return it->get<std::string>();
+    if (it->is_number_integer()) return std::to_string(it->get<std::int64_t>());
+    return "?";
+}
+
+const std::vector<std::string>& context_fields_that_matter() {
+    static const std::vector<std::string> fields = {"cpu_model",      "sockets",         "numa_node_count",       "cores",
+                                                    "pus",            "caches",          "memory_bytes",          "compiler",
+                                                    "compiler_flags", "instruction_set", "transparent_hugepages", "frequency_governor"};
+    return fields;
+}
+
+std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(const std::vector<const ResultFile*>& files) {
+    std::vector<std::pair<std::string, std::vector<std::string>>> out;
+    for (const auto& field : context_fields_that_matter()) {
+        std::vector<std::string> values;
+        for (const auto* f : files) values.push_back(context_text(f->context, field));
+        if (std::adjacent_find(values.begin(), values.end(), std::not_equal_to<>()) != values.end()) out.push_back({field, values});
+    }
+    return out;
+}
+
+}  // namespace suite

@@ -1,0 +1,25 @@
+#pragma once
+// The context of a loaded result file as a reader compares machines: each field that changes
+// what a benchmark measures, as display text, and the fields on which several files disagree.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/results/result_file.hpp"
+
+namespace suite {
+
+// A context field as text for display ("?" when absent or of an unexpected type): "cpu_model",
+// "caches" (a summary of topology.caches), "transparent_hugepages", "frequency_governor", ...
+std::string context_text(const nlohmann::json& context, const std::string& field);
+
+// The context fields whose differences change what a benchmark measures, in display order.
+const std::vector<std::string>& context_fields_that_matter();
+
+// For each field of context_fields_that_matter() on which the files disagree: the field and
+// each file's value, in the order of `files`.
+std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(const std::vector<const ResultFile*>& files);
+
+}  // namespace suite

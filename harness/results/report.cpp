@@ -1,0 +1,212 @@
+#include "harness/results/report.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+#include "harness/measure/instrument_set.hpp"
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+namespace {
+
+nlohmann::json opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+
+const char* axis_name(AccessAxis a) { return a == AccessAxis::pattern ? "pattern" : "ordering"; }
+
+// What was asked of huge pages, and how much of the arrays they backed after first touch (the
+// sum over the arrays; null with the reason when an array's share could not be read).
+nlohmann::json hugepages_json(const Record& r) {
+    nlohmann::json j = {{"requested", r.hugepages}};
+    std::uint64_t total = 0;
+    for (const auto& a : r.pages) {
+        if (!a.anon_huge_bytes) {
+            j["anon_huge_bytes"] = nullptr;
+            j["reason"] = "array '" + a.name + "': " + (a.huge_error.empty() ? std::string("not read") : a.huge_error);
+            return j;
+        }
+        total += *a.anon_huge_bytes;
+    }
+    j["anon_huge_bytes"] = total;
+    return j;
+}
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+std::string csv_opt(const std::optional<double>& v) { return v ? fmt("%.6g", *v) : ""; }
+
+}  // namespace
+
+nlohmann::json to_json(const Record& r) {
+    nlohmann::json j;
+    j["kernel"] = r.kernel;
+    j["variant"] = r.variant;
+    j["name"] = r.name;
+    j["axis"] = axis_name(r.axis);
+    j[axis_name(r.axis)] = r.access;
+    j["unit"] = r.unit;
+    j["metric"] = r.metric == Metric::bandwidth ? "bandwidth" : "latency";
+    j["size"] = {{"kind", r.size_kind == SizeKind::bytes ? "bytes" : "count"},
+                 {"requested", r.size_requested},
+                 {"footprint_bytes", r.work.footprint_bytes},
+                 {"smallest_array_over_llc", opt(r.smallest_array_over_llc)},
+                 {"units", r.work.units}};
+    j["threads"] = r.threads;
+    nlohmann::json bindings = nlohmann::json::array();
+    for (const auto& b : r.bindings) bindings.push_back(to_json(b));
+    j["pin"] = {{"requested", r.pin}, {"threads", bindings}, {"held_during_run", r.binding_held}};
+    nlohmann::json pages = nlohmann::json::array();
+    for (const auto& a : r.pages) pages.push_back(to_json(a));
+    j["placement"] = {{"requested", r.placement},
+                      {"node", r.placement_node >= 0 ? nlohmann::json(r.placement_node) : nlohmann::json(nullptr)},
+                      {"interleave_nodes", r.interleave_nodes},
+                      {"arrays", pages}};
+    j["hugepages"] = hugepages_json(r);
+    j["repetitions"] = {{"counted", r.repetitions}, {"warmup", r.warmup}, {"batch", r.batch}};
+    j["time_s"] = {{"min", r.time.min},     {"median", r.time.median}, {"max", r.time.max},
+                   {"mean", r.time.mean},   {"cv", r.time.cv},         {"samples", r.samples_s}};
+    j["work_per_repetition"] = {{"units", r.work.units},
+                                {"stream_bytes", r.work.stream_bytes},
+                                {"hardware_bytes_estimate", r.work.hardware_bytes},
+                                {"flops", r.work.flops}};
+    if (r.metric == Metric::bandwidth)
+        j["bandwidth_gbps"] = {{"stream", {{"best", opt(r.rates.stream_gbps_best)}, {"median", opt(r.rates.stream_gbps_median)}}},
+                               {"hardware_estimate",
+                                {{"best", opt(r.rates.hardware_gbps_best)}, {"median", opt(r.rates.hardware_gbps_median)}}}};
+    else
+        j["bandwidth_gbps"] = nullptr;
+    if (r.metric == Metric::latency)
+        j["latency_ns"] = {{"best", opt(r.rates.ns_per_load_best)}, {"median", opt(r.rates.ns_per_load_median)}};
+    else
+        j["latency_ns"] = nullptr;
+    j["units_per_second_best"] = r.rates.units_per_second_best;
+    j["gflops_best"] = opt(r.rates.gflops_best);
+    j["counters"] = to_json(r.counters);
+    j["energy"] = to_json(r.energy);
+    j["verification"] = {{"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
+    j["seed"] = r.seed;
+    if (!r.mesh.empty()) j["mesh"] = r.mesh;
+    return j;
+}
+
+namespace {
+
+// Counter and energy columns, named after the first record's events and domains (every record
+// of a run has the same ones, in the same order); a cell is empty where nothing was measured.
+std::string domain_label(const DomainEnergy& d) { return d.domain + (d.socket ? std::to_string(*d.socket) : ""); }
+
+}  // namespace
+
+std::string csv_header(const Record* first) {
+    std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,threads,pin,placement,repetitions,batch,"
+                    "time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,stream_gbps_best,stream_gbps_median,"
+                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified";
+    if (first) {
+        for (const auto& e : first->counters.events) h += ",counter_" + e.name + "_per_call";
+        for (const auto& d : first->energy.domains) h += ",energy_" + domain_label(d) + "_j_per_call";
+    }
+    return h + "\n";
+}
+
+std::string to_csv_row(const Record& r) {
+    std::ostringstream o;
+    o << r.kernel << ',' << r.variant << ',' << r.name << ',' << axis_name(r.axis) << ',' << r.access << ',' << r.size_requested << ','
+      << r.work.footprint_bytes << ',' << fmt("%.0f", r.work.units) << ',' << r.threads << ",\"" << r.pin << "\"," << r.placement
+      << ',' << r.repetitions << ',' << r.batch << ',' << fmt("%.9g", r.time.min) << ',' << fmt("%.9g", r.time.median) << ','
+      << fmt("%.9g", r.time.max) << ',' << fmt("%.9g", r.time.mean) << ',' << fmt("%.4g", r.time.cv) << ','
+      << csv_opt(r.rates.stream_gbps_best) << ',' << csv_opt(r.rates.stream_gbps_median) << ','
+      << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.ns_per_load_best) << ','
+      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false");
+    for (const auto& e : r.counters.events) o << ',' << (e.available ? fmt("%.9g", e.per_call.median) : "");
+    for (const auto& d : r.energy.domains) o << ',' << (d.available ? fmt("%.9g", d.joules_per_call.median) : "");
+    o << '\n';
+    return o.str();
+}
+
+std::string table_header() {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3s %-10s %10s %10s %10s %6s %6s %s\n", "#", "kernel", "pattern", "size",
+                  "thr", "placement", "best", "median", "hw-est", "cv%", "reps", "check");
+    return std::string(buf) + std::string(110, '-') + "\n";
+}
+
+std::string table_row(std::size_t index, std::size_t total, const Record& r) {
+    std::string best = "-", median = "-", hw = "-";
+    if (r.metric == Metric::bandwidth && r.rates.stream_gbps_best) {
+        best = fmt("%.2f GB/s", *r.rates.stream_gbps_best);
+        median = fmt("%.2f", *r.rates.stream_gbps_median);
+        hw = fmt("%.2f", *r.rates.hardware_gbps_best);
+    } else if (r.metric == Metric::latency && r.rates.ns_per_load_best) {
+        best = fmt("%.2f ns", *r.rates.ns_per_load_best);
+        median = fmt("%.2f", *r.rates.ns_per_load_median);
+    }
+    const std::string size = size_label(r.size_kind, r.size_requested);
+    std::string pos = std::to_string(index) + "/" + std::to_string(total);
+    char buf[320];
+    std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3d %-10s %10s %10s %10s %6.1f %6d %s\n", pos.c_str(), r.name.c_str(),
+                  r.access.c_str(), size.c_str(), r.threads, r.placement.c_str(), best.c_str(), median.c_str(), hw.c_str(),
+                  r.time.cv * 100.0, r.repetitions, r.verification.passed ? "ok" : "FAILED");
+    return buf;
+}
+
+std::string ResultDocument::render(FileFormat format, bool complete) const {
+    if (format == FileFormat::csv) {
+        std::string out = csv_header(records.empty() ? nullptr : &records.front());
+        for (const auto& r : records) out += to_csv_row(r);
+        return out;
+    }
+    if (format == FileFormat::gbench) return render_gbench(context, records, complete);
+    nlohmann::json doc;
+    doc["schema_version"] = schema_version;
+    doc["complete"] = complete;
+    doc["context"] = context;
+    doc["results"] = nlohmann::json::array();
+    for (const auto& r : records) doc["results"].push_back(to_json(r));
+    return doc.dump(1) + "\n";
+}
+
+void write_atomically(const std::string& path, const std::string& content) {
+    const std::string tmp = path + ".tmp." + std::to_string(getpid());
+    auto fail = [&](const std::string& what) {
+        const int err = errno;
+        unlink(tmp.c_str());
+        throw std::runtime_error("cannot write " + path + ": " + what + ": " + std::strerror(err) +
+                                 " (the previous file, if any, is unchanged)");
+    };
+    int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) fail("cannot create " + tmp);
+    const char* p = content.data();
+    std::size_t left = content.size();
+    while (left > 0) {
+        ssize_t n = write(fd, p, left);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            close(fd);
+            fail("write failed");
+        }
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    if (fsync(fd) != 0) { close(fd); fail("fsync failed"); }
+    if (close(fd) != 0) fail("close failed");
+    if (rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed");
+    // The rename itself reaches the disk only when the directory is synced.
+    const auto slash = path.rfind('/');
+    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    if (int dfd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+        fsync(dfd);
+        close(dfd);
+    }
+}
+
+}  // namespace suite

@@ -1,0 +1,49 @@
+#pragma once
+// Reporters render Records; they compute nothing. Files are replaced atomically
+// (write_atomically), so a reader never sees half a file.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/measure/result.hpp"
+
+namespace suite {
+
+constexpr int schema_version = 1;
+
+nlohmann::json to_json(const Record& r);
+std::string csv_header(const Record* first = nullptr);  // first: where counter and energy columns come from
+std::string to_csv_row(const Record& r);
+
+// The console table: a header, then one row per record as it arrives.
+std::string table_header();
+std::string table_row(std::size_t index, std::size_t total, const Record& r);
+
+enum class FileFormat { json, csv, gbench };
+
+// A run's results in memory: the context and the records measured so far.
+struct ResultDocument {
+    nlohmann::json context;
+    std::vector<Record> records;
+    // JSON: {schema_version, complete, context, results}; CSV: a header and one row per record;
+    // gbench: Google Benchmark's JSON (render_gbench).
+    std::string render(FileFormat format, bool complete) const;
+};
+
+// Google Benchmark's JSON format ({context, benchmarks[]}, as --benchmark_format=json writes it),
+// so that tools reading that format take a suite run: each counted sample is an "iteration"
+// run of `batch` calls, followed by the mean, median, stddev and cv aggregates. Defined in
+// report_gbench.cpp.
+std::string render_gbench(const nlohmann::json& context, const std::vector<Record>& records, bool complete);
+// The benchmark name shared by --format=gbench and suite-gbench: kernel/pattern/size/threads,
+// with Google Benchmark's "/real_time" suffix (the time is the wall clock of the whole team).
+std::string gbench_name(const std::string& kernel_name, const std::string& access, const std::string& size, int threads);
+
+// Writes `content` to `path` so that `path` is valid at every moment: a temporary file beside
+// it, flushed to disk, renamed over it. On failure the previous file is left as it was, the
+// temporary file is removed, and std::runtime_error says why.
+void write_atomically(const std::string& path, const std::string& content);
+
+}  // namespace suite

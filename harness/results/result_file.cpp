@@ -1,0 +1,263 @@
+#include "harness/results/result_file.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <sys/stat.h>
+
+#include "harness/common/stats.hpp"
+#include "harness/results/context_fields.hpp"
+
+namespace suite {
+
+namespace {
+
+using nlohmann::json;
+
+// Checked access to one file's JSON: every failure names the file and the field.
+struct Reader {
+    std::string file;
+
+    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+        throw InputError(file + ": " + where + ": " + what + " (is it a result file written by suite?)");
+    }
+    const json& field(const json& obj, const char* key, const std::string& where) const {
+        if (!obj.is_object()) fail(where, "expected an object");
+        auto it = obj.find(key);
+        if (it == obj.end()) fail(where + "." + key, "missing");
+        return *it;
+    }
+    std::string string(const json& obj, const char* key, const std::string& where, bool may_be_empty = false) const {
+        const json& v = field(obj, key, where);
+        if (!v.is_string()) fail(where + "." + key, "expected a string");
+        if (!may_be_empty && v.get_ref<const std::string&>().empty()) fail(where + "." + key, "empty");
+        return v.get<std::string>();
+    }
+    double number(const json& v, const std::string& where) const {
+        if (!v.is_number()) fail(where, "expected a number");
+        const double x = v.get<double>();
+        if (!std::isfinite(x) || x < 0) fail(where, "expected a finite non-negative number");
+        return x;
+    }
+    double number(const json& obj, const char* key, const std::string& where) const {
+        return number(field(obj, key, where), where + "." + key);
+    }
+    std::uint64_t count(const json& obj, const char* key, const std::string& where, std::uint64_t least) const {
+        const json& v = field(obj, key, where);
+        if (!v.is_number_integer() || (v.is_number_integer() && !v.is_number_unsigned() && v.get<std::int64_t>() < 0))
+            fail(where + "." + key, "expected a non-negative integer");
+        const std::uint64_t x = v.get<std::uint64_t>();
+        if (x < least) fail(where + "." + key, "expected at least " + std::to_string(least));
+        return x;
+    }
+    bool boolean(const json& obj, const char* key, const std::string& where) const {
+        const json& v = field(obj, key, where);
+        if (!v.is_boolean()) fail(where + "." + key, "expected true or false");
+        return v.get<bool>();
+    }
+};
+
+// The deepest nesting of [ and { outside strings: a hostile file of a million '[' must be
+// refused before a recursive reader goes near it.
+std::size_t nesting_depth(const std::string& text) {
+    std::size_t depth = 0, deepest = 0;
+    bool in_string = false, escaped = false;
+    for (char c : text) {
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+// Spread estimated from a min..max range of a few dozen repetitions (about four standard deviations).
+double range_spread(const Reader& r, const json& stats, const std::string& where) {
+    const double median = r.number(stats, "median", where), lo = r.number(stats, "min", where), hi = r.number(stats, "max", where);
+    // A spread from figures out of order would be negative and shrink the gate's threshold.
+    if (!(lo <= median && median <= hi)) r.fail(where, "expected min <= median <= max");
+    return median > 0 ? (hi - lo) / (4 * median) : 0.0;
+}
+
+void read_counters(const Reader& r, const json& block, const std::string& where, LoadedPoint& p) {
+    if (!r.boolean(block, "available", where)) return;
+    const json& events = r.field(block, "events", where);
+    if (!events.is_array()) r.fail(where + ".events", "expected an array");
+    for (std::size_t e = 0; e < events.size(); ++e) {
+        const std::string at = where + ".events[" + std::to_string(e) + "]";
+        const std::string name = r.string(events[e], "name", at);
+        if (!r.boolean(events[e], "available", at)) continue;
+        const json& per_element = r.field(events[e], "per_element", at);
+        if (per_element.is_null()) continue;
+        Measure m{"counter " + name, "per element", Direction::lower_is_better, 0, r.number(per_element, at + ".per_element"), 0};
+        m.best = m.median;
+        const json& per_call = r.field(events[e], "per_call", at);
+        if (!per_call.is_null()) {
+            m.noise = range_spread(r, per_call, at + ".per_call");
+            const double med = r.number(per_call, "median", at + ".per_call");
+            if (med > 0) m.best = m.median * r.number(per_call, "min", at + ".per_call") / med;
+        }
+        p.measures.push_back(m);
+    }
+}
+
+void read_energy(const Reader& r, const json& block, const std::string& where, LoadedPoint& p) {
+    if (!r.boolean(block, "available", where)) return;
+    const json& domains = r.field(block, "domains", where);
+    if (!domains.is_array()) r.fail(where + ".domains", "expected an array");
+    for (std::size_t d = 0; d < domains.size(); ++d) {
+        const std::string at = where + ".domains[" + std::to_string(d) + "]";
+        std::string name = r.string(domains[d], "domain", at);
+        const json& socket = r.field(domains[d], "socket", at);
+        if (socket.is_number_integer()) name.append("-").append(std::to_string(socket.get<std::int64_t>()));
+        else if (!socket.is_null()) r.fail(at + ".socket", "expected an integer or null");
+        const json& j = r.field(domains[d], "joules_per_call", at);
+        const std::string jat = at + ".joules_per_call";
+        Measure m{"energy " + name, "J/call", Direction::lower_is_better, r.number(j, "min", jat), r.number(j, "median", jat),
+                  range_spread(r, j, jat)};
+        p.measures.push_back(m);
+    }
+}
+
+// Counts of a run under valgrind's callgrind (suite deterministic): exact, so no noise.
+void read_callgrind(const Reader& r, const json& block, const std::string& where, LoadedPoint& p) {
+    const json& per_call = r.field(block, "per_call", where);
+    const std::string at = where + ".per_call";
+    auto add = [&](const char* name, double v) { p.measures.push_back({name, "per call", Direction::lower_is_better, v, v, 0}); };
+    add("callgrind instructions", r.number(per_call, "Ir", at));
+    add("callgrind D1 misses", r.number(per_call, "D1mr", at) + r.number(per_call, "D1mw", at));
+    add("callgrind LL misses", r.number(per_call, "DLmr", at) + r.number(per_call, "DLmw", at));
+}
+
+LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
+    const std::string where = "results[" + std::to_string(index) + "]";
+    if (!rec.is_object()) r.fail(where, "expected an object");
+    LoadedPoint p;
+    PointKey& k = p.key;
+    k.kernel = r.string(rec, "kernel", where);
+    k.variant = r.string(rec, "variant", where, true);
+    const std::string axis = r.string(rec, "axis", where);
+    if (axis != "pattern" && axis != "ordering") r.fail(where + ".axis", "expected 'pattern' or 'ordering'");
+    k.access = r.string(rec, axis.c_str(), where);
+    const json& size = r.field(rec, "size", where);
+    k.size_kind = r.string(size, "kind", where + ".size");
+    k.size = r.count(size, "requested", where + ".size", 1);
+    k.threads = static_cast<int>(std::min<std::uint64_t>(r.count(rec, "threads", where, 1), 1u << 30));
+    k.pin = r.string(r.field(rec, "pin", where), "requested", where + ".pin");
+    k.placement = r.string(r.field(rec, "placement", where), "requested", where + ".placement");
+    p.verified = r.boolean(r.field(rec, "verification", where), "passed", where + ".verification");
+
+    if (rec.contains("callgrind")) {
+        p.under_callgrind = true;
+        read_callgrind(r, rec["callgrind"], where + ".callgrind", p);
+    } else {
+        const std::string metric = r.string(rec, "metric", where);
+        if (metric != "bandwidth" && metric != "latency") r.fail(where + ".metric", "expected 'bandwidth' or 'latency'");
+        const json& time = r.field(rec, "time_s", where);
+        const json& samples = r.field(time, "samples", where + ".time_s");
+        if (!samples.is_array() || samples.empty()) r.fail(where + ".time_s.samples", "expected a non-empty array");
+        std::vector<double> s;
+        for (std::size_t i = 0; i < samples.size(); ++i) s.push_back(r.number(samples[i], where + ".time_s.samples[" + std::to_string(i) + "]"));
+        const double noise = robust_relative_spread(s);
+        const bool bw = metric == "bandwidth";
+        const std::string at = bw ? where + ".bandwidth_gbps" : where + ".latency_ns";
+        const json& rates = bw ? r.field(r.field(rec, "bandwidth_gbps", where), "stream", at) : r.field(rec, "latency_ns", where);
+        const std::string rat = bw ? at + ".stream" : at;
+        const json& best = r.field(rates, "best", rat);
+        const json& median = r.field(rates, "median", rat);
+        // null: the rate could not be derived (a best time of 0); the point then has no headline.
+        if (!best.is_null() && !median.is_null())
+            p.measures.push_back({bw ? "bandwidth" : "latency", bw ? "GB/s" : "ns/load",
+                                  bw ? Direction::higher_is_better : Direction::lower_is_better, r.number(best, rat + ".best"),
+                                  r.number(median, rat + ".median"), noise});
+    }
+    // Issue 3's instruments; optional, absent in older files.
+    if (rec.contains("counters") && !rec["counters"].is_null()) read_counters(r, rec["counters"], where + ".counters", p);
+    if (rec.contains("energy") && !rec["energy"].is_null()) read_energy(r, rec["energy"], where + ".energy", p);
+    return p;
+}
+
+}  // namespace
+
+std::string PointKey::size_label() const { return size_kind == "bytes" ? format_bytes(size) : std::to_string(size); }
+
+std::string PointKey::label() const {
+    return (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " t=" + std::to_string(threads) +
+           " " + pin + "/" + placement;
+}
+
+std::string ResultFile::machine_label() const {
+    const std::string host = context_text(context, "host"), cpu = context_text(context, "cpu_model");
+    return host + " (" + (cpu.empty() ? "unknown CPU" : cpu) + ")";
+}
+
+ResultFile parse_result_text(const std::string& text, const std::string& path) {
+    Reader r{path};
+    if (nesting_depth(text) > 256) throw InputError(path + ": not a suite result file (JSON nested more than 256 levels deep)");
+    json doc;
+    try {
+        doc = json::parse(text);
+    } catch (const json::exception& e) {
+        std::string why = e.what();
+        if (auto close = why.find("] "); why.rfind("[json.exception", 0) == 0 && close != std::string::npos) why = why.substr(close + 2);
+        throw InputError(path + ": not valid JSON (truncated or not a result file?): " + why);
+    }
+    if (!doc.is_object()) throw InputError(path + ": not a suite result file (the JSON is not an object with schema_version, context, results)");
+    if (doc.contains("benchmarks") && !doc.contains("results"))
+        throw InputError(path + ": not a suite result file (it looks like Google Benchmark output: 'benchmarks', no 'results'); "
+                                "compare suite's own JSON (--out=FILE.json)");
+    if (!doc.contains("schema_version"))
+        throw InputError(path + ": not a suite result file (no schema_version; suite writes schema_version, context and results)");
+    const json& version = doc["schema_version"];
+    if (!version.is_number_integer()) r.fail("schema_version", "expected an integer");
+    if (version.get<std::int64_t>() != readable_schema_version)
+        throw InputError(path + ": schema_version " + std::to_string(version.get<std::int64_t>()) + " is not one this suite reads (it reads " +
+                         std::to_string(readable_schema_version) + "); use the suite version that wrote it");
+    ResultFile f;
+    f.path = path;
+    f.schema_version = readable_schema_version;
+    f.complete = r.boolean(doc, "complete", "$");
+    f.context = r.field(doc, "context", "$");
+    if (!f.context.is_object()) r.fail("context", "expected an object");
+    const json& results = r.field(doc, "results", "$");
+    if (!results.is_array()) r.fail("results", "expected an array");
+    std::set<PointKey> seen;
+    for (std::size_t i = 0; i < results.size(); ++i) {
+        LoadedPoint p = read_point(r, results[i], i);
+        if (!seen.insert(p.key).second) {
+            f.notes.push_back(path + ": results[" + std::to_string(i) + "] repeats " + p.key.label() + "; the first one is used");
+            continue;
+        }
+        f.points.push_back(std::move(p));
+    }
+    return f;
+}
+
+ResultFile load_result_file(const std::string& path) {
+    struct stat st{};
+    if (stat(path.c_str(), &st) != 0) throw InputError(path + ": cannot read it: " + std::strerror(errno));
+    if (S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory; give a result file (e.g. results/latest.json)");
+    if (st.st_size > (1LL << 30)) throw InputError(path + ": larger than 1 GiB; not a result file suite wrote");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open it: " + std::strerror(errno));
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) throw InputError(path + ": read error");
+    const std::string text = s.str();
+    if (text.empty()) throw InputError(path + ": the file is empty; give a result file written by suite --out=FILE.json");
+    return parse_result_text(text, path);
+}
+
+
+}  // namespace suite
