@@ -2,14 +2,14 @@
 // Any input must either load or be refused with InputError (a UsageError: one line, exit 2);
 // another exception, a crash or a sanitizer report is a bug. Loaded points must keep the
 // reader's promises: finite figures, a headline, a known direction.
-// SOURCES: harness/result_file.cpp harness/units.cpp
+// SOURCES: harness/results/result_file.cpp harness/results/context_fields.cpp harness/common/units.cpp harness/common/stats.cpp
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 
-#include "harness/result_file.hpp"
+#include "harness/results/result_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);

@@ -1,14 +1,14 @@
 // libFuzzer target: the size, sweep, thread-list and CPU-list parsers of the command line.
 // Every input must either parse or throw UsageError; anything else (another exception, a crash,
 // a sanitizer report, a parse whose result breaks the parser's own promises) is a bug.
-// SOURCES: harness/units.cpp
+// SOURCES: harness/common/units.cpp
 #include <cstddef>
 #include <cstdint>
 #include <cmath>
 #include <cstdlib>
 #include <string>
 
-#include "harness/units.hpp"
+#include "harness/common/units.hpp"
 
 namespace {
 
