@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "process.hpp"
+#include "tests/process.hpp"
 
 using namespace suite::test;
 using json = nlohmann::json;

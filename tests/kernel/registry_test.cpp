@@ -4,8 +4,8 @@
 
 #include <omp.h>
 
-#include "harness/runner.hpp"
-#include "harness/units.hpp"
+#include "harness/measure/runner.hpp"
+#include "harness/common/units.hpp"
 
 using namespace suite;
 

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "harness/plan.hpp"
-#include "harness/topology.hpp"
-#include "process.hpp"
+#include "harness/measure/plan.hpp"
+#include "harness/machine/topology.hpp"
+#include "tests/process.hpp"
 
 using namespace suite::test;
 using json = nlohmann::json;

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <set>
 
-#include "process.hpp"
+#include "tests/process.hpp"
 
 using namespace suite::test;
 using nlohmann::json;

@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "harness/placement.hpp"
-#include "harness/units.hpp"
-#include "process.hpp"
+#include "harness/machine/placement.hpp"
+#include "harness/common/units.hpp"
+#include "tests/process.hpp"
 
 using namespace suite;
 using namespace suite::test;

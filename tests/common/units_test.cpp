@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "harness/units.hpp"
+#include "harness/common/units.hpp"
 
 using namespace suite;
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "harness/cache_steps.hpp"
+#include "harness/measure/cache_steps.hpp"
 
 using namespace suite;
 

@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "mesh_fixtures.hpp"
-#include "process.hpp"
+#include "tests/kernels/mesh_fixtures.hpp"
+#include "tests/process.hpp"
 
 using namespace suite::test;
 using nlohmann::json;

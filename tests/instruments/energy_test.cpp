@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "process.hpp"
-#include "harness/units.hpp"
+#include "tests/process.hpp"
+#include "harness/common/units.hpp"
 #include "rapl/energy.hpp"
 
 namespace fs = std::filesystem;

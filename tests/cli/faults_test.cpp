@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "fake_rapl.hpp"
-#include "process.hpp"
+#include "tests/fake_rapl.hpp"
+#include "tests/process.hpp"
 
 namespace fs = std::filesystem;
 using namespace suite::test;

@@ -14,8 +14,8 @@
 
 #include <gtest/gtest.h>
 
-#include "harness/topology.hpp"
-#include "process.hpp"
+#include "harness/machine/topology.hpp"
+#include "tests/process.hpp"
 
 namespace fs = std::filesystem;
 

@@ -9,8 +9,8 @@
 
 #include <fstream>
 
-#include "harness/deterministic.hpp"
-#include "process.hpp"
+#include "harness/results/callgrind_dump.hpp"
+#include "tests/process.hpp"
 
 using namespace suite::test;
 using nlohmann::json;

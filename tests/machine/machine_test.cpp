@@ -1,55 +1,20 @@
-// In-process tests of the harness pieces that do not need the binary: statistics, pinning
-// order on synthetic multi-socket machines, remote-node choice, page histograms, the runner.
+// In-process tests of the machine layer: pinning order on synthetic multi-socket machines,
+// remote-node choice, the topology hwloc reads, page histograms.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 
 #include <omp.h>
 
-#include "harness/placement.hpp"
-#include "harness/plan.hpp"
-#include "harness/runner.hpp"
-#include "harness/stats.hpp"
-#include "harness/team.hpp"
-#include "harness/topology.hpp"
-#include "harness/units.hpp"
+#include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
+#include "harness/machine/placement.hpp"
+#include "harness/machine/team.hpp"
+#include "harness/machine/topology.hpp"
+#include "tests/synthetic_topology.hpp"
 
 using namespace suite;
-
-namespace {
-
-// 2 packages x 1 NUMA node x 2 cores x 2 hyperthreads; OS numbering like Linux on Intel:
-// first hyperthreads 0-3, siblings 4-7.
-Topology two_socket() {
-    Topology t;
-    t.packages = 2;
-    t.cores = 4;
-    for (int cpu = 0; cpu < 8; ++cpu) {
-        Pu p;
-        p.os_index = cpu;
-        p.core = cpu % 4;
-        p.smt_rank = cpu / 4;
-        p.package = (cpu % 4) / 2;
-        p.numa_node = p.package;
-        t.pus.push_back(p);
-    }
-    t.nodes = {{0, 1ull << 30, {0, 1, 4, 5}}, {1, 1ull << 30, {2, 3, 6, 7}}};
-    t.distances = {{10, 21}, {21, 10}};
-    return t;
-}
-
-}  // namespace
-
-TEST(Stats, SummaryOfKnownSample) {
-    TimeStats s = summarise({4.0, 1.0, 3.0, 2.0});
-    EXPECT_DOUBLE_EQ(s.min, 1.0);
-    EXPECT_DOUBLE_EQ(s.max, 4.0);
-    EXPECT_DOUBLE_EQ(s.median, 2.5);
-    EXPECT_DOUBLE_EQ(s.mean, 2.5);
-    EXPECT_NEAR(s.cv, 1.2909944487358056 / 2.5, 1e-12);  // sample standard deviation / mean
-    EXPECT_DOUBLE_EQ(summarise({7.0}).cv, 0.0);
-    EXPECT_THROW(summarise({}), std::invalid_argument);
-}
+using suite::testing::two_socket;
 
 TEST(Pinning, CompactFillsCoresOfTheFirstSocketFirstThenHyperthreads) {
     Topology t = two_socket();
@@ -152,63 +117,4 @@ TEST(Placement, HistogramFindsEveryTouchedPageOnItsNode) {
         // Never-touched pages are not present: the histogram reports what happened, not what was asked.
         EXPECT_EQ(pages[1].pages_not_present, pages[1].pages) << where;
     }
-}
-
-TEST(Plan, RemoteIsResolvedForEveryTeamBeforeAnythingRuns) {
-    Topology t = two_socket();
-    RunOptions o;
-    o.kernels = "triad";
-    o.size = "1MiB";
-    o.placement = "remote";
-    o.threads = "1-2";  // compact: CPUs 0 and 1, both on node 0, so node 1 is remote
-    EXPECT_EQ(make_plan(o, t).points.size(), 2u);
-    o.pin = "scatter";  // CPUs 0 and 2: the two threads cover both nodes
-    try {
-        make_plan(o, t);
-        FAIL() << "remote with threads on every node was accepted";
-    } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("no node is remote"), std::string::npos) << e.what();
-    }
-}
-
-TEST(Plan, KernelsValidateTheirConfigurationUpFront) {
-    Topology t = two_socket();
-    RunOptions o;
-    o.kernels = "latency";
-    o.size = "1KiB";
-    o.threads = "8";  // 16 lines for 8 threads is enough ...
-    EXPECT_EQ(make_plan(o, t).points.size(), 1u);
-    o.size = "512B";  // ... 8 lines are not
-    EXPECT_THROW(make_plan(o, t), UsageError);
-    o.kernels = "add";
-    o.size = "200TiB";  // random indices are 32-bit
-    o.patterns = "random";
-    EXPECT_THROW(make_plan(o, t), UsageError);
-    o.size = "1MiB";
-    o.stores = "nt";  // non-temporal stores are for the sequential pattern
-    EXPECT_THROW(make_plan(o, t), UsageError);
-}
-
-TEST(Plan, DefaultSizesFollowTheCaches) {
-    Topology t = two_socket();
-    t.caches = {{1, "data", 48 << 10, 64, 4, 1}, {2, "unified", 2 << 20, 64, 4, 1}, {3, "unified", 32 << 20, 64, 2, 4}};
-    // Half an L1d and half an L2 per thread, and 16x the two L3 instances together (1 GiB).
-    EXPECT_EQ(default_sizes(t, 1), (std::vector<std::uint64_t>{24 << 10, 1 << 20, 1ull << 30}));
-    EXPECT_EQ(default_sizes(t, 4), (std::vector<std::uint64_t>{96 << 10, 4 << 20, 1ull << 30}));
-    EXPECT_EQ(t.last_level_cache_total_bytes(), 64ull << 20);
-}
-
-TEST(Plan, DefaultSweepFitsAManyThreadMachine) {
-    // 256 PUs, 32 KiB L1d: half an L1 for the whole team would leave each thread 64 bytes.
-    Topology t;
-    t.packages = 2;
-    t.cores = 128;
-    for (int cpu = 0; cpu < 256; ++cpu) t.pus.push_back({cpu, cpu % 128, cpu / 128, (cpu % 128) / 64, (cpu % 128) / 64});
-    t.nodes = {{0, 1ull << 40, {}}, {1, 1ull << 40, {}}};
-    t.caches = {{1, "data", 32 << 10, 64, 128, 2}, {2, "unified", 1 << 20, 64, 128, 2}, {3, "unified", 32 << 20, 64, 16, 16}};
-    if (omp_get_thread_limit() < 256) GTEST_SKIP() << "OMP_THREAD_LIMIT is below 256";
-    Plan plan = make_plan(RunOptions{}, t);
-    EXPECT_FALSE(plan.points.empty());
-    for (const auto& p : plan.points)
-        if (p.threads == 256 && p.size < (1u << 20)) ADD_FAILURE() << "an L1 point of " << p.size << " B for 256 threads";
 }

@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <thread>
 
-#include "harness/plan.hpp"
-#include "harness/topology.hpp"
-#include "process.hpp"
+#include "harness/measure/plan.hpp"
+#include "harness/machine/topology.hpp"
+#include "tests/process.hpp"
 
 using namespace suite;
 using namespace suite::test;

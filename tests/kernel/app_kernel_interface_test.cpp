@@ -5,7 +5,7 @@
 
 #include <numeric>
 
-#include "harness/runner.hpp"
+#include "harness/measure/runner.hpp"
 
 using namespace suite;
 

@@ -8,9 +8,11 @@
 #include <cmath>
 #include <fstream>
 
-#include "harness/check.hpp"
-#include "harness/result_file.hpp"
-#include "process.hpp"
+#include "harness/results/check.hpp"
+#include "harness/common/stats.hpp"
+#include "harness/results/context_fields.hpp"
+#include "harness/results/result_file.hpp"
+#include "tests/process.hpp"
 
 using namespace suite;
 using namespace suite::test;

@@ -11,10 +11,10 @@
 #include <fstream>
 #include <random>
 
-#include "harness/check.hpp"
-#include "harness/compare.hpp"
-#include "harness/result_file.hpp"
-#include "process.hpp"
+#include "harness/results/check.hpp"
+#include "harness/results/compare.hpp"
+#include "harness/results/result_file.hpp"
+#include "tests/process.hpp"
 
 using namespace suite;
 using namespace suite::test;

@@ -5,8 +5,8 @@
 
 #include <sstream>
 
-#include "harness/topology.hpp"
-#include "process.hpp"
+#include "harness/machine/topology.hpp"
+#include "tests/process.hpp"
 
 using namespace suite::test;
 

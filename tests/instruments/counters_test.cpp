@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "harness/counters.hpp"
-#include "harness/units.hpp"
+#include "harness/instruments/counters.hpp"
+#include "harness/common/units.hpp"
 
 using namespace suite;
 

@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "harness/counters.hpp"
-#include "fake_rapl.hpp"
-#include "process.hpp"
+#include "harness/instruments/counters.hpp"
+#include "tests/fake_rapl.hpp"
+#include "tests/process.hpp"
 
 namespace fs = std::filesystem;
 using namespace suite::test;

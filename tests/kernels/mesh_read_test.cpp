@@ -7,7 +7,7 @@
 #include "kernels/mesh/mesh_error.hpp"
 #include "kernels/mesh/readers.hpp"
 #include "kernels/mesh/writers.hpp"
-#include "mesh_fixtures.hpp"
+#include "tests/kernels/mesh_fixtures.hpp"
 
 using namespace suite::mesh;
 using namespace suite::test;

@@ -1,0 +1,74 @@
+// In-process tests of planning: every point validated before anything runs, the default sizes.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include <omp.h>
+
+#include "harness/common/units.hpp"
+#include "harness/machine/topology.hpp"
+#include "harness/measure/plan.hpp"
+#include "harness/measure/runner.hpp"
+#include "tests/synthetic_topology.hpp"
+
+using namespace suite;
+using suite::testing::two_socket;
+
+TEST(Plan, RemoteIsResolvedForEveryTeamBeforeAnythingRuns) {
+    Topology t = two_socket();
+    RunOptions o;
+    o.kernels = "triad";
+    o.size = "1MiB";
+    o.placement = "remote";
+    o.threads = "1-2";  // compact: CPUs 0 and 1, both on node 0, so node 1 is remote
+    EXPECT_EQ(make_plan(o, t).points.size(), 2u);
+    o.pin = "scatter";  // CPUs 0 and 2: the two threads cover both nodes
+    try {
+        make_plan(o, t);
+        FAIL() << "remote with threads on every node was accepted";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("no node is remote"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Plan, KernelsValidateTheirConfigurationUpFront) {
+    Topology t = two_socket();
+    RunOptions o;
+    o.kernels = "latency";
+    o.size = "1KiB";
+    o.threads = "8";  // 16 lines for 8 threads is enough ...
+    EXPECT_EQ(make_plan(o, t).points.size(), 1u);
+    o.size = "512B";  // ... 8 lines are not
+    EXPECT_THROW(make_plan(o, t), UsageError);
+    o.kernels = "add";
+    o.size = "200TiB";  // random indices are 32-bit
+    o.patterns = "random";
+    EXPECT_THROW(make_plan(o, t), UsageError);
+    o.size = "1MiB";
+    o.stores = "nt";  // non-temporal stores are for the sequential pattern
+    EXPECT_THROW(make_plan(o, t), UsageError);
+}
+
+TEST(Plan, DefaultSizesFollowTheCaches) {
+    Topology t = two_socket();
+    t.caches = {{1, "data", 48 << 10, 64, 4, 1}, {2, "unified", 2 << 20, 64, 4, 1}, {3, "unified", 32 << 20, 64, 2, 4}};
+    // Half an L1d and half an L2 per thread, and 16x the two L3 instances together (1 GiB).
+    EXPECT_EQ(default_sizes(t, 1), (std::vector<std::uint64_t>{24 << 10, 1 << 20, 1ull << 30}));
+    EXPECT_EQ(default_sizes(t, 4), (std::vector<std::uint64_t>{96 << 10, 4 << 20, 1ull << 30}));
+    EXPECT_EQ(t.last_level_cache_total_bytes(), 64ull << 20);
+}
+
+TEST(Plan, DefaultSweepFitsAManyThreadMachine) {
+    // 256 PUs, 32 KiB L1d: half an L1 for the whole team would leave each thread 64 bytes.
+    Topology t;
+    t.packages = 2;
+    t.cores = 128;
+    for (int cpu = 0; cpu < 256; ++cpu) t.pus.push_back({cpu, cpu % 128, cpu / 128, (cpu % 128) / 64, (cpu % 128) / 64});
+    t.nodes = {{0, 1ull << 40, {}}, {1, 1ull << 40, {}}};
+    t.caches = {{1, "data", 32 << 10, 64, 128, 2}, {2, "unified", 1 << 20, 64, 128, 2}, {3, "unified", 32 << 20, 64, 16, 16}};
+    if (omp_get_thread_limit() < 256) GTEST_SKIP() << "OMP_THREAD_LIMIT is below 256";
+    Plan plan = make_plan(RunOptions{}, t);
+    EXPECT_FALSE(plan.points.empty());
+    for (const auto& p : plan.points)
+        if (p.threads == 256 && p.size < (1u << 20)) ADD_FAILURE() << "an L1 point of " << p.size << " B for 256 threads";
+}
