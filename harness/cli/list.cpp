@@ -7,7 +7,6 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.hpp"
@@ -25,16 +24,13 @@ const char* const kGeneric[] = {"cycles", "instructions", "cache-references", "c
                                 "LLC-store-misses", "dTLB-load-misses", "task-clock", "page-faults", "minor-faults",
                                 "major-faults", "context-switches", "cpu-migrations"};
 
-
 std::string accesses_text(const KernelInfo& info) {
     std::string out;
     for (const auto& a : info.accesses) out += (out.empty() ? "" : ",") + (a == "strided" ? std::string("strided:S") : a);
     return out;
 }
 
-}  // namespace
-
-static int list_counters(bool json) {
+int list_counters(bool json) {
     const PerfAccess access = perf_access();
     nlohmann::json generic = nlohmann::json::array();
     for (const char* name : kGeneric) {
@@ -77,6 +73,8 @@ static int list_counters(bool json) {
                 "this PMU offers them, and task-clock, page-faults, context-switches and cpu-migrations.\n");
     return 0;
 }
+
+}  // namespace
 
 int cmd_list(const std::vector<std::string>& args) {
     CLI::App app{"suite list: the kernels and what they accept"};

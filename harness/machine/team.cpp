@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/common/units.hpp"
+#include "harness/kernel/kernel.hpp"  // require_team_size
 
 namespace suite {
 

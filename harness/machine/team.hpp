@@ -8,7 +8,6 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "harness/kernel/kernel.hpp"  // require_team_size
 #include "harness/machine/topology.hpp"
 
 namespace suite {
