@@ -1,19 +1,9 @@
 #include "harness/machine/placement.hpp"
 
-#include <numa.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cctype>
-#include <cerrno>
-#include <climits>
-#include <cstring>
 #include <fstream>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
-
-#include <nlohmann/json.hpp>
 
 #include "harness/common/units.hpp"
 
