@@ -16,6 +16,15 @@ std::string describe(const EnergySource& s) {
     return s.domain + (s.socket ? " (socket " + std::to_string(*s.socket) + ")" : "");
 }
 
+// What a counter that never moved read, every time.
+std::string stuck_at(const EnergySource& s, std::uint64_t value) {
+    const std::string read = s.where + " read " + std::to_string(value) + (s.fd < 0 ? " µJ" : "") + " every time";
+    if (s.max_raw > 0 && value == s.max_raw)
+        return read + ", the counter's maximum (max_energy_range_uj): it is stuck there, not counting";
+    if (value == 0) return read + " (a virtual machine passes no energy through)";
+    return read;
+}
+
 }  // namespace
 
 EnergyMeter EnergyMeter::open(EnergyBackend backend, const std::string& root) {
@@ -67,6 +76,7 @@ EnergyMeter& EnergyMeter::operator=(EnergyMeter&& o) noexcept {
         std::swap(joules_, o.joules_);
         std::swap(seconds_, o.seconds_);
         std::swap(advanced_, o.advanced_);
+        std::swap(last_, o.last_);
         std::swap(lost_, o.lost_);
         std::swap(idle_watts_, o.idle_watts_);
     }
@@ -84,6 +94,7 @@ void EnergyMeter::start() {
     if (joules_.size() != n) {
         joules_.assign(n, {});
         advanced_.assign(n, 0);
+        last_.assign(n, 0);
         lost_.assign(n, "");
         idle_watts_.resize(n);
     }
@@ -108,6 +119,7 @@ void EnergyMeter::stop(double seconds) {
         }
         const double j = joules_between(sources_[i], begin_[i], end);
         advanced_[i] += end != begin_[i];
+        last_[i] = end;
         joules_[i].push_back(j);
     }
 }
@@ -130,8 +142,8 @@ EnergyReadings EnergyMeter::take(int batch, double units, double stream_bytes, d
         else if (i < lost_.size() && !lost_[i].empty()) d.reason = lost_[i];
         else if (reps.empty()) d.reason = "no repetition was measured";
         else if (advanced_[i] == 0)
-            d.reason = "the " + describe(s) + " counter did not advance over " + std::to_string(reps.size()) +
-                       " repetitions: RAPL reads 0 here (a virtual machine passes no energy through)";
+            d.reason = "the " + describe(s) + " counter did not advance over " + std::to_string(reps.size()) + " repetitions: " +
+                       stuck_at(s, last_[i]);
         d.available = d.reason.empty();
         if (d.available) {
             std::vector<double> per_call, watts;

@@ -4,14 +4,17 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
+#include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <regex>
 
 #include "harness/instruments/counters.hpp"
+#include "harness/common/sysfs_file.hpp"
 #include "harness/common/units.hpp"
 #include "rapl/energy.hpp"
 
@@ -21,34 +24,24 @@ namespace suite {
 
 namespace {
 
-// The first line of a small sysfs file; false with errno set when it cannot be read.
+// Every file here is read by read_attribute (bounded in time and size), and every number in
+// one is checked as strictly as a number typed by the user: what does not fit makes that source
+// unavailable with the reason, never the run fail.
+
+// The first line of an attribute file, or false.
 bool read_line(const std::string& path, std::string& out) {
-    const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return false;
-    char buf[256];
-    const ssize_t n = read(fd, buf, sizeof buf - 1);
-    const int err = errno;
-    close(fd);
-    if (n < 0) {
-        errno = err;
-        return false;
-    }
-    out.assign(buf, static_cast<std::size_t>(n));
-    if (auto nl = out.find('\n'); nl != std::string::npos) out.resize(nl);
-    return true;
+    const AttributeText a = read_attribute(path);
+    if (a.ok) out = a.text;
+    return a.ok;
 }
 
-bool parse_u64(const std::string& text, std::uint64_t& v) {
-    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return false;
-    errno = 0;
-    v = std::strtoull(text.c_str(), nullptr, 10);
-    return errno == 0;
-}
+// Text from the system, shown in a message: at most 40 characters.
+std::string shown(const std::string& text) { return "'" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "'"; }
 
-std::string unreadable_reason(const std::string& path, int err) {
-    if (err == EACCES || err == EPERM)
+std::string unreadable_reason(const std::string& path, const AttributeText& a) {
+    if (a.error == EACCES || a.error == EPERM)
         return path + " is readable only by root (Linux 5.10 and later, CVE-2020-8694); run as root, or: sudo chmod o+r " + path;
-    return "cannot read " + path + ": " + std::strerror(err);
+    return a.reason;
 }
 
 // powercap names: "package-0" -> package on socket 0; subzones ("core", "dram", ...) inherit the socket.
@@ -57,7 +50,8 @@ void name_zone(const std::string& name, std::optional<int> parent_socket, Energy
     std::smatch m;
     if (std::regex_match(name, m, package)) {
         s.domain = "package";
-        s.socket = std::stoi(m[1]);
+        if (const auto socket = whole_number(m[1].str(), INT_MAX)) s.socket = static_cast<int>(*socket);
+        else s.reason = "the zone named " + shown(name) + " gives a socket number above " + std::to_string(INT_MAX) + ", which no socket has; not read";
     } else {
         s.domain = name;
         s.socket = name == "psys" ? std::nullopt : parent_socket;
@@ -96,14 +90,14 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
     }
     std::vector<EnergySource> out;
     std::vector<std::pair<std::string, std::optional<int>>> seen;  // domain, socket: the MMIO interface repeats the MSR one
-    auto order = [](const std::string& a, const std::string& b) {  // intel-rapl:1 before intel-rapl:10, parents first
-        auto key = [](const std::string& s) {
-            std::vector<int> v;
-            for (auto& p : split(s.substr(s.find(':') + 1), ':')) v.push_back(std::stoi(p));
-            return v;
-        };
-        return key(a) < key(b);
+    // The zone's numbers: intel-rapl:0:1 -> {0, 1}. The kernel numbers zones with an int; a
+    // larger number is kept (sorted last) and that zone is refused below.
+    auto numbers = [](const std::string& s) {
+        std::vector<std::uint64_t> v;
+        for (auto& p : split(s.substr(s.find(':') + 1), ':')) v.push_back(whole_number(p).value_or(UINT64_MAX));
+        return v;
     };
+    auto order = [&](const std::string& a, const std::string& b) { return numbers(a) < numbers(b); };  // intel-rapl:1 before intel-rapl:10, parents first
     for (const char* type : {"intel-rapl", "amd-rapl", "intel-rapl-mmio"}) {
         auto it = by_type.find(type);
         if (it == by_type.end()) continue;
@@ -111,8 +105,17 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
         std::map<std::string, std::optional<int>> zone_socket;
         for (const auto& z : it->second) {
             const fs::path dir = base / z;
-            std::string name;
-            if (!read_line((dir / "name").string(), name) || name.empty()) continue;
+            const AttributeText name_file = read_attribute((dir / "name").string());
+            if (!name_file.ok && name_file.error != ENOENT) {  // a zone whose name cannot be read: say so
+                EnergySource s;
+                s.domain = z;
+                s.where = (dir / "energy_uj").string();
+                s.reason = name_file.reason;
+                out.push_back(std::move(s));
+                continue;
+            }
+            const std::string name = name_file.text;
+            if (name.empty()) continue;  // not an energy zone
             std::optional<int> parent;
             if (auto cut = z.rfind(':'); std::count(z.begin(), z.end(), ':') == 2) parent = zone_socket[z.substr(0, cut)];
             EnergySource s;
@@ -121,12 +124,16 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
             if (std::find(seen.begin(), seen.end(), std::make_pair(s.domain, s.socket)) != seen.end()) continue;
             seen.emplace_back(s.domain, s.socket);
             s.where = (dir / "energy_uj").string();
-            std::string text;
-            if (!read_line((dir / "max_energy_range_uj").string(), text) || !parse_u64(text, s.max_raw)) s.max_raw = 0;
-            if (!read_line(s.where, text))
-                s.reason = unreadable_reason(s.where, errno);
-            else if (std::uint64_t v; !parse_u64(text, v))
-                s.reason = s.where + " holds '" + text + "', not a count of microjoules";
+            const auto zone_numbers = numbers(z);
+            if (std::any_of(zone_numbers.begin(), zone_numbers.end(), [](std::uint64_t n) { return n > INT_MAX; }))
+                s.reason = "powercap zone " + z + " has a number above " + std::to_string(INT_MAX) + ", which the kernel never gives a zone; not read";
+            if (s.reason.empty()) {
+                std::string text;
+                s.max_raw = read_line((dir / "max_energy_range_uj").string(), text) ? whole_number(text).value_or(0) : 0;
+                const AttributeText e = read_attribute(s.where);
+                if (!e.ok) s.reason = unreadable_reason(s.where, e);
+                else if (!whole_number(e.text)) s.reason = s.where + " holds " + shown(e.text) + ", not a count of microjoules";
+            }
             out.push_back(std::move(s));
         }
     }
@@ -137,13 +144,25 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
 std::vector<EnergySource> discover_perf_power(const std::string& root, std::string& reason) {
     const fs::path dir = fs::path(root) / "bus" / "event_source" / "devices" / "power";
     std::string text;
-    std::uint64_t type = 0;
-    if (!read_line((dir / "type").string(), text) || !parse_u64(text, type)) {
-        reason = "no perf power PMU (" + (dir / "type").string() + " is missing)";
+    const AttributeText type_file = read_attribute((dir / "type").string());
+    if (!type_file.ok) {
+        reason = type_file.error == ENOENT ? "no perf power PMU (" + (dir / "type").string() + " is missing)" : type_file.reason;
+        return {};
+    }
+    const auto type = whole_number(type_file.text, UINT32_MAX);
+    if (!type) {
+        reason = (dir / "type").string() + " holds " + shown(type_file.text) + ", not a PMU type number";
         return {};
     }
     std::vector<int> cpus;
-    if (read_line((dir / "cpumask").string(), text) && !text.empty()) cpus = parse_cpu_list(text);
+    if (read_line((dir / "cpumask").string(), text) && !text.empty()) {
+        try {
+            cpus = parse_cpu_list(text);
+        } catch (const UsageError& e) {
+            reason = (dir / "cpumask").string() + " is not a CPU list: " + e.what();
+            return {};
+        }
+    }
     if (cpus.empty()) cpus = {0};
     static const std::map<std::string, std::string> domains = {
         {"energy-pkg", "package"}, {"energy-cores", "core"}, {"energy-gpu", "uncore"}, {"energy-ram", "dram"}, {"energy-psys", "psys"}};
@@ -154,6 +173,11 @@ std::vector<EnergySource> discover_perf_power(const std::string& root, std::stri
         static const std::regex code(R"(event=(0x[0-9a-fA-F]+|\d+))");
         std::smatch m;
         if (!std::regex_search(config, m, code)) continue;
+        std::uint64_t code_value = 0;
+        const std::string code_text = m[1].str();
+        const bool hex = code_text.rfind("0x", 0) == 0;
+        const char* first = code_text.data() + (hex ? 2 : 0);
+        const bool code_ok = std::from_chars(first, code_text.data() + code_text.size(), code_value, hex ? 16 : 10).ec == std::errc();
         double scale = 0;
         if (read_line((dir / "events" / (event + ".scale")).string(), text)) scale = std::strtod(text.c_str(), nullptr);
         std::string unit;
@@ -163,22 +187,28 @@ std::vector<EnergySource> discover_perf_power(const std::string& root, std::stri
             const int cpu = cpus[i];
             EnergySource s;
             s.domain = domain;
-            if (domain != "psys") {
-                std::string pkg;
-                const fs::path p = fs::path(root) / "devices" / "system" / "cpu" / ("cpu" + std::to_string(cpu)) / "topology" / "physical_package_id";
-                s.socket = read_line(p.string(), pkg) && !pkg.empty() ? std::stoi(pkg) : static_cast<int>(i);
-            }
             s.where = "perf power/" + event + "/ on CPU " + std::to_string(cpu);
+            if (domain != "psys") {
+                // The socket from the CPU's topology; by position when the file is not there.
+                const fs::path p = fs::path(root) / "devices" / "system" / "cpu" / ("cpu" + std::to_string(cpu)) / "topology" / "physical_package_id";
+                const AttributeText pkg = read_attribute(p.string());
+                const auto socket = pkg.ok ? whole_number(pkg.text, INT_MAX) : std::nullopt;
+                if (socket) s.socket = static_cast<int>(*socket);
+                else if (!pkg.ok && pkg.error == ENOENT) s.socket = static_cast<int>(i);
+                else s.reason = pkg.ok ? p.string() + " holds " + shown(pkg.text) + ", not a package number" : pkg.reason;
+            }
             s.joules_per_unit = scale;
-            if (scale <= 0 || unit != "Joules") {
+            if (s.reason.empty() && (!(scale > 0) || !std::isfinite(scale) || unit != "Joules"))
                 s.reason = "the power PMU gives " + event + " no usable scale and unit (" + std::to_string(scale) + " " + unit + ")";
+            if (s.reason.empty() && !code_ok) s.reason = "the power PMU's " + event + " event code " + shown(code_text) + " is not a 64-bit number";
+            if (!s.reason.empty()) {
                 out.push_back(std::move(s));
                 continue;
             }
             perf_event_attr attr{};
             attr.size = sizeof attr;
-            attr.type = static_cast<std::uint32_t>(type);
-            attr.config = std::stoull(m[1], nullptr, 0);
+            attr.type = static_cast<std::uint32_t>(*type);
+            attr.config = code_value;
             s.fd = open_event(&attr, -1, cpu, -1);
             if (s.fd < 0) {
                 const int err = errno;
@@ -198,15 +228,17 @@ bool read_raw(const EnergySource& s, std::uint64_t& raw, std::string& error) {
         error = "reading " + s.where + " failed: " + std::strerror(errno);
         return false;
     }
-    std::string text;
-    if (!read_line(s.where, text)) {
-        error = unreadable_reason(s.where, errno);
+    const AttributeText a = read_attribute(s.where);
+    if (!a.ok) {
+        error = unreadable_reason(s.where, a);
         return false;
     }
-    if (!parse_u64(text, raw)) {
-        error = s.where + " holds '" + text + "', not a count";
+    const auto v = whole_number(a.text);
+    if (!v) {
+        error = s.where + " holds " + shown(a.text) + ", not a count";
         return false;
     }
+    raw = *v;
     return true;
 }
 

@@ -1,34 +1,37 @@
 #pragma once
-// A RAPL energy counter for end-to-end tests that does not depend on timing: `energy_uj` is
-// replaced by a named pipe, and every read of it by the suite gets the next value, `step_uj`
-// more than the last. So each repetition (one read at its start, one at its stop) measures
-// exactly `step_uj`, however loaded the machine is. (reads() counts values handed out, one ahead.)
-#include <fcntl.h>
-#include <sys/ioctl.h>
-#include <sys/stat.h>
+// A RAPL energy counter for end-to-end tests: `energy_uj` reads as a regular file, as in sysfs
+// (the suite refuses anything else, a FIFO included), and a thread of the test moves it by
+// `step_uj` about every `period`. The counter moves with time, not with the reads: a repetition
+// measures a whole multiple of `step_uj`, as many steps as fell inside it.
+//
+// Each value is a new small file and `energy_uj` a symlink swapped to it in one rename, so a
+// reader never sees half a number. (Renaming a new regular file over the old one would do the
+// same, but ext4 flushes the new file's data on such a rename, about a millisecond a step.)
 #include <unistd.h>
 
 #include <atomic>
-#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <thread>
 
 namespace suite::test {
 
-class FifoEnergyCounter {
+class MovingEnergyCounter {
 public:
-    FifoEnergyCounter(const std::string& path, std::uint64_t first_uj, std::uint64_t step_uj) : path_(path), value_(first_uj), step_(step_uj) {
+    MovingEnergyCounter(const std::string& path, std::uint64_t first_uj, std::uint64_t step_uj,
+                        std::chrono::microseconds period = std::chrono::microseconds(50))
+        : path_(path), value_(first_uj), step_(step_uj), period_(period) {
         std::filesystem::remove(path_);
-        if (mkfifo(path_.c_str(), 0644) != 0) throw std::system_error(errno, std::generic_category(), "mkfifo " + path_);
+        write(value_);
         thread_ = std::thread([this] { serve(); });
     }
-    ~FifoEnergyCounter() { stop(); }
-    FifoEnergyCounter(const FifoEnergyCounter&) = delete;
-    FifoEnergyCounter& operator=(const FifoEnergyCounter&) = delete;
+    ~MovingEnergyCounter() { stop(); }
+    MovingEnergyCounter(const MovingEnergyCounter&) = delete;
+    MovingEnergyCounter& operator=(const MovingEnergyCounter&) = delete;
 
     // From now on the file is gone: a reader gets ENOENT, as when a sysfs file disappears.
     void remove() {
@@ -39,33 +42,36 @@ public:
         done_ = true;
         if (thread_.joinable()) thread_.join();
     }
-    std::uint64_t reads() const { return reads_; }
+    std::uint64_t steps() const { return steps_; }
 
 private:
-    // The pipe always holds exactly one value: the next is written once the last was read. The
-    // test holds the pipe open for reading and writing, so readers never block in open() and a
-    // value written after one reader closed waits for the next.
+    // The value's own file beside energy_uj, then the link to it, swapped in.
+    void write(std::uint64_t uj) {
+        const std::string name = std::filesystem::path(path_).filename().string() + ".value" + std::to_string(written_ % 64);
+        const std::string file = std::filesystem::path(path_).parent_path() / name;
+        std::filesystem::remove(file);  // 64 steps old: no reader still has it open
+        std::ofstream(file) << uj << "\n";
+        const std::string link = path_ + ".link";
+        std::filesystem::remove(link);
+        std::filesystem::create_symlink(name, link);
+        std::filesystem::rename(link, path_);
+        ++written_;
+    }
     void serve() {
-        const int fd = open(path_.c_str(), O_RDWR | O_CLOEXEC);
-        if (fd < 0) return;
         while (!done_) {
-            int queued = 0;
-            if (ioctl(fd, FIONREAD, &queued) == 0 && queued == 0) {
-                const std::string text = std::to_string(value_) + "\n";  // one write below PIPE_BUF: read whole
-                if (write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size())) {
-                    value_ += step_;
-                    reads_ += 1;
-                }
-            }
-            std::this_thread::sleep_for(std::chrono::microseconds(20));
+            std::this_thread::sleep_for(period_);
+            value_ += step_;
+            write(value_);
+            steps_ += 1;
         }
-        close(fd);
     }
 
     std::string path_;
     std::uint64_t value_, step_;
+    std::chrono::microseconds period_;
+    std::uint64_t written_ = 0;
     std::atomic<bool> done_{false};
-    std::atomic<std::uint64_t> reads_{0};
+    std::atomic<std::uint64_t> steps_{0};
     std::thread thread_;
 };
 

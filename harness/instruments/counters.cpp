@@ -6,11 +6,13 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <fstream>
 #include <mutex>
 #include <sstream>
 
+#include "harness/common/sysfs_file.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite {
@@ -92,14 +94,21 @@ std::optional<double> scaled_count(std::uint64_t value, std::uint64_t enabled, s
 
 PerfAccess perf_access() {
     PerfAccess a;
-    if (std::ifstream in("/proc/sys/kernel/perf_event_paranoid"); in) in >> a.paranoid;
+    // A whole int (-1 and up); anything else leaves the default, the kernel's own.
+    if (const AttributeText p = read_attribute("/proc/sys/kernel/perf_event_paranoid"); p.ok) {
+        int v = 0;
+        const char* end = p.text.data() + p.text.size();
+        if (const auto r = std::from_chars(p.text.data(), end, v); r.ec == std::errc() && r.ptr == end) a.paranoid = v;
+    }
     // Effective capabilities: CAP_SYS_ADMIN is bit 21, CAP_PERFMON bit 38.
     std::ifstream status("/proc/self/status");
     std::string line;
     bool seen = false;
     while (std::getline(status, line)) {
         if (line.rfind("CapEff:", 0) != 0) continue;
-        const unsigned long long caps = std::stoull(line.substr(7), nullptr, 16);
+        const std::size_t at = line.find_first_not_of(" \t", 7);
+        unsigned long long caps = 0;
+        if (at == std::string::npos || std::from_chars(line.data() + at, line.data() + line.size(), caps, 16).ec != std::errc()) break;
         a.privileged = (caps >> 21 & 1) || (caps >> 38 & 1);
         seen = true;
     }

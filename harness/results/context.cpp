@@ -9,19 +9,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/common/sysfs_file.hpp"
 #include "harness/results/build_info.hpp"
 
 namespace suite {
 
 namespace {
 
-// Reads one line of a sysfs/procfs file; "" when it cannot be read.
-std::string read_first_line(const std::string& path) {
-    std::ifstream in(path);
-    std::string line;
-    if (in) std::getline(in, line);
-    return line;
-}
+// The first line of a sysfs file; "" when it cannot be read as one (read_attribute).
+std::string read_first_line(const std::string& path) { return read_attribute(path).text; }
 
 // "always [madvise] never" -> "madvise".
 std::string bracketed_choice(const std::string& line) {

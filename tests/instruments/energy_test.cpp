@@ -1,5 +1,6 @@
 // RAPL energy without RAPL: captured sysfs trees (tests/fixtures/sysfs) copied to a scratch
 // folder, their counters moved between readings, and the joules checked exactly.
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -151,6 +152,74 @@ TEST(EnergyMeterTest, ExactJoulesWattsAndPerByteFromMovedCounters) {
     EXPECT_FALSE(p1->available);
     EXPECT_NE(p1->reason.find("did not advance"), std::string::npos) << p1->reason;
     EXPECT_DOUBLE_EQ(p1->joules_total, 0.0);  // never reported: its JSON carries joules_per_call null
+}
+
+TEST(EnergyMeterTest, AFrozenCounterSaysWhatItRead) {
+    Tree t("intel-2socket");
+    t.set("intel-rapl:1", 262143328850);  // max_energy_range_uj: stuck at the top, not counting
+    t.set("intel-rapl:1:0", 0);
+    EnergyMeter m = EnergyMeter::open(EnergyBackend::sysfs, t.root);
+    ASSERT_TRUE(m.available()) << m.reason();
+    for (std::uint64_t uj : {2000000u, 3000000u}) {
+        m.start();
+        t.set("intel-rapl:0", uj);
+        m.stop(0.1);
+    }
+    const EnergyReadings r = m.take(1, 1.0, 1.0, 0.1);
+    const DomainEnergy* p1 = find(r, "package", 1);
+    ASSERT_NE(p1, nullptr);
+    EXPECT_FALSE(p1->available);
+    EXPECT_NE(p1->reason.find("did not advance over 2 repetitions"), std::string::npos) << p1->reason;
+    EXPECT_NE(p1->reason.find(t.zone("intel-rapl:1") + " read 262143328850 µJ every time, the counter's maximum (max_energy_range_uj)"),
+              std::string::npos)
+        << p1->reason;
+    EXPECT_EQ(p1->reason.find("reads 0"), std::string::npos) << p1->reason;
+    const DomainEnergy* d1 = find(r, "dram", 1);
+    ASSERT_NE(d1, nullptr);
+    EXPECT_NE(d1->reason.find("read 0 µJ every time"), std::string::npos) << d1->reason;
+}
+
+TEST(Powercap, AFifoIsNotReadAndThatDomainSaysWhy) {
+    Tree t("amd-epyc");
+    fs::remove(t.zone("intel-rapl:0"));
+    ASSERT_EQ(mkfifo(t.zone("intel-rapl:0").c_str(), 0644), 0);  // no writer: a plain open() would wait forever
+    std::string reason;
+    const auto sources = discover_powercap(t.root, reason);
+    ASSERT_EQ(sources.size(), 2u) << reason;
+    const EnergySource* pkg = find(sources, "package", 0);
+    ASSERT_NE(pkg, nullptr);
+    EXPECT_NE(pkg->reason.find("is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos) << pkg->reason;
+    EXPECT_TRUE(find(sources, "core", 0)->reason.empty());
+    // The same for the zone's name: that zone is listed, unavailable, with the reason.
+    fs::remove(t.root + "/class/powercap/intel-rapl:0:0/name");
+    ASSERT_EQ(mkfifo((t.root + "/class/powercap/intel-rapl:0:0/name").c_str(), 0644), 0);
+    const auto again = discover_powercap(t.root, reason);
+    ASSERT_EQ(again.size(), 2u);
+    EXPECT_NE(again[1].reason.find("name is a named pipe (FIFO)"), std::string::npos) << again[1].reason;
+    const EnergyMeter m = EnergyMeter::open(EnergyBackend::sysfs, t.root);
+    EXPECT_FALSE(m.available());
+    EXPECT_NE(m.reason().find("FIFO"), std::string::npos) << m.reason();
+}
+
+TEST(Powercap, ZoneAndSocketNumbersBeyondAnIntAreUnavailableWithTheReason) {
+    Tree t("amd-epyc");
+    const std::string base = t.root + "/class/powercap/";
+    fs::rename(base + "intel-rapl:0:0", base + "intel-rapl:0:99999999999");
+    std::ofstream(base + "intel-rapl:0/name") << "package-99999999999\n";
+    std::string reason;
+    const auto sources = discover_powercap(t.root, reason);  // std::stoi threw here: "suite: error: stoi"
+    ASSERT_EQ(sources.size(), 2u) << reason;
+    EXPECT_EQ(sources[0].domain, "package");
+    EXPECT_FALSE(sources[0].socket.has_value());
+    EXPECT_NE(sources[0].reason.find("'package-99999999999' gives a socket number above 2147483647"), std::string::npos) << sources[0].reason;
+    EXPECT_NE(sources[1].reason.find("powercap zone intel-rapl:0:99999999999 has a number above 2147483647"), std::string::npos)
+        << sources[1].reason;
+    const EnergyMeter m = EnergyMeter::open(EnergyBackend::sysfs, t.root);
+    EXPECT_FALSE(m.available());
+    EXPECT_NE(m.reason().find("99999999999"), std::string::npos) << m.reason();
+    // A zone number beyond 64 bits too (sorted last, refused the same way).
+    fs::rename(base + "intel-rapl:0:99999999999", base + "intel-rapl:0:99999999999999999999999");
+    EXPECT_NE(discover_powercap(t.root, reason)[1].reason.find("has a number above"), std::string::npos);
 }
 
 TEST(EnergyMeterTest, AWrapAroundDuringARepetition) {

@@ -1,7 +1,10 @@
 // The counters and the energy meter through the real binary: options, what lands in the result
 // file, and the "not measured is never 0" rule. RAPL is faked by a sysfs tree whose counters a
 // thread of the test moves while the suite runs.
+#include <sys/stat.h>
+
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -101,9 +104,11 @@ TEST(InstrumentRun, EnergyFromAPowercapTreeIsMeasuredPerRepetitionExactly) {
     TempDir d;
     const std::string root = d.file("sys");
     fs::copy(kFixtures + "amd-epyc", root, fs::copy_options::recursive);
-    // Every read of package-0 gives 1000 µJ more than the last: 1 mJ per repetition, exactly.
-    FifoEnergyCounter pkg(root + "/class/powercap/intel-rapl:0/energy_uj", 4000000, 1000);
-    const Outcome r = run_with_root(root, {"--kernel=triad", "--size=4MiB", "--threads=1", "--reps=9", "--energy=sysfs", "--counters=none",
+    // package-0 grows by 1000 µJ a step, a step every few hundred µs (a regular file as sysfs
+    // has it, moved by a thread of the test): each repetition of several ms sees whole steps of
+    // exactly 1 mJ, however many.
+    MovingEnergyCounter pkg(root + "/class/powercap/intel-rapl:0/energy_uj", 4000000, 1000);
+    const Outcome r = run_with_root(root, {"--kernel=triad", "--size=64MiB", "--threads=1", "--reps=9", "--energy=sysfs", "--counters=none",
                                            "--out=" + d.file("r.json")});
     pkg.stop();
     ASSERT_EQ(r.status, 0) << describe(r);
@@ -118,14 +123,22 @@ TEST(InstrumentRun, EnergyFromAPowercapTreeIsMeasuredPerRepetitionExactly) {
     EXPECT_EQ(p["socket"], 0);
     ASSERT_TRUE(p["available"].get<bool>()) << p.dump();
     const double batch = rec["repetitions"]["batch"].get<double>();
-    EXPECT_DOUBLE_EQ(p["joules_per_call"]["median"].get<double>(), 1e-3 / batch);
-    EXPECT_DOUBLE_EQ(p["joules_per_call"]["min"].get<double>(), 1e-3 / batch);
-    EXPECT_DOUBLE_EQ(p["joules_per_call"]["max"].get<double>(), 1e-3 / batch);
-    EXPECT_NEAR(p["joules_total"].get<double>(), 9e-3, 1e-12);
-    // Nine repetitions: the median power is 1 mJ over the median repetition's time.
-    EXPECT_NEAR(p["watts_median"].get<double>(), 1e-3 / (rec["time_s"]["median"].get<double>() * batch), 1e-6 * p["watts_median"].get<double>());
+    // Whole millijoules per repetition: the counter's µJ converted exactly, none lost or invented.
+    // (A repetition between two steps measures 0 J; the median one, of several ms, does not.)
+    auto whole_mj = [](double joules) { return std::abs(joules * 1e3 - std::round(joules * 1e3)) < 1e-6; };
+    const double min = p["joules_per_call"]["min"].get<double>() * batch, median = p["joules_per_call"]["median"].get<double>() * batch,
+                 max = p["joules_per_call"]["max"].get<double>() * batch, total = p["joules_total"].get<double>();
+    for (double j : {min, median, max, total}) EXPECT_TRUE(whole_mj(j)) << j << " J\n" << p.dump();
+    EXPECT_LE(min, median);
+    EXPECT_LE(median, max);
+    EXPECT_GT(max, 0.0);
+    EXPECT_GE(total, 9 * min - 1e-12);
+    EXPECT_LE(total, 9 * max + 1e-12);
+    // The counter cannot have moved more than the fake moved it.
+    EXPECT_LE(total, static_cast<double>(pkg.steps()) * 1e-3 + 1e-12);
+    EXPECT_GT(p["watts_median"].get<double>(), 0.0);
     const double bytes = rec["work_per_repetition"]["stream_bytes"].get<double>();
-    EXPECT_DOUBLE_EQ(p["nj_per_byte"].get<double>(), 1e-3 / batch / bytes * 1e9);
+    EXPECT_DOUBLE_EQ(p["nj_per_byte"].get<double>(), p["joules_per_call"]["median"].get<double>() / bytes * 1e9);
     // The core counter never moved: unavailable, with the reason, and no joules at all.
     const json& core = e["domains"][1];
     EXPECT_EQ(core["domain"], "core");
@@ -149,6 +162,67 @@ TEST(InstrumentRun, NoRaplIsUnavailableWithTheReasonAndANote) {
     EXPECT_NE(e["reason"].get<std::string>().find("does not exist"), std::string::npos);
     EXPECT_TRUE(e["domains"].empty());
     EXPECT_FALSE(doc["context"]["instruments"]["energy"]["available"].get<bool>());
+}
+
+// An energy file that is a FIFO nobody writes: reading it once hung `run --dry-run` and `info`
+// until killed. Now each finishes at once, and says why energy cannot be measured.
+TEST(InstrumentRun, AFifoEnergyFileHangsNothingAndIsUnavailableWithTheReason) {
+    TempDir d;
+    const std::string root = d.file("sys");
+    fs::copy(kFixtures + "amd-epyc", root, fs::copy_options::recursive);
+    for (const char* zone : {"intel-rapl:0", "intel-rapl:0:0"}) {
+        const std::string file = root + "/class/powercap/" + zone + "/energy_uj";
+        fs::remove(file);
+        ASSERT_EQ(mkfifo(file.c_str(), 0644), 0);
+    }
+    setenv("SUITE_SYSFS_ROOT", root.c_str(), 1);
+    const Outcome dry = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--energy=sysfs", "--dry-run"}, 20);
+    const Outcome info = run_suite({"info"}, 20);
+    const Outcome run = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=3", "--energy=sysfs", "--counters=none",
+                                   "--format=json", "--quiet"},
+                                  60);
+    unsetenv("SUITE_SYSFS_ROOT");
+    ASSERT_FALSE(dry.timed_out) << describe(dry);
+    EXPECT_EQ(dry.status, 0) << describe(dry);
+    EXPECT_NE(dry.err.find("note: energy cannot be measured here: " + root + "/class/powercap/intel-rapl:0/energy_uj is a named pipe (FIFO)"),
+              std::string::npos)
+        << dry.err;
+    ASSERT_FALSE(info.timed_out) << describe(info);
+    EXPECT_EQ(info.status, 0) << describe(info);
+    EXPECT_NE(info.out.find("energy: not available ("), std::string::npos) << info.out;
+    EXPECT_NE(info.out.find("energy_uj is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos) << info.out;
+    ASSERT_FALSE(run.timed_out) << describe(run);
+    ASSERT_EQ(run.status, 0) << describe(run);
+    const json e = json::parse(run.out)["results"][0]["energy"];
+    EXPECT_FALSE(e["available"].get<bool>());
+    EXPECT_NE(e["reason"].get<std::string>().find("named pipe (FIFO)"), std::string::npos) << e.dump();
+}
+
+// Zone and socket numbers from the system are checked as strictly as typed ones: these made
+// `run` and `info` exit 1 with "suite: error: stoi".
+TEST(InstrumentRun, HugeZoneNumbersLeaveThatMeterUnavailableNotTheRunFailed) {
+    TempDir d;
+    const std::string root = d.file("sys");
+    fs::copy(kFixtures + "amd-epyc", root, fs::copy_options::recursive);
+    const std::string base = root + "/class/powercap/";
+    fs::rename(base + "intel-rapl:0:0", base + "intel-rapl:99999999999");
+    std::ofstream(base + "intel-rapl:0/name") << "package-99999999999\n";
+    setenv("SUITE_SYSFS_ROOT", root.c_str(), 1);
+    const Outcome info = run_suite({"info"}, 60);
+    const Outcome run = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=3", "--energy=sysfs", "--counters=none",
+                                   "--format=json", "--quiet"},
+                                  60);
+    unsetenv("SUITE_SYSFS_ROOT");
+    EXPECT_EQ(info.status, 0) << describe(info);
+    EXPECT_EQ(info.err.find("stoi"), std::string::npos) << info.err;
+    EXPECT_NE(info.out.find("energy: not available ("), std::string::npos) << info.out;
+    EXPECT_NE(info.out.find("99999999999"), std::string::npos) << info.out;
+    ASSERT_EQ(run.status, 0) << describe(run);
+    EXPECT_NE(run.err.find("note: energy cannot be measured here: "), std::string::npos) << run.err;
+    const json doc = json::parse(run.out);
+    const json& e = doc["results"][0]["energy"];
+    EXPECT_FALSE(e["available"].get<bool>());
+    EXPECT_NE(e["reason"].get<std::string>().find("above 2147483647"), std::string::npos) << e.dump();
 }
 
 TEST(InstrumentRun, NoneMeansNotRequestedNotZero) {
