@@ -1,17 +1,42 @@
 #pragma once
 // One way for every subcommand to parse its options: CLI11 errors propagate to main() (exit 2),
-// --help prints the subcommand's help and asks the caller to stop with exit status 0.
+// --help prints the subcommand's help and asks the caller to stop with exit status 0. An option
+// given an empty value is refused here, once for every command; whole numbers go through
+// parse_whole (harness/common/units.hpp).
+#include <cstdint>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "harness/common/units.hpp"
+
 namespace suite {
+
+// An option of `app` given an empty value: "--out=" (which CLI11 would let take the next
+// argument as its value) or "--out ''". Throws UsageError naming the option and what it takes.
+inline void refuse_empty_values(const CLI::App& app, const std::vector<std::string>& args) {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "--") return;  // what follows is positional
+        if (a.size() < 2 || a[0] != '-') continue;
+        const auto eq = a.find('=');
+        const std::string name = a.substr(0, eq);
+        const CLI::Option* opt = app.get_option_no_throw(name);
+        if (!opt) continue;  // unknown: CLI11 says so
+        const bool flag = opt->get_expected_max() == 0;
+        const std::string takes = flag ? name + " is a flag and takes no value" : "give one (" + name + ": " + opt->get_description() + ")";
+        if (eq != std::string::npos && eq + 1 == a.size()) throw UsageError(name + "= has an empty value; " + takes);
+        if (eq == std::string::npos && !flag && i + 1 < args.size() && args[i + 1].empty())
+            throw UsageError(name + " is given an empty value ''; " + takes);
+    }
+}
 
 // Parses `args` (without the program and command) into `app`, named `name` in messages;
 // returns false after printing the help for --help.
 inline bool parse_command_line(CLI::App& app, const char* name, const std::vector<std::string>& args) {
+    refuse_empty_values(app, args);
     std::vector<const char*> argv{name};
     for (const auto& a : args) argv.push_back(a.c_str());
     try {
@@ -21,6 +46,22 @@ inline bool parse_command_line(CLI::App& app, const char* name, const std::vecto
         return false;
     }
     return true;
+}
+
+// An option whose value is a whole number from lo to hi, e.g. --reps: a sign, a fraction, an
+// overflow or a value out of range is one message naming the value and the range.
+template <class T>
+CLI::Option* add_whole_option(CLI::App& app, const std::string& names, T& target, std::uint64_t lo, std::uint64_t hi, const std::string& help) {
+    const std::string option = names.substr(0, names.find(','));  // "--threads,-t" -> "--threads"
+    return app
+        .add_option_function<std::string>(
+            names, [&target, option, lo, hi](const std::string& text) { target = static_cast<T>(parse_whole(text, option, lo, hi)); }, help)
+        ->type_name("UINT");
+}
+
+// --seed of every command that has one: parse_seed, 0 to 2^64-1 exactly as typed.
+inline CLI::Option* add_seed_option(CLI::App& app, std::uint64_t& seed, const std::string& help) {
+    return app.add_option_function<std::string>("--seed", [&seed](const std::string& text) { seed = parse_seed(text); }, help)->type_name("UINT");
 }
 
 }  // namespace suite

@@ -1,10 +1,10 @@
 #include "harness/machine/placement.hpp"
 
 #include <algorithm>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
+#include "harness/common/sysfs_file.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite {
@@ -22,11 +22,13 @@ PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
                              std::to_string(topo.nodes.size()) + "; use local, node:N or interleave");
     } else if (text.rfind("node:", 0) == 0) {
         spec.kind = PlacementKind::node;
-        std::string n(text.substr(5));
-        if (n.empty() || !std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }) || n.size() > 6)
-            throw UsageError("invalid --placement '" + std::string(text) + "': expected node:N with N a node number, e.g. node:0");
-        spec.node = std::stoi(n);
-        if (!topo.find_node(spec.node)) {
+        const std::string n(text.substr(5));
+        const auto node = whole_number(n);
+        if (!node)
+            throw UsageError("invalid --placement '" + std::string(text) + "': expected node:N with N a node number (a whole number from 0), e.g. node:0");
+        // A number no node has is still a number: said so below, with the nodes there are.
+        spec.node = *node > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ? -1 : static_cast<int>(*node);
+        if (spec.node < 0 || !topo.find_node(spec.node)) {
             std::string have;
             for (const auto& node : topo.nodes) {
                 if (!have.empty()) have += ',';
@@ -91,10 +93,10 @@ HugePages parse_hugepages(std::string_view text, const std::string& path, std::s
         throw UsageError("unknown --hugepages '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
                          "; accepted: thp, none, system (the default: leave the system's setting)");
     }
-    std::ifstream in(path);
-    std::string line;
-    if (!in || !std::getline(in, line))
-        throw UsageError("--hugepages=thp: this kernel offers no transparent huge pages (" + path + " is not readable); use none or system");
+    const AttributeText enabled = read_attribute(path);
+    if (!enabled.ok)
+        throw UsageError("--hugepages=thp: this kernel offers no transparent huge pages (" + enabled.reason + "); use none or system");
+    const std::string& line = enabled.text;
     // Switched off, madvise still succeeds and simply gets no huge pages: the run goes on, says so
     // first, and its records show how many bytes huge pages backed (none).
     if (line.find("[never]") != std::string::npos && note)

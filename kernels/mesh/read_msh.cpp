@@ -114,9 +114,14 @@ void elements_v2(TextScanner& s, Raw& r) {
         const ElementType* t = element_type(type);
         if (!t) s.fail("unknown element type " + std::to_string(type) + "; " + accepted_types);
         const std::uint64_t ntags = s.uint(2, "the number of tags");
-        if (ntags > 64 || s.size() != 3 + ntags + static_cast<std::uint64_t>(t->nodes))
-            s.fail("a " + std::string(t->name) + " with " + std::to_string(ntags) + " tags needs " +
-                   std::to_string(3 + std::min<std::uint64_t>(ntags, 64) + t->nodes) + " fields, found " + std::to_string(s.size()));
+        // Compared as counts, never by computing 3 + ntags + nodes, which a huge ntags overflows.
+        if (ntags > s.size())
+            s.fail("the element declares " + std::to_string(ntags) + " tags and the line has only " + std::to_string(s.size()) +
+                   " fields; a " + std::string(t->name) + " needs 3 + tags + " + std::to_string(t->nodes) + " node fields");
+        if (s.size() != 3 + ntags + static_cast<std::uint64_t>(t->nodes))
+            s.fail("a " + std::string(t->name) + " with " + std::to_string(ntags) + " tags needs " + std::to_string(3 + ntags + t->nodes) +
+                   " fields, found " + std::to_string(s.size()));
+        if (ntags > 64) s.fail("the element declares " + std::to_string(ntags) + " tags; at most 64 are accepted");
         add_element(r, s, type, 3 + static_cast<std::size_t>(ntags));
     }
     expect_end(s, "Elements", "element", count_line);

@@ -89,11 +89,37 @@ const std::vector<Case>& cases() {
         {"SizeLargerThanMemory", {"--kernel=add", "--size=100TiB", "--out={tmp}/r.json"}, {"100TiB", "memory available"}},
         {"SizesSweepBackwards", {"--kernel=add", "--sizes=1GiB:16KiB", "--out={tmp}/r.json"}, {"'1GiB:16KiB'", "first size is larger than the last"}},
         {"SizeAndSizesTogether", {"--kernel=add", "--size=1MiB", "--sizes=1MiB:4MiB", "--out={tmp}/r.json"}, {"--size", "--sizes", "together"}},
+        // A size is a whole number of bytes: never rounded.
+        {"SizeFractionOfAByte", {"--kernel=add", "--size=1.5B", "--out={tmp}/r.json"}, {"'1.5B'", "1.5 bytes", "not a whole number of bytes"}},
+        {"SizeFractionalKiBNotWhole", {"--kernel=add", "--size=0.3KiB", "--out={tmp}/r.json"}, {"'0.3KiB'", "307.2 bytes", "not a whole number"}},
+        {"SizesSweepFactorWithExponent", {"--kernel=add", "--sizes=1MiB:2MiB:x1e9", "--out={tmp}/r.json"},
+         {"'x1e9'", "decimal number above 1", "no exponent"}},
+        // A kernel sized by a count is told in its unit, not in bytes.
+        {"SfcBuildSizeZeroIsACountOfElements", {"--kernel=sfc-build", "--size=0", "--out={tmp}/r.json"},
+         {"'0'", "sfc-build", "count of elements", "at least 1"}},
+        {"SfcBuildSizeFractionIsRefused", {"--kernel=sfc-build", "--size=1.5", "--out={tmp}/r.json"}, {"'1.5'", "whole number of elements"}},
+        {"SfcBuildSizeWithAUnitIsRefused", {"--kernel=sfc-build", "--sizes=10000,1MiB", "--out={tmp}/r.json"}, {"'1MiB'", "count of elements", "no unit"}},
+
+        // Every list: a value given twice is refused, naming it (never dropped, never run twice).
+        {"KernelGivenTwice", {"--kernel=add,triad,add", "--out={tmp}/r.json"}, {"--kernel=add,triad,add", "'add' twice"}},
+        {"KernelListWithAnEmptyName", {"--kernel=add,,triad", "--out={tmp}/r.json"}, {"--kernel=add,,triad", "empty name"}},
+        {"PatternGivenTwice", {"--kernel=add", "--pattern=random,sequential,random", "--out={tmp}/r.json"}, {"--pattern=", "'random' twice"}},
+        {"StridedSameStrideWrittenTwoWays", {"--kernel=add", "--pattern=strided:8,strided:08", "--out={tmp}/r.json"}, {"strided:8 twice"}},
+        {"OrderingGivenTwice", {"--kernel=sfc-build", "--ordering=morton,hilbert,morton", "--out={tmp}/r.json"}, {"--ordering=", "'morton' twice"}},
+        {"PhaseGivenTwice", {"--kernel=sfc-build", "--phase=keys,keys", "--out={tmp}/r.json"}, {"--phase=keys,keys", "'keys' twice"}},
+        {"SizesGivenTwice", {"--kernel=add", "--sizes=1MiB,1MiB", "--out={tmp}/r.json"}, {"'1MiB,1MiB'", "1MiB twice"}},
+        {"SizesSameSizeWrittenTwoWays", {"--kernel=add", "--sizes=1MiB,1024KiB", "--out={tmp}/r.json"}, {"1MiB twice", "'1MiB' and '1024KiB'"}},
+        {"SizesSweepThatRepeatsAPoint", {"--kernel=add", "--sizes=64:128:x1.001", "--out={tmp}/r.json"}, {"'64:128:x1.001'", "64B twice", "larger factor"}},
+        {"ThreadsGivenTwice", {"--kernel=add", "--threads=1,1-1", "--out={tmp}/r.json"}, {"thread count 1", "twice", "'1' and '1-1'"}},
+        {"CountersGivenTwice", {"--kernel=add", "--counters=task-clock,task-clock", "--out={tmp}/r.json"}, {"'task-clock' twice"}},
 
         // Threads and pinning.
         {"ThreadsZero", {"--kernel=add", "--threads=0", "--out={tmp}/r.json"}, {"0", "at least 1 thread"}},
         {"ThreadsMoreThanPus", {"--kernel=add", "--threads=999", "--out={tmp}/r.json"}, {"999", "processing units", "at most"}, Needs::fewer_than_999_pus},
         {"ThreadsBackwardsRange", {"--kernel=add", "--threads=4-1", "--out={tmp}/r.json"}, {"'4-1'", "1-8"}},
+        {"ThreadsNegative", {"--kernel=add", "--threads=-1", "--out={tmp}/r.json"}, {"invalid thread count '-1'", "whole numbers from 1"}},
+        {"ThreadsRangeWithoutEnd", {"--kernel=add", "--threads=1-", "--out={tmp}/r.json"}, {"invalid thread range '1-'", "FROM-TO"}},
+        {"PinRangeWithoutEnd", {"--kernel=add", "--pin=0-", "--threads=1", "--out={tmp}/r.json"}, {"invalid CPU range '0-'", "0,2,4-7"}},
         {"PinBogus", {"--kernel=add", "--pin=bogus", "--out={tmp}/r.json"}, {"'bogus'", "compact", "scatter", "none", "CPU list"}},
         {"PinCpuDoesNotExist", {"--kernel=add", "--pin=4096", "--out={tmp}/r.json"}, {"CPU 4096", "does not have", "./suite info"}},
         {"PinCpuTwice", {"--kernel=add", "--pin=0,0", "--threads=1", "--out={tmp}/r.json"}, {"CPU 0", "twice"}},
@@ -102,10 +128,34 @@ const std::vector<Case>& cases() {
         {"PlacementNodeDoesNotExist", {"--kernel=add", "--placement=node:7", "--out={tmp}/r.json"}, {"node:7", "no NUMA node 7"}, Needs::fewer_than_8_numa_nodes},
         {"PlacementRemoteOnOneNode", {"--kernel=add", "--placement=remote", "--out={tmp}/r.json"}, {"--placement=remote", "at least 2 NUMA nodes", "local", "interleave"}, Needs::one_numa_node},
         {"PlacementUnknown", {"--kernel=add", "--placement=nowhere", "--out={tmp}/r.json"}, {"'nowhere'", "local", "node:N", "remote", "interleave"}},
+        {"PlacementNodeNumberBeyondInt", {"--kernel=add", "--placement=node:99999999999", "--out={tmp}/r.json"}, {"no NUMA node 99999999999", "its nodes are"}},
 
         // Repetitions.
-        {"RepsZero", {"--kernel=add", "--reps=0", "--out={tmp}/r.json"}, {"--reps=0", "at least 1"}},
+        {"RepsZero", {"--kernel=add", "--reps=0", "--out={tmp}/r.json"}, {"--reps=0", "from 1 to 10000000"}},
         {"RepsNotANumber", {"--kernel=add", "--reps=abc", "--out={tmp}/r.json"}, {"--reps", "abc"}},
+        {"RepsNegativeIsNotTheAutomaticCount", {"--kernel=add", "--reps=-1", "--out={tmp}/r.json"}, {"--reps=-1: expected a whole number from 1 to 10000000"}},
+        {"RepsFraction", {"--kernel=add", "--reps=2.5", "--out={tmp}/r.json"}, {"--reps=2.5", "whole number from 1 to 10000000"}},
+
+        // Seeds: a decimal whole number 0..2^64-1, exactly as typed; the range in digits.
+        {"SeedNegative", {"--kernel=add", "--seed=-1", "--out={tmp}/r.json"}, {"--seed=-1: expected a whole number from 0 to 18446744073709551615"}},
+        {"SeedAboveTwoToThe64", {"--kernel=add", "--seed=18446744073709551616", "--out={tmp}/r.json"},
+         {"--seed=18446744073709551616: expected a whole number from 0 to 18446744073709551615"}},
+        {"SeedWithPlusSign", {"--kernel=add", "--seed=+7", "--out={tmp}/r.json"}, {"--seed=+7", "0 to 18446744073709551615"}},
+        {"TraverseSeedNegative", {"traverse", "--seed=-1", "--out={tmp}/t"}, {"--seed=-1: expected a whole number from 0 to 18446744073709551615"}},
+        {"TraverseDepthZero", {"traverse", "--depth=0", "--out={tmp}/t"}, {"--depth=0: expected a whole number from 1 to 32", "2D"}},
+        {"TraverseOrderingGivenTwice", {"traverse", "--ordering=morton,morton", "--out={tmp}/t"}, {"--ordering=morton,morton", "'morton' twice"}},
+        {"TraverseThreadsGivenTwice", {"traverse", "--threads=4,1-4", "--out={tmp}/t"}, {"thread count 4", "twice"}},
+        {"TraverseThreadsAllInAList", {"traverse", "--threads=1,all", "--out={tmp}/t"}, {"'all'", "from 1 to 1024"}},
+
+        // An option given an empty value is an error, in every command (not the next argument
+        // taken as its value: --out= once wrote a file named --quiet).
+        {"RunOutEmptyValue", {"--kernel=add", "--out=", "--quiet"}, {"--out= has an empty value", "write results to FILE"}},
+        {"RunOutEmptySeparateValue", {"--kernel=add", "--out", "", "--quiet"}, {"--out is given an empty value ''"}},
+        {"RunPinEmptyValue", {"--kernel=add", "--pin=", "--quiet", "--out={tmp}/r.json"}, {"--pin= has an empty value", "compact"}},
+        {"RunKernelEmptyValue", {"--kernel=", "--quiet", "--out={tmp}/r.json"}, {"--kernel= has an empty value"}},
+        {"RunFlagWithEmptyValue", {"--kernel=add", "--quiet=", "--out={tmp}/r.json"}, {"--quiet= has an empty value", "takes no value"}},
+        {"CheckMarkdownEmptyValue", {"check", "--baseline={tmp}/base.json", "--markdown=", "{tmp}/run.json"}, {"--markdown= has an empty value", "Markdown"}},
+        {"TraverseOutEmptyValue", {"traverse", "--out=", "--no-png"}, {"--out= has an empty value", "directory"}},
 
         // Output.
         {"OutDirectoryDoesNotExist", {"--kernel=add", "--out={tmp}/nosuchdir/r.json"}, {"nosuchdir", "does not exist"}},

@@ -71,6 +71,8 @@ inline std::vector<BadMeshCase> bad_mesh_cases() {
     const std::string t = good_text().text, m = good_msh22().text, f = good_msh41().text;
     auto text = [](std::string name, std::string s) { return MeshFixture{"text", name, std::move(s)}; };
     auto msh = [](std::string name, std::string s) { return MeshFixture{"msh", name, std::move(s)}; };
+    std::string tags65;  // a line with every field its 65 tags need
+    for (int i = 0; i < 65; ++i) tags65 += " 1";
     return {
         // The thesis's text format.
         {"TextTruncatedInVertices", text("a.txt", edit_lines(t, 4, "", true)), 4, "ends here, after 2 of the 4 vertices"},
@@ -106,6 +108,9 @@ inline std::vector<BadMeshCase> bad_mesh_cases() {
         {"Msh22UnknownType", msh("m.msh", edit_lines(m, 25, "8 99 2 1 1 4 1 5")), 25, "unknown element type 99"},
         {"Msh22OnlyQuads", msh("n.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n"
                                         "$Elements\n1\n1 3 0 1 2 3 4\n$EndElements\n"), 13, "is not supported"},
+        {"Msh22HugeTagCount", msh("p.msh", edit_lines(m, 25, "8 2 200000000 1 1 4 1 5")), 25,
+         "declares 200000000 tags and the line has only 8 fields"},
+        {"Msh22TooManyTags", msh("q.msh", edit_lines(m, 25, "8 2 65" + tags65 + " 4 1 5")), 25, "declares 65 tags; at most 64"},
         {"Msh22UnclosedSection", msh("o.msh", m.substr(0, m.find("$EndPhysicalNames"))), 6,
          "has no $EndPhysicalNames"},
         // Gmsh 4.1.

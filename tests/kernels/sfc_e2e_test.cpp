@@ -155,8 +155,8 @@ TEST(Traverse, BadUsageWritesNothing) {
     expect_one_line_usage_error(run_suite({"traverse", "--out=" + file}), {"not a directory"});
     expect_one_line_usage_error(run_suite({"traverse", "--ordering=natural,mortn", "--out=" + dir.file("t")}), {"'mortn'", "did you mean 'morton'?"});
     expect_one_line_usage_error(run_suite({"traverse", "--threads=all", "--out=" + dir.file("t")}), {"--threads=all"});
-    expect_one_line_usage_error(run_suite({"traverse", "--threads=2000", "--out=" + dir.file("t")}), {"--threads=2000", "1 to 1024 static blocks"});
-    expect_one_line_usage_error(run_suite({"traverse", "--depth=33", "--out=" + dir.file("t")}), {"--depth=33", "1..32"});
+    expect_one_line_usage_error(run_suite({"traverse", "--threads=2000", "--out=" + dir.file("t")}), {"thread count 2000", "1 to 1024 static blocks"});
+    expect_one_line_usage_error(run_suite({"traverse", "--depth=33", "--out=" + dir.file("t")}), {"--depth=33", "from 1 to 32"});
     expect_one_line_usage_error(run_suite({"traverse", "--mesh=disk:refine=11", "--out=" + dir.file("t")}), {"at most 4000000"});
     expect_one_line_usage_error(run_suite({"traverse", "--out=" + dir.file("no/such/t")}), {"does not exist"});
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"f"});
