@@ -25,6 +25,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "plots"))
+from safe_output import write_text  # noqa: E402  (the suite's one output policy)
+
 here = os.path.dirname(os.path.abspath(__file__))
 top = os.path.dirname(here)
 p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -115,8 +118,7 @@ doc = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%
        "summary": summary, "points": rows}
 os.makedirs(a.out, exist_ok=True)
 name = "aa_noise_quick" if a.quick else "aa_noise"
-with open(os.path.join(a.out, name + ".json"), "w") as f:
-    json.dump(doc, f, indent=1)
+write_text(os.path.join(a.out, name + ".json"), json.dumps(doc, indent=1))
 lines = [f"# A/A: each program against itself at {a.size} ({doc['date']}, {doc['cpu_model']}, {doc['pus']} PUs)", "",
          f"{a.reps} repetitions; load average {load_before[0]} before, {doc['load_average_after'][0]} after; {doc['elapsed_s']:.0f} s.", "",
          "| program | kernel | threads | median first/second | lowest | highest |", "|---|---|---|---|---|---|"]
@@ -126,6 +128,5 @@ lines.append("")
 for program, s in summary.items():
     lines.append(f"- {program} against itself: {s['below_1.00']} of {s['points']} medians below 1.00, from {s['lowest']:.2f} to "
                  f"{s['highest']:.2f} (median distance from 1: {s['median_abs_deviation_from_1']:.3f})")
-with open(os.path.join(a.out, name + ".md"), "w") as f:
-    f.write("\n".join(lines) + "\n")
+write_text(os.path.join(a.out, name + ".md"), "\n".join(lines) + "\n")
 print("\n".join(lines))

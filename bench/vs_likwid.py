@@ -49,6 +49,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "plots"))
+from safe_output import write_text  # noqa: E402  (the suite's one output policy)
+
 here = os.path.dirname(os.path.abspath(__file__))
 top = os.path.dirname(here)
 p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -335,8 +338,7 @@ doc = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%
 
 os.makedirs(a.out, exist_ok=True)
 name = "vs_likwid_quick" if a.quick else "vs_likwid"
-with open(os.path.join(a.out, name + ".json"), "w") as f:
-    json.dump(doc, f, indent=1)
+write_text(os.path.join(a.out, name + ".json"), json.dumps(doc, indent=1))
 lines = [f"# suite vs likwid-bench and plain loops ({doc['date']}, {doc['cpu_model']}, {doc['pus']} PUs)", ""]
 if a.merge:
     lines += [f"{runs} runs, {total_reps} interleaved repetitions in all, pooled: medians over all of them; 1-minute load "
@@ -378,8 +380,7 @@ lines += ["", "Cells: the median over the repetitions of suite/reference (in bra
 for g, v in goals.items():
     verdict = "not measured" if v["met"] is None else "met" if v["met"] else "NOT met"
     lines.append(f"- {g}: {verdict} over {v['points']} points ({v['below']} below); worst {v['worst']}")
-with open(os.path.join(a.out, name + ".md"), "w") as f:
-    f.write("\n".join(lines) + "\n")
+write_text(os.path.join(a.out, name + ".md"), "\n".join(lines) + "\n")
 print("\n".join(lines))
 print(f"wrote {os.path.join(a.out, name + '.json')} and .md")
 if pin_mismatch:

@@ -27,6 +27,9 @@ import os
 import re
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from safe_output import UnsafeOutput, check_directory, identify, save_figure  # noqa: E402
+
 KNOWN_SCHEMA_VERSIONS = {1}
 
 
@@ -140,10 +143,17 @@ def series_label(machines, m, *parts):
     return f"{m.label}: {text}" if len(machines) > 1 else text
 
 
+# The result files being plotted: no figure may be written over one of them.
+INPUTS = []
+
+
 def save(fig, out, name, svg, written):
     for ext in ["png"] + (["svg"] if svg else []):
         path = os.path.join(out, f"{name}.{ext}")
-        fig.savefig(path, dpi=110, bbox_inches="tight")
+        try:
+            save_figure(fig, path, INPUTS, dpi=110, bbox_inches="tight")
+        except UnsafeOutput as e:
+            fail(f"--out: {e}")
         written.append(path)
     import matplotlib.pyplot as plt
     plt.close(fig)
@@ -354,9 +364,11 @@ def main(argv):
     if not any(m.records for m in machines):
         fail("no verified record to plot in " + ", ".join(args.files))
     try:
+        check_directory(args.out)
         os.makedirs(args.out, exist_ok=True)
-    except OSError as e:
+    except (UnsafeOutput, OSError) as e:
         fail(f"--out {args.out}: {e}")
+    INPUTS.extend(identify(args.files))
     written = []
     vs_footprint(plt, machines, lambda r: bandwidth(r), "bandwidth (GB/s, STREAM convention, best)",
                  "Bandwidth against footprint", "bandwidth_vs_footprint", args, written)

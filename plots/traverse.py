@@ -13,6 +13,9 @@ Exit status: 0, 2 for bad usage, 3 when matplotlib or numpy is missing.
 import json
 import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from safe_output import save_figure  # noqa: E402
 import xml.etree.ElementTree as ET
 
 PERCENTS = (0, 20, 40, 60, 80, 100)
@@ -78,7 +81,7 @@ def snapshots(directory, ordering, threads, vtu):
         label = "1 thread, colour: visit order" if threads == 1 else f"{threads} threads, colour: thread"
         ax.set_title(f"{ordering}: {pct} % of the loop ({label})", fontsize=9)
         name = f"{ordering}-t{threads}-{pct:03d}.png"
-        fig.savefig(os.path.join(directory, name))
+        save_figure(fig, os.path.join(directory, name))
         written.append(name)
     plt.close(fig)
     return written

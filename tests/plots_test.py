@@ -4,6 +4,7 @@ expected figure, each a real PNG (signature, IHDR) of plausible size, and refuse
 exit status 2 and one clear line. Usage: plots_test.py SOURCE_DIR"""
 import json
 import os
+import stat
 import struct
 import subprocess
 import sys
@@ -91,6 +92,32 @@ with tempfile.TemporaryDirectory() as tmp:
         check(r.returncode == 2, f"{path}: expected exit 2, got {r.returncode}\n{r.stderr}")
         check(expected in r.stderr and r.stderr.count("\n") == 1, f"{path}: expected one line with {expected!r}, got {r.stderr!r}")
         check(not os.path.exists(out), f"{path}: the output directory was created despite the error")
+
+# Figures go through the suite's one output policy (plots/safe_output.py): never into a FIFO
+# or over a file being plotted, never into a --out that is a file; exit 2, one line, the
+# FIFO still a FIFO, the input unchanged, no temporary file left.
+with tempfile.TemporaryDirectory() as tmp:
+    out = os.path.join(tmp, "figs")
+    os.mkdir(out)
+    fifo = os.path.join(out, "bandwidth_vs_footprint.png")
+    os.mkfifo(fifo)
+    r = run([fx("vm-native.json")], out)
+    check(r.returncode == 2 and "a FIFO" in r.stderr and r.stderr.count("\n") == 1,
+          f"a FIFO in place of a figure: expected exit 2 and one line naming it, got {r.returncode} {r.stderr!r}")
+    check(stat.S_ISFIFO(os.lstat(fifo).st_mode), "the FIFO was replaced")
+    os.unlink(fifo)
+    plotted = os.path.join(out, "bandwidth_vs_footprint.png")
+    text = open(fx("vm-native.json")).read()
+    open(plotted, "w").write(text)
+    r = run([plotted], out)
+    check(r.returncode == 2 and "same file as the input" in r.stderr,
+          f"a figure over its own input: expected exit 2, got {r.returncode} {r.stderr!r}")
+    check(open(plotted).read() == text, "the plotted file was overwritten by a figure")
+    check(not [n for n in os.listdir(out) if ".tmp." in n], f"temporary files left: {os.listdir(out)}")
+    not_a_dir = os.path.join(tmp, "file")
+    open(not_a_dir, "w").write("x")
+    r = run([fx("vm-native.json")], not_a_dir)
+    check(r.returncode == 2 and "not a directory" in r.stderr, f"--out a file: expected exit 2, got {r.returncode} {r.stderr!r}")
 
 for f in failures:
     print("FAIL:", f)

@@ -1,7 +1,7 @@
 #pragma once
 // Runs the real suite binary (and other programs) for end-to-end tests: no shell, arguments as
-// given, stdin from /dev/null, stdout and stderr captured, a time limit; plus scratch
-// directories and small file helpers. Header-only so each test file can include it.
+// given, default signal dispositions, stdin from /dev/null, stdout and stderr captured, a time
+// limit; plus scratch directories and small file helpers. Header-only so each test file can include it.
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -64,6 +64,13 @@ inline pid_t spawn(const std::vector<std::string>& argv, int& out_fd, int& err_f
     }
     if (pid == 0) {
         // Child: only async-signal-safe calls from here on. dup2 clears O_CLOEXEC on 0, 1, 2.
+        // The program starts as a user's shell starts it: every signal at its default action
+        // and none blocked, whatever the test runner set (a runner that ignores SIGXFSZ or
+        // SIGPIPE would otherwise hide how the program behaves on its own).
+        for (int sig = 1; sig < NSIG; ++sig) signal(sig, SIG_DFL);
+        sigset_t none;
+        sigemptyset(&none);
+        sigprocmask(SIG_SETMASK, &none, nullptr);
         const int devnull = open("/dev/null", O_RDONLY | O_CLOEXEC);
         if (devnull >= 0) dup2(devnull, STDIN_FILENO);
         dup2(o[1], STDOUT_FILENO);

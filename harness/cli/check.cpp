@@ -7,8 +7,8 @@
 
 #include "harness/cli/commands.hpp"
 #include "harness/cli/parse.hpp"
+#include "harness/common/output_file.hpp"
 #include "harness/results/check.hpp"
-#include "harness/results/report.hpp"  // write_atomically
 
 namespace suite {
 
@@ -50,17 +50,21 @@ int cmd_check(const std::vector<std::string>& args) {
     if (baseline_path.empty()) throw UsageError("check needs --baseline=FILE, e.g. ./suite check --baseline results/baseline/ci.json run.json");
     if (runs.size() != 1) throw UsageError("check needs exactly one run file after the options, e.g. ./suite check --baseline base.json run.json");
     const double tol = parse_tolerance(tolerance);
+    // Claimed before anything is read or written: never a device, never one of the inputs.
+    OutputFile md;
+    if (!markdown.empty()) md = OutputFile::claim(markdown, "--markdown", identify_inputs({baseline_path, runs[0]}));
     const ResultFile base = load_result_file(baseline_path);
     const ResultFile run = load_result_file(runs[0]);
     for (const ResultFile* f : {&base, &run})
         if (!f->complete) throw InputError(f->path + ": the run was interrupted (\"complete\": false); gate only complete runs");
     CheckReport rep = check_run(base, run, tol);
     for (const auto* f : {&base, &run}) rep.notes.insert(rep.notes.end(), f->notes.begin(), f->notes.end());
-    if (!markdown.empty()) {
+    if (md.claimed()) {
+        // Exit status 1 means "regressed" here; a summary that cannot be written is not that.
         try {
-            write_atomically(markdown, render_check_markdown(rep));
+            md.write(render_check_markdown(rep));
         } catch (const std::exception& e) {
-            throw UsageError(std::string("--markdown: ") + e.what());
+            throw UsageError(e.what());
         }
     }
     std::cout << render_check_text(rep) << std::flush;

@@ -22,11 +22,11 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/parse.hpp"
+#include "harness/common/output_file.hpp"
 #include "harness/results/build_info.hpp"
 #include "harness/instruments/callgrind_marks.hpp"
 #include "harness/cli/run.hpp"
 #include "harness/measure/plan.hpp"
-#include "harness/results/report.hpp"
 #include "harness/measure/result.hpp"
 #include "harness/common/units.hpp"
 
@@ -131,7 +131,7 @@ std::vector<std::string> inner_args(const RunOptions& o) {
     return a;
 }
 
-int run_outer(const RunOptions& opts, const std::string& valgrind, const std::string& out_path) {
+int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputFile& out) {
     // Always under /tmp, not $TMPDIR: a path of the same length on every machine (see inner_args).
     std::string tmpl = "/tmp/suite-callgrind-XXXXXX";
     if (!mkdtemp(tmpl.data())) throw std::runtime_error(std::string("cannot create a temporary directory in /tmp: ") + std::strerror(errno));
@@ -210,10 +210,10 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const std::st
         rec["callgrind"] = callgrind_block(dump, calls, version);
     }
     const std::string text = doc.dump(1) + "\n";
-    if (out_path.empty()) std::cout << text << std::flush;
+    if (!out.claimed()) std::cout << text << std::flush;
     else {
-        write_atomically(out_path, text);
-        std::cerr << "wrote " << records.size() << " record(s) with callgrind counts to " << out_path << "\n";
+        out.write(text);
+        std::cerr << "wrote " << records.size() << " record(s) with callgrind counts to " << out.path() << "\n";
     }
     return status;
 }
@@ -252,7 +252,8 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
         plan.format = "json";
         plan.quiet = true;
         plan.settings.min_sample_s = 0;
-        return execute_plan(plan, topo, full_argv);
+        const OutputFile inner = OutputFile::claim(plan.out_path, "--out");
+        return execute_plan(plan, topo, full_argv, &inner);
     }
 #ifdef __AVX512F__
     throw UsageError("this build uses AVX-512 (built with " + std::string(build::flags) +
@@ -263,6 +264,9 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
     if (valgrind.empty()) valgrind = find_on_path("valgrind");
     if (valgrind.empty()) throw UsageError("valgrind is not on PATH; install it (Debian: apt-get install valgrind) or give --valgrind=PATH");
     if (access(valgrind.c_str(), X_OK) != 0) throw UsageError("--valgrind=" + valgrind + " is not an executable program");
+    // Claimed before the minutes under valgrind: a second run on the same file refuses now.
+    OutputFile out;
+    if (!plan.out_path.empty()) out = OutputFile::claim(plan.out_path, "--out", run_inputs(opts));
     if (plan.dry_run) {
         std::cout << plan.points.size() << " point(s) under " << valgrind << " --tool=callgrind --cache-sim=yes --collect-atstart=no (I1 " << callgrind_sim_i1
                   << ", D1 " << callgrind_sim_d1 << ", LL " << callgrind_sim_ll << ")" << (plan.out_path.empty() ? "" : ", output " + plan.out_path) << "\n";
@@ -271,7 +275,7 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
                       << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads << "\n";
         return 0;
     }
-    return run_outer(opts, valgrind, plan.out_path);
+    return run_outer(opts, valgrind, out);
 }
 
 }  // namespace suite

@@ -11,10 +11,12 @@
 
 #include "harness/cli/commands.hpp"
 #include "harness/cli/parse.hpp"
+#include "harness/common/output_file.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
 #include "harness/common/units.hpp"
+#include "kernels/mesh/mesh_spec.hpp"
 
 namespace suite {
 
@@ -83,9 +85,10 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--hugepages", o.hugepages,
                    "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
                    "leave the system's THP setting, see ./suite info)");
-    app.add_option("--reps", o.reps, "counted repetitions per point (default: enough for 0.2 s, at least 5; plus 1 warm-up, 3 for calls under 50 ms)");
+    add_whole_option(app, "--reps", o.reps, 1, 10000000,
+                     "counted repetitions per point, 1 to 10000000 (default: enough for 0.2 s, at least 5; plus 1 warm-up, 3 for calls under 50 ms)");
     app.add_option("--min-time", o.min_time, "seconds of counted repetitions per point when --reps is not given (default 0.2)");
-    app.add_option("--seed", o.seed, "seed of the random permutations (default 1)")->check(CLI::NonNegativeNumber);
+    add_seed_option(app, o.seed, "seed of the random permutations, 0 to 18446744073709551615 (default 1)");
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
     app.add_option("--format", o.format, "table | json | csv | gbench (Google Benchmark's JSON): format of --out, or of stdout without --out");
     app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
@@ -96,7 +99,16 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--energy-baseline", o.energy_baseline, "measure idle power for SECONDS first and report energy above idle");
 }
 
-int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv) {
+std::vector<FileIdentity> run_inputs(const RunOptions& o) {
+    std::vector<std::string> paths;
+    if (!o.mesh.empty()) {
+        const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
+        if (spec.kind == mesh::MeshSpec::Kind::file) paths.push_back(spec.path);
+    }
+    return identify_inputs(paths);
+}
+
+int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, const OutputFile* out) {
     for (const auto& note : plan.notes) std::cerr << "suite: note: " << note << "\n";
     if (plan.dry_run) {
         std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text << ", placement=" << plan.settings.placement.text
@@ -121,6 +133,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     }
 
     const bool to_file = !plan.out_path.empty();
+    if (to_file && (!out || out->path() != plan.out_path)) throw std::logic_error("execute_plan: --out was not claimed");
     const bool console_table = !plan.quiet && (to_file || plan.format == "table");
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
     const FileFormat format = plan.format == "csv" ? FileFormat::csv : plan.format == "gbench" ? FileFormat::gbench : FileFormat::json;
@@ -156,12 +169,12 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         }
         if (console_table) std::cout << table_row(i + 1, total, rec) << std::flush;
         doc.records.push_back(std::move(rec));
-        if (to_file) write_atomically(plan.out_path, doc.render(format, false));
+        if (to_file) out->write(doc.render(format, false));
     }
     if (progress) std::fprintf(stderr, "\r\033[K");
     const int sig = g_signal.load();
     if (to_file) {
-        write_atomically(plan.out_path, doc.render(format, sig == 0));
+        out->write(doc.render(format, sig == 0));
         if (!plan.quiet)
             std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path << (sig ? " (incomplete: interrupted)" : "") << "\n";
     } else if (plan.format != "table") {
@@ -183,6 +196,9 @@ int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>
     if (!parse_command_line(app, "suite", args)) return 0;
     const Topology topo = Topology::load();
     Plan plan = make_plan(opts, topo);
+    // Claimed before anything runs: a second run on the same file refuses now, not at the end.
+    OutputFile out;
+    if (!plan.out_path.empty()) out = OutputFile::claim(plan.out_path, "--out", run_inputs(opts));
     if (opts.probe_caches && !plan.dry_run) {
         // The options are all checked before the seconds of probing; the plan is then made again
         // with the measured last level, which only changes the default sizes.
@@ -195,7 +211,7 @@ int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>
         plan = make_plan(opts, topo);
         plan.caches_measured = to_json(probe, topo);
     }
-    return execute_plan(plan, topo, full_argv);
+    return execute_plan(plan, topo, full_argv, &out);
 }
 
 }  // namespace suite

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "harness/common/output_file.hpp"
 #include "harness/measure/plan.hpp"
 #include "harness/machine/topology.hpp"
 
@@ -13,7 +14,11 @@ namespace suite {
 
 void setup_run_options(CLI::App& app, RunOptions& opts);
 
+// The files a run reads (a --mesh=file:PATH), which its output must not be.
+std::vector<FileIdentity> run_inputs(const RunOptions& opts);
+
 // Runs the plan; returns the process exit status (0, 1 if a verification failed, 128+signal).
-int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv);
+// `out` is plan.out_path claimed (OutputFile::claim); unused when the plan writes no file.
+int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, const OutputFile* out);
 
 }  // namespace suite

@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/parse.hpp"
-#include "harness/results/report.hpp"
+#include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/mesh/writers.hpp"
@@ -52,7 +52,7 @@ struct Options {
     std::string threads = "1,4";
     std::string out;
     std::uint64_t seed = 1;
-    int depth = 0;  // 0: the deepest
+    std::string depth;  // "": the deepest; else a whole number checked once the mesh's dimension is known
     bool no_png = false;
     bool dry_run = false;
 };
@@ -61,20 +61,6 @@ std::string join(const std::vector<std::string>& v) {
     std::string s;
     for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
     return s;
-}
-
-// The directory must exist and be a directory, or be creatable (its parent must exist).
-void check_out_dir(const std::string& dir) {
-    if (dir.empty()) throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
-    struct stat st{};
-    if (stat(dir.c_str(), &st) == 0) {
-        if (!S_ISDIR(st.st_mode)) throw UsageError("--out=" + dir + " exists and is not a directory; traverse writes several files into a directory");
-        if (access(dir.c_str(), W_OK) != 0) throw UsageError("--out=" + dir + ": the directory is not writable");
-        return;
-    }
-    const auto slash = dir.find_last_of('/', dir.find_last_not_of('/'));
-    const std::string parent = slash == std::string::npos ? "." : (slash == 0 ? "/" : dir.substr(0, slash));
-    if (stat(parent.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw UsageError("--out=" + dir + ": the directory '" + parent + "' does not exist");
 }
 
 // The interpreter and script that draw the PNGs, or why there are none.
@@ -139,8 +125,9 @@ int cmd_traverse(const std::vector<std::string>& args) {
     app.add_option("--ordering", o.orderings, "natural, random, morton, hilbert, morton-recursive, rcm (default natural,morton,hilbert)");
     app.add_option("--threads,-t", o.threads, "how many static blocks the loop is split into: 1,4 | 1-8 (default 1,4)");
     app.add_option("--out,-o", o.out, "directory for the files (created if missing)");
-    app.add_option("--seed", o.seed, "seed of the random ordering (default 1)");
-    app.add_option("--depth", o.depth, "key depth in bits per axis (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)");
+    add_seed_option(app, o.seed, "seed of the random ordering, 0 to 18446744073709551615 (default 1)");
+    app.add_option("--depth", o.depth, "key depth in bits per axis, from 1 (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)")
+        ->type_name("UINT");
     app.add_flag("--no-png", o.no_png, "write the .vtu files and numbers only");
     app.add_flag("--dry-run", o.dry_run, "check the options (and read the mesh file), list what would be written, and stop");
     if (!parse_command_line(app, "suite traverse", args)) return 0;
@@ -151,27 +138,24 @@ int cmd_traverse(const std::vector<std::string>& args) {
     if (counts.elements > max_traverse_elements)
         throw UsageError("--mesh=" + o.mesh + " has " + std::to_string(counts.elements) + " elements; traverse writes every element to .vtu files, so at most " +
                          std::to_string(max_traverse_elements));
-    std::vector<std::string> orderings;
-    for (const auto& name : split(o.orderings, ',')) {
+    const std::vector<std::string> orderings = parse_name_list(o.orderings, "--ordering");
+    for (const auto& name : orderings)
         if (std::find(orderings_accepted.begin(), orderings_accepted.end(), name) == orderings_accepted.end()) {
             const std::string hint = nearest(name, orderings_accepted);
             throw UsageError("unknown ordering '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + join(orderings_accepted));
         }
-        if (std::find(orderings.begin(), orderings.end(), name) == orderings.end()) orderings.push_back(name);
-    }
     if (o.threads == "all") throw UsageError("--threads=all: traverse splits the loop into the blocks of the thread counts given, e.g. --threads=1,4");
-    std::vector<int> threads;
-    try {
-        threads = parse_thread_list(o.threads, 1024);
-    } catch (const UsageError&) {  // its message speaks of this machine's processing units, which do not matter here
-        throw UsageError("--threads=" + o.threads + ": traverse splits the loop into 1 to 1024 static blocks; give a list such as 1,4 or a range such as 1-8");
-    }
-    const int depth = o.depth ? o.depth : max_depth(counts.dim);
-    if (depth < 1 || depth > max_depth(counts.dim))
-        throw UsageError("--depth=" + std::to_string(o.depth) + ": the key depth must be 1.." + std::to_string(max_depth(counts.dim)) + " in " +
-                         std::to_string(counts.dim) + "D");
-    check_out_dir(o.out);
+    // Thread counts here are the blocks of a static split, not this machine's processing units.
+    const std::vector<int> threads = parse_thread_list(o.threads, 1024, "traverse splits the loop into 1 to 1024 static blocks");
+    const int deepest = max_depth(counts.dim);
+    const int depth = o.depth.empty() ? deepest
+                                      : static_cast<int>(parse_whole(o.depth, "--depth", 1, static_cast<std::uint64_t>(deepest),
+                                                                     "the key depth in bits per axis, at most " + std::to_string(deepest) + " in " +
+                                                                         std::to_string(counts.dim) + "D"));
+    if (o.out.empty()) throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
+    const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
     if (o.dry_run) {
+        OutputDir::check(o.out, "--out");
         std::printf("mesh %s: %llu %s; into %s: %zu .vtu file(s)%s and summary.json\n", o.mesh.c_str(),
                     static_cast<unsigned long long>(counts.elements), mesh::element_word(counts.dim, true).c_str(), o.out.c_str(),
                     orderings.size() * threads.size(), o.no_png ? "" : ", 6 .png snapshots each");
@@ -179,7 +163,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
             for (int t : threads) std::printf("  %s-t%d.vtu\n", name.c_str(), t);
         return 0;
     }
-    if (mkdir(o.out.c_str(), 0755) != 0 && errno != EEXIST) throw std::runtime_error("cannot create " + o.out + ": " + std::strerror(errno));
+    const OutputDir out = OutputDir::claim(o.out, "--out", inputs);
 
     const mesh::Mesh base = mesh::load_mesh(spec);
     nlohmann::json summary = {{"mesh", o.mesh}, {"dim", base.dim}, {"elements", base.elements()}, {"vertices", base.vertices()},
@@ -209,7 +193,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
                 }
             }
             const std::string file = name + "-t" + std::to_string(t) + ".vtu";
-            write_atomically(o.out + "/" + file, mesh::vtu_text(m, {{"visit", visit}, {"thread", owner}, {"step", step}}));
+            out.write(file, mesh::vtu_text(m, {{"visit", visit}, {"thread", owner}, {"step", step}}));
             const double fraction = static_cast<double>(s.elements) / static_cast<double>(m.elements());
             entry["threads"].push_back({{"threads", t}, {"shared_elements", s.elements}, {"shared_fraction", fraction},
                                         {"shared_vertices", s.vertices}, {"vtu", file}});
@@ -232,8 +216,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
         if (shared[d] == 0) break;  // deeper levels only split cells further
     }
     std::printf("\n");
-    const std::string summary_path = o.out + "/summary.json";
-    write_atomically(summary_path, summary.dump(1) + "\n");
+    out.write("summary.json", summary.dump(1) + "\n");
     if (o.no_png) {
         summary["png"] = {{"available", false}, {"reason", "--no-png"}};
     } else {
@@ -246,7 +229,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
             std::cerr << "suite: note: no PNG snapshots: " << why << "\n";
         }
     }
-    write_atomically(summary_path, summary.dump(1) + "\n");
+    out.write("summary.json", summary.dump(1) + "\n");
     std::printf("\nwrote %s (.vtu per ordering and thread count%s, summary.json)\n", o.out.c_str(),
                 summary["png"]["available"].get<bool>() ? ", .png snapshots" : "");
     return 0;

@@ -1,16 +1,11 @@
 #include "harness/measure/plan.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <map>
 
 #include <omp.h>
 
+#include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite {
@@ -27,14 +22,6 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> default_swee
     {"latency", {"random"}},
 };
 
-// A comma list without repeats, in the order given.
-std::vector<std::string> unique_list(const std::string& text) {
-    std::vector<std::string> out;
-    for (auto& s : split(text, ','))
-        if (std::find(out.begin(), out.end(), s) == out.end()) out.push_back(s);
-    return out;
-}
-
 Access parse_access(const std::string& text, const std::string& option) {
     Access a;
     if (text.rfind("strided", 0) != 0) {
@@ -44,35 +31,11 @@ Access parse_access(const std::string& text, const std::string& option) {
     a.name = "strided";
     if (text.size() < 9 || text[7] != ':')
         throw UsageError("--" + option + "=" + text + ": strided needs a stride in elements, e.g. strided:8");
-    const std::string s = text.substr(8);
-    if (s.size() > 9 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; }) || std::stoll(s) < 1)
-        throw UsageError("--" + option + "=" + text + ": the stride must be a positive integer number of elements, e.g. strided:8");
-    a.stride = std::stoull(s);
+    const auto stride = whole_number(text.substr(8), 1000000000);
+    if (!stride || *stride < 1)
+        throw UsageError("--" + option + "=" + text + ": the stride must be a positive whole number of elements, at most 1000000000, e.g. strided:8");
+    a.stride = *stride;
     return a;
-}
-
-// The directory of `path` must exist and take a new file; `path` itself, if it exists, must
-// be a regular file (the result replaces it by renaming a temporary file over it, which would
-// replace a symlink, a FIFO or a device node rather than write through it).
-void check_output_path(const std::string& path) {
-    if (path.empty()) throw UsageError("--out needs a file name, e.g. --out=results/run.json");
-    struct stat st{};
-    if (lstat(path.c_str(), &st) == 0) {
-        if (S_ISDIR(st.st_mode)) throw UsageError("--out=" + path + " is a directory; give a file name, e.g. " + path + "/run.json");
-        if (!S_ISREG(st.st_mode))
-            throw UsageError("--out=" + path + " exists and is not a regular file (a symlink, device or pipe); give a plain file name");
-    }
-    auto slash = path.rfind('/');
-    std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-    if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-        throw UsageError("--out=" + path + ": the directory '" + dir + "' does not exist");
-    // Create and remove a probe file: access(W_OK) says yes to root even where nothing can be
-    // created (e.g. /proc), and the result file is written through a temporary file beside it.
-    const std::string probe = path + ".probe." + std::to_string(getpid());
-    int fd = open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) throw UsageError("--out=" + path + ": the directory '" + dir + "' is not writable (" + std::strerror(errno) + ")");
-    close(fd);
-    unlink(probe.c_str());
 }
 
 // The CPUs a team of `threads` may run on under `pin`, before it exists.
@@ -99,7 +62,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     std::vector<std::pair<std::string, std::vector<std::string>>> wanted;
     if (use_default_sweep) wanted = default_sweep;
     else
-        for (const auto& name : unique_list(o.kernels)) wanted.push_back({name, {}});
+        for (const auto& name : parse_name_list(o.kernels, "--kernel")) wanted.push_back({name, {}});
     for (const auto& [name, defaults] : wanted) {
         const KernelEntry* k = find_kernel(name);
         if (!k) {
@@ -124,7 +87,15 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
 
     // Threads and pinning.
     std::vector<int> threads;
-    for (int t : o.threads.empty() ? std::vector<int>{1, topo.pu_count()} : parse_thread_list(o.threads, topo.pu_count()))
+    std::vector<int> asked{1, topo.pu_count()};
+    try {
+        if (!o.threads.empty()) asked = parse_thread_list(o.threads, topo.pu_count());
+    } catch (const UsageError& e) {
+        if (!topo.mask_restricted()) throw;
+        throw UsageError(std::string(e.what()) + " (this process's CPU mask allows CPUs " + format_cpu_list(topo.mask_cpus) + " of the machine's " +
+                         std::to_string(topo.machine_cpus.size()) + ")");
+    }
+    for (int t : asked)
         if (std::find(threads.begin(), threads.end(), t) == threads.end()) threads.push_back(t);
     plan.settings.pin = parse_pin(o.pin, topo);
     const int most_threads = *std::max_element(threads.begin(), threads.end());
@@ -179,10 +150,16 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     // Without a size, the cache-level sizes are per thread (each thread's share stays in its
     // cache whatever the team), so they are chosen with the thread count, point by point.
     const bool default_size = o.size.empty() && o.sizes.empty();
-    std::vector<std::uint64_t> sizes;
-    if (!o.size.empty()) sizes = {parse_bytes(o.size)};
-    else if (!o.sizes.empty()) sizes = parse_size_list(o.sizes);
-    auto sizes_for = [&](int t) { return default_size ? default_sizes(topo, t, o.measured) : sizes; };
+    // A kernel sized by a count (SizeKind::count) reads the same text as a count of its units, so
+    // that a message speaks of what it counts, not of bytes.
+    auto given_sizes = [&](const KernelInfo& info) -> std::vector<std::uint64_t> {
+        if (info.size_kind == SizeKind::count) {
+            const std::string noun = info.unit + "s";
+            return o.size.empty() ? parse_count_list(o.sizes, noun, info.name) : std::vector<std::uint64_t>{parse_count(o.size, noun, info.name)};
+        }
+        return o.size.empty() ? parse_size_list(o.sizes) : std::vector<std::uint64_t>{parse_bytes(o.size)};
+    };
+    auto sizes_for = [&](const KernelInfo& info, int t) { return default_size ? default_sizes(topo, t, o.measured) : given_sizes(info); };
 
     // Stores.
     if (o.stores != "default" && o.stores != "nt") throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt");
@@ -207,8 +184,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     }
 
     // The points: each kernel takes the patterns or orderings of its own axis.
-    const std::vector<std::string> given_patterns = o.patterns.empty() ? std::vector<std::string>{} : unique_list(o.patterns);
-    const std::vector<std::string> given_orderings = o.orderings.empty() ? std::vector<std::string>{} : unique_list(o.orderings);
+    const std::vector<std::string> given_patterns = o.patterns.empty() ? std::vector<std::string>{} : parse_name_list(o.patterns, "--pattern");
+    const std::vector<std::string> given_orderings = o.orderings.empty() ? std::vector<std::string>{} : parse_name_list(o.orderings, "--ordering");
     for (const auto& [k, defaults] : ks) {
         const KernelInfo& info = k->info;
         const bool by_pattern = info.axis == AccessAxis::pattern;
@@ -231,7 +208,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
                 if (!v.empty() && v != "nt") phases.push_back(v);
             if (phases.size() == 1)
                 throw UsageError("kernel '" + info.name + "' has no phases, so --phase does not apply; kernels with phases: " + join(with_phases, ", "));
-            for (const auto& ph : unique_list(o.phases)) {
+            for (const auto& ph : parse_name_list(o.phases, "--phase")) {
                 if (std::find(phases.begin(), phases.end(), ph) == phases.end()) {
                     std::string hint = nearest(ph, phases);
                     throw UsageError("kernel '" + info.name + "' has no phase '" + ph + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
@@ -244,8 +221,12 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         std::vector<std::string> meshes{""};
         if (k->mesh_elements && (!o.mesh.empty() || default_size))
             meshes = o.mesh.empty() ? k->default_meshes : std::vector<std::string>{o.mesh};
+        std::vector<std::string> labels;  // strided:8 and strided:08 are the same pattern
         for (const auto& text : texts) {
             Access a = parse_access(text, axis);
+            if (std::find(labels.begin(), labels.end(), a.label()) != labels.end())
+                throw UsageError("--" + std::string(axis) + "=" + (by_pattern ? o.patterns : o.orderings) + " names " + a.label() + " twice; give each once");
+            labels.push_back(a.label());
             if (std::find(info.accesses.begin(), info.accesses.end(), a.name) == info.accesses.end()) {
                 std::string hint = nearest(a.name, info.accesses);
                 throw UsageError("kernel '" + info.name + "' has no " + axis + " '" + text + "'" +
@@ -262,9 +243,9 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
                         }
                         continue;
                     }
-                    for (std::size_t s = 0; s < sizes_for(1).size(); ++s)
+                    for (std::size_t s = 0; s < sizes_for(info, 1).size(); ++s)
                         for (int t : threads) {
-                            const std::uint64_t size = sizes_for(t)[s];
+                            const std::uint64_t size = sizes_for(info, t)[s];
                             KernelConfig cfg{a, kv, size, plan.settings.seed, t};
                             k->validate(cfg);
                             plan.points.push_back({k, a, kv, size, t});
@@ -295,8 +276,9 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         plan.notes.push_back(o.dry_run ? "--probe-caches does not run with --dry-run: the default sizes shown follow the reported caches"
                                        : "the cache probe found no last level below memory: the default sizes follow the reported caches");
 
-    // Last, as it creates (and removes) a probe file: nothing is written before all else is checked.
-    if (!o.out.empty()) check_output_path(o.out);
+    // Last, as it creates (and removes) a probe file: nothing is written before all else is
+    // checked. The run claims the file (lock, inputs) before it measures: harness/cli/run.cpp.
+    if (!o.out.empty()) check_output_target(o.out, "--out");
     return plan;
 }
 

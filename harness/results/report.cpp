@@ -1,13 +1,7 @@
 #include "harness/results/report.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <sstream>
-#include <stdexcept>
 
 #include "harness/measure/instrument_set.hpp"
 #include "harness/common/units.hpp"
@@ -173,40 +167,6 @@ std::string ResultDocument::render(FileFormat format, bool complete) const {
     doc["results"] = nlohmann::json::array();
     for (const auto& r : records) doc["results"].push_back(to_json(r));
     return doc.dump(1) + "\n";
-}
-
-void write_atomically(const std::string& path, const std::string& content) {
-    const std::string tmp = path + ".tmp." + std::to_string(getpid());
-    auto fail = [&](const std::string& what) {
-        const int err = errno;
-        unlink(tmp.c_str());
-        throw std::runtime_error("cannot write " + path + ": " + what + ": " + std::strerror(err) +
-                                 " (the previous file, if any, is unchanged)");
-    };
-    int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) fail("cannot create " + tmp);
-    const char* p = content.data();
-    std::size_t left = content.size();
-    while (left > 0) {
-        ssize_t n = write(fd, p, left);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            close(fd);
-            fail("write failed");
-        }
-        p += n;
-        left -= static_cast<std::size_t>(n);
-    }
-    if (fsync(fd) != 0) { close(fd); fail("fsync failed"); }
-    if (close(fd) != 0) fail("close failed");
-    if (rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed");
-    // The rename itself reaches the disk only when the directory is synced.
-    const auto slash = path.rfind('/');
-    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-    if (int dfd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
-        fsync(dfd);
-        close(dfd);
-    }
 }
 
 }  // namespace suite

@@ -41,9 +41,4 @@ std::string render_gbench(const nlohmann::json& context, const std::vector<Recor
 // with Google Benchmark's "/real_time" suffix (the time is the wall clock of the whole team).
 std::string gbench_name(const std::string& kernel_name, const std::string& access, const std::string& size, int threads);
 
-// Writes `content` to `path` so that `path` is valid at every moment: a temporary file beside
-// it, flushed to disk, renamed over it. On failure the previous file is left as it was, the
-// temporary file is removed, and std::runtime_error says why.
-void write_atomically(const std::string& path, const std::string& content);
-
 }  // namespace suite

@@ -1,0 +1,118 @@
+// The one writer (harness/common/output_file.hpp) in-process: what it refuses, what it keeps,
+// and that it leaves nothing behind. The end-to-end cases are in tests/cli/output_test.cpp.
+#include "harness/common/output_file.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+#include "harness/common/units.hpp"
+#include "tests/process.hpp"
+
+namespace fs = std::filesystem;
+using namespace suite;
+using suite::test::TempDir;
+using suite::test::slurp;
+
+namespace {
+
+std::vector<std::string> names(const TempDir& d) {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(d.path())) out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::string message_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(OutputFile, WritesReplaceAtomicallyAndKeepTheFileMode) {
+    TempDir d;
+    const std::string p = d.file("r.json");
+    {
+        OutputFile f = OutputFile::claim(p, "--out");
+        EXPECT_EQ(names(d), (std::vector<std::string>{"r.json.lock"}));
+        f.write("one\n");
+        ASSERT_EQ(chmod(p.c_str(), 0600), 0);
+        f.write("two\n");
+    }
+    EXPECT_EQ(slurp(p), "two\n");
+    struct stat st{};
+    ASSERT_EQ(stat(p.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0600u) << "a replaced file keeps its permissions";
+    EXPECT_EQ(names(d), (std::vector<std::string>{"r.json"})) << "the lock file goes with the claim";
+}
+
+TEST(OutputFile, TheSameFileClaimedTwiceInOneRunIsRefused) {
+    TempDir d;
+    const OutputFile first = OutputFile::claim(d.file("r.json"), "--out");
+    fs::create_directory(d.file("sub"));
+    const std::string msg = message_of([&] { OutputFile::claim(d.file("sub/../r.json"), "--markdown"); });
+    EXPECT_NE(msg.find("named twice"), std::string::npos) << msg;
+    // The refused claim did not drop the first one's lock.
+    EXPECT_TRUE(fs::exists(d.file("r.json.lock")));
+    first.write("still mine\n");
+    EXPECT_EQ(slurp(d.file("r.json")), "still mine\n");
+}
+
+TEST(OutputFile, ATargetThatTurnsIntoAFifoAfterTheClaimIsNotWritten) {
+    TempDir d;
+    const std::string p = d.file("r.json");
+    const OutputFile f = OutputFile::claim(p, "--out");
+    ASSERT_EQ(mkfifo(p.c_str(), 0644), 0);
+    const std::string msg = message_of([&] { f.write("x"); });
+    EXPECT_NE(msg.find("a FIFO"), std::string::npos) << msg;
+    struct stat st{};
+    EXPECT_TRUE(lstat(p.c_str(), &st) == 0 && S_ISFIFO(st.st_mode));
+    EXPECT_EQ(names(d), (std::vector<std::string>{"r.json", "r.json.lock"})) << "no temporary file";
+}
+
+TEST(OutputFile, InputsAreRecognisedByInodeNotBySpelling) {
+    TempDir d;
+    const std::string in = d.file("mesh.txt");
+    { std::ofstream(in) << "data\n"; }
+    ASSERT_EQ(symlink(in.c_str(), d.file("via-link").c_str()), 0);
+    const auto inputs = identify_inputs({d.file("via-link"), d.file("missing.json")});
+    ASSERT_EQ(inputs.size(), 1u) << "a missing input is its reader's error";
+    fs::create_directory(d.file("sub"));
+    EXPECT_THROW(OutputFile::claim(d.file("sub/../mesh.txt"), "--out", inputs), UsageError);
+    EXPECT_EQ(slurp(in), "data\n");
+    EXPECT_EQ(names(d), (std::vector<std::string>{"mesh.txt", "sub", "via-link"}));
+}
+
+TEST(OutputDir, CreatesLocksAndWritesPlainNamesOnly) {
+    TempDir d;
+    const std::string dir = d.file("out");
+    {
+        const OutputDir o = OutputDir::claim(dir, "--out");
+        EXPECT_TRUE(fs::is_directory(dir));
+        EXPECT_TRUE(fs::exists(dir + "/.suite.lock"));
+        o.write("summary.json", "{}\n");
+        EXPECT_THROW(o.write("../escape.json", "x"), std::logic_error);
+        EXPECT_THROW(OutputDir::claim(dir, "--out"), UsageError) << "one claim of a directory at a time";
+        ASSERT_EQ(mkfifo((dir + "/a.vtu").c_str(), 0644), 0);
+        EXPECT_THROW(o.write("a.vtu", "x"), std::runtime_error);
+    }
+    EXPECT_EQ(slurp(dir + "/summary.json"), "{}\n");
+    EXPECT_FALSE(fs::exists(dir + "/.suite.lock"));
+    EXPECT_FALSE(fs::exists(d.file("escape.json")));
+    // A regular file where the directory should be, and a missing parent, are usage errors.
+    { std::ofstream(d.file("file")) << "x"; }
+    EXPECT_THROW(OutputDir::claim(d.file("file"), "--out"), UsageError);
+    EXPECT_THROW(OutputDir::claim(d.file("no/such/dir"), "--out"), UsageError);
+    EXPECT_FALSE(fs::exists(d.file("no")));
+}
