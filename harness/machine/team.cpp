@@ -54,10 +54,14 @@ PinSpec parse_pin(std::string_view text, const Topology& topo) {
     else if (!text.empty() && std::isdigit(static_cast<unsigned char>(text[0]))) {
         spec.mode = PinMode::list;
         spec.cpus = parse_cpu_list(text);
-        for (int c : spec.cpus)
+        for (int c : spec.cpus) {
+            if (!topo.find_pu(c) && std::find(topo.machine_cpus.begin(), topo.machine_cpus.end(), c) != topo.machine_cpus.end())
+                throw UsageError("--pin=" + spec.text + ": CPU " + std::to_string(c) + " is outside this process's CPU mask " +
+                                 format_cpu_list(topo.mask_cpus) + " (set by taskset, a cgroup or the batch scheduler); pin to CPUs in the mask");
             if (!topo.find_pu(c) || c >= CPU_SETSIZE)
                 throw UsageError("--pin list names CPU " + std::to_string(c) + ", which this machine does not have (it has " +
                                  std::to_string(topo.pu_count()) + " PUs; see ./suite info)");
+        }
     } else {
         std::string hint = nearest(text, {"compact", "scatter", "none"});
         throw UsageError("unknown --pin value '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +

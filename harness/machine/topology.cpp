@@ -1,6 +1,7 @@
 #include "harness/machine/topology.hpp"
 
 #include <hwloc.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <map>
@@ -31,6 +32,35 @@ int ancestor_index(hwloc_topology_t t, hwloc_obj_t obj, hwloc_obj_type_t type) {
     return a ? static_cast<int>(a->logical_index) : -1;
 }
 
+// The process's CPU mask as it was when the program started, before any thread was pinned
+// (pinning the team pins the main thread too, and a later load must not mistake that for the
+// mask the user gave).
+const std::vector<int> startup_mask = [] {
+    std::vector<int> cpus;
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) == 0)
+        for (int c = 0; c < CPU_SETSIZE; ++c)
+            if (CPU_ISSET(c, &set)) cpus.push_back(c);
+    return cpus;
+}();
+
+// Restricts the topology to the startup mask; fills machine_cpus and mask_cpus.
+void restrict_to_mask(hwloc_topology_t t, Topology& topo) {
+    hwloc_const_cpuset_t all = hwloc_topology_get_topology_cpuset(t);
+    for (int c = hwloc_bitmap_first(all); c >= 0; c = hwloc_bitmap_next(all, c)) topo.machine_cpus.push_back(c);
+    hwloc_bitmap_t mask = hwloc_bitmap_alloc();
+    for (int c : startup_mask) hwloc_bitmap_set(mask, static_cast<unsigned>(c));
+    hwloc_bitmap_and(mask, mask, all);
+    if (!hwloc_bitmap_iszero(mask) && !hwloc_bitmap_isequal(mask, all) && hwloc_topology_restrict(t, mask, 0) != 0) {
+        hwloc_bitmap_free(mask);
+        throw std::runtime_error("hwloc could not restrict the topology to this process's CPU mask");
+    }
+    if (hwloc_bitmap_iszero(mask)) hwloc_bitmap_copy(mask, all);  // a mask hwloc does not know: nothing to restrict
+    for (int c = hwloc_bitmap_first(mask); c >= 0; c = hwloc_bitmap_next(mask, c)) topo.mask_cpus.push_back(c);
+    hwloc_bitmap_free(mask);
+}
+
 const char* cache_type_name(hwloc_obj_cache_type_t t) {
     switch (t) {
         case HWLOC_OBJ_CACHE_DATA: return "data";
@@ -46,6 +76,7 @@ Topology Topology::load() {
     hwloc_topology_t t = h.t;
     Topology topo;
     topo.this_system = hwloc_topology_is_thissystem(t) != 0;
+    if (topo.this_system) restrict_to_mask(t, topo);
     topo.packages = std::max(1, hwloc_get_nbobjs_by_type(t, HWLOC_OBJ_PACKAGE));
     topo.cores = hwloc_get_nbobjs_by_type(t, HWLOC_OBJ_CORE);
     if (hwloc_obj_t pkg = hwloc_get_obj_by_type(t, HWLOC_OBJ_PACKAGE, 0))
@@ -157,6 +188,19 @@ std::uint64_t Topology::last_level_cache_total_bytes() const {
     return c ? c->size_bytes * static_cast<std::uint64_t>(c->instances) : 0;
 }
 
+std::string format_cpu_list(const std::vector<int>& cpus) {
+    std::vector<int> v = cpus;
+    std::sort(v.begin(), v.end());
+    std::string out;
+    for (std::size_t i = 0; i < v.size();) {
+        std::size_t j = i;
+        while (j + 1 < v.size() && v[j + 1] == v[j] + 1) ++j;
+        out += (out.empty() ? "" : ",") + std::to_string(v[i]) + (j > i ? "-" + std::to_string(v[j]) : "");
+        i = j + 1;
+    }
+    return out;
+}
+
 nlohmann::json to_json(const Topology& topo) {
     nlohmann::json j;
     j["cpu_model"] = topo.cpu_model;
@@ -182,6 +226,10 @@ nlohmann::json to_json(const Topology& topo) {
             {{"os_index", p.os_index}, {"core", p.core}, {"smt_rank", p.smt_rank}, {"package", p.package},
              {"numa_node", p.numa_node >= 0 ? nlohmann::json(p.numa_node) : nlohmann::json(nullptr)}});
     j["this_system"] = topo.this_system;
+    if (topo.this_system)
+        j["cpu_mask"] = {{"cpus", format_cpu_list(topo.mask_cpus)},
+                         {"machine_pus", topo.machine_cpus.size()},
+                         {"restricted", topo.mask_restricted()}};
     return j;
 }
 
@@ -191,6 +239,9 @@ std::string format_table(const Topology& topo) {
     o << "Machine: " << topo.packages << " package(s), " << topo.nodes.size() << " NUMA node(s), " << topo.cores
       << " core(s), " << topo.pu_count() << " PU(s), " << format_bytes(topo.memory_bytes) << " memory (hwloc)\n";
     if (!topo.this_system) o << "  (a synthetic or XML topology, not this machine's)\n";
+    if (topo.mask_restricted())
+        o << "  CPU mask: " << format_cpu_list(topo.mask_cpus) << ", " << topo.mask_cpus.size() << " of the machine's " << topo.machine_cpus.size()
+          << " PUs (taskset, a cgroup or the batch scheduler); everything below is what this process may use\n";
     o << "\nNUMA nodes\n  node  memory      cpus\n";
     for (const auto& n : topo.nodes) {
         std::ostringstream cpus;

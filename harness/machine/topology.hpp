@@ -44,6 +44,13 @@ struct Topology {
     std::vector<std::vector<int>> distances;    // node x node, relative latency; empty if unknown
     std::uint64_t memory_bytes = 0;
     std::string cpu_model;  // hwloc's CPUModel of the first package, "" if unknown
+    // The CPU mask the process was started with (taskset, a cgroup cpuset, a batch scheduler):
+    // on this system the topology above is restricted to it, so `all`, `compact`, `scatter`
+    // and the default sweep use the allowed PUs only. machine_cpus lists every PU of the
+    // machine, mask_cpus the allowed ones; both empty for a synthetic or XML topology.
+    std::vector<int> machine_cpus;
+    std::vector<int> mask_cpus;
+    bool mask_restricted() const { return mask_cpus.size() < machine_cpus.size(); }
 
     // hwloc's view of the machine this process runs on (honouring hwloc's environment variables).
     static Topology load();
@@ -59,6 +66,8 @@ struct Topology {
 };
 
 nlohmann::json to_json(const Topology& topo);
+// CPU numbers as taskset and --pin write them: {0,1,2,3,8} -> "0-3,8".
+std::string format_cpu_list(const std::vector<int>& cpus);
 std::string format_table(const Topology& topo);
 
 }  // namespace suite
