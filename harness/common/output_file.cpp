@@ -8,6 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "harness/common/sysfs_file.hpp"  // file_kind
 #include "harness/common/units.hpp"
 
 namespace suite {
@@ -22,16 +23,6 @@ std::string parent_of(const std::string& path) {
     const auto slash = path.rfind('/', end);
     if (slash == std::string::npos) return ".";
     return slash == 0 ? "/" : path.substr(0, slash);
-}
-
-const char* kind_of(mode_t mode) {
-    if (S_ISDIR(mode)) return "a directory";
-    if (S_ISLNK(mode)) return "a symlink";
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    if (S_ISFIFO(mode)) return "a FIFO";
-    if (S_ISSOCK(mode)) return "a socket";
-    return "not a regular file";
 }
 
 const FileIdentity* same_as_input(const struct stat& st, const std::vector<FileIdentity>& inputs) {
@@ -55,7 +46,7 @@ void check_target(const std::string& path, const std::string& option, const std:
     if (lstat(path.c_str(), &st) == 0) {
         if (S_ISDIR(st.st_mode)) refuse(" is a directory; give a file name, e.g. " + option + "=" + path + "/run.json");
         if (!S_ISREG(st.st_mode))
-            refuse(std::string(" exists and is ") + kind_of(st.st_mode) +
+            refuse(std::string(" exists and is ") + file_kind(st.st_mode) +
                    ", not a regular file; the suite writes only to a regular file or a new name");
         if (const FileIdentity* in = same_as_input(st, inputs))
             refuse(" is the same file as the input " + in->path + "; writing it would destroy that input");
@@ -175,15 +166,25 @@ int take_lock(const std::string& lock_path, const std::string& what) {
     throw UsageError(what + ": its lock file " + lock_path + " keeps changing; another run is starting on it");
 }
 
-void drop_lock(int& fd, const std::string& lock_path) noexcept {
-    if (fd < 0) return;
-    // Unlink while still holding the lock, so that no one locks the name we are removing.
-    unlink(lock_path.c_str());
-    close(fd);
-    fd = -1;
-}
 
 }  // namespace
+
+OutputLock& OutputLock::operator=(OutputLock&& other) noexcept {
+    if (this != &other) {
+        release();
+        path_ = std::move(other.path_);
+        fd_ = std::exchange(other.fd_, -1);
+    }
+    return *this;
+}
+
+void OutputLock::release() noexcept {
+    if (fd_ < 0) return;
+    // Unlink while still holding the lock, so that no one locks the name we are removing.
+    unlink(path_.c_str());
+    close(fd_);
+    fd_ = -1;
+}
 
 std::vector<FileIdentity> identify_inputs(const std::vector<std::string>& paths) {
     std::vector<FileIdentity> out;
@@ -204,37 +205,15 @@ OutputFile OutputFile::claim(const std::string& path, const std::string& option,
     f.path_ = path;
     f.option_ = option;
     f.inputs_ = inputs;
-    f.lock_path_ = path + ".lock";
-    f.lock_fd_ = take_lock(f.lock_path_, option + "=" + path);
-    // Checked again under the lock: the target may have changed while we were taking it.
-    try {
-        check_target(path, option, inputs, true);
-    } catch (...) {
-        f.release();
-        throw;
-    }
+    f.lock_ = OutputLock(path + ".lock", take_lock(path + ".lock", option + "=" + path));
     return f;
 }
 
-OutputFile& OutputFile::operator=(OutputFile&& other) noexcept {
-    if (this != &other) {
-        release();
-        path_ = std::move(other.path_);
-        option_ = std::move(other.option_);
-        lock_path_ = std::move(other.lock_path_);
-        inputs_ = std::move(other.inputs_);
-        lock_fd_ = std::exchange(other.lock_fd_, -1);
-    }
-    return *this;
-}
-
 void OutputFile::write(const std::string& content) const {
-    if (lock_fd_ < 0) throw std::logic_error("OutputFile::write on a file that was not claimed");
+    if (!lock_.held()) throw std::logic_error("OutputFile::write on a file that was not claimed");
     check_target(path_, option_, inputs_, false);
     replace_file(path_, content);
 }
-
-void OutputFile::release() noexcept { drop_lock(lock_fd_, lock_path_); }
 
 namespace {
 
@@ -247,7 +226,7 @@ void check_dir(const std::string& dir, const std::string& option, bool create) {
         if (S_ISLNK(st.st_mode) && stat(dir.c_str(), &st) != 0)
             throw UsageError(option + "=" + dir + " is a dangling symlink; give a directory");
         if (!S_ISDIR(st.st_mode))
-            throw UsageError(option + "=" + dir + " exists and is " + kind_of(st.st_mode) + ", not a directory; it holds several files");
+            throw UsageError(option + "=" + dir + " exists and is " + file_kind(st.st_mode) + ", not a directory; it holds several files");
         if (faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
             throw UsageError(option + "=" + dir + ": the directory is not writable by this user (" + errno_text(errno) + ")");
         return;
@@ -271,32 +250,17 @@ OutputDir OutputDir::claim(const std::string& dir, const std::string& option, co
     d.dir_ = dir;
     d.option_ = option;
     d.inputs_ = inputs;
-    d.lock_path_ = dir + "/.suite.lock";
-    d.lock_fd_ = take_lock(d.lock_path_, option + "=" + dir);
+    d.lock_ = OutputLock(dir + "/.suite.lock", take_lock(dir + "/.suite.lock", option + "=" + dir));
     return d;
 }
 
-OutputDir& OutputDir::operator=(OutputDir&& other) noexcept {
-    if (this != &other) {
-        release();
-        dir_ = std::move(other.dir_);
-        option_ = std::move(other.option_);
-        lock_path_ = std::move(other.lock_path_);
-        inputs_ = std::move(other.inputs_);
-        lock_fd_ = std::exchange(other.lock_fd_, -1);
-    }
-    return *this;
-}
-
 void OutputDir::write(const std::string& name, const std::string& content) const {
-    if (lock_fd_ < 0) throw std::logic_error("OutputDir::write on a directory that was not claimed");
+    if (!lock_.held()) throw std::logic_error("OutputDir::write on a directory that was not claimed");
     if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
         throw std::logic_error("OutputDir::write: '" + name + "' is not a plain file name");
     const std::string path = dir_ + "/" + name;
     check_target(path, option_, inputs_, false);
     replace_file(path, content);
 }
-
-void OutputDir::release() noexcept { drop_lock(lock_fd_, lock_path_); }
 
 }  // namespace suite

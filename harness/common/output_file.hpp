@@ -33,29 +33,41 @@ struct FileIdentity {
 // The identities of `paths` that exist (a missing input is its reader's error, not ours).
 std::vector<FileIdentity> identify_inputs(const std::vector<std::string>& paths);
 
+// The advisory lock on an output's lock file; releasing it removes the lock file.
+class OutputLock {
+public:
+    OutputLock() = default;
+    OutputLock(std::string path, int fd) : path_(std::move(path)), fd_(fd) {}
+    OutputLock(OutputLock&& other) noexcept : path_(std::move(other.path_)), fd_(std::exchange(other.fd_, -1)) {}
+    OutputLock& operator=(OutputLock&& other) noexcept;
+    OutputLock(const OutputLock&) = delete;
+    OutputLock& operator=(const OutputLock&) = delete;
+    ~OutputLock() { release(); }
+
+    bool held() const { return fd_ >= 0; }
+    void release() noexcept;
+
+private:
+    std::string path_;
+    int fd_ = -1;
+};
+
 class OutputFile {
 public:
     // `option` names where the path came from in messages, e.g. "--out" or "--markdown".
     static OutputFile claim(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs = {});
 
-    OutputFile() = default;
-    OutputFile(OutputFile&& other) noexcept { *this = std::move(other); }
-    OutputFile& operator=(OutputFile&& other) noexcept;
-    OutputFile(const OutputFile&) = delete;
-    OutputFile& operator=(const OutputFile&) = delete;
-    ~OutputFile() { release(); }
-
     // Replaces the file's content atomically (temporary file, fsync, rename, directory fsync).
     void write(const std::string& content) const;
     const std::string& path() const { return path_; }
-    bool claimed() const { return lock_fd_ >= 0; }
+    bool claimed() const { return lock_.held(); }
     // Removes the lock file and drops the lock (the destructor does it too).
-    void release() noexcept;
+    void release() noexcept { lock_.release(); }
 
 private:
-    std::string path_, option_, lock_path_;
+    std::string path_, option_;
     std::vector<FileIdentity> inputs_;
-    int lock_fd_ = -1;
+    OutputLock lock_;
 };
 
 // A directory of outputs: created if missing (its parent must exist), locked as a whole, and
@@ -66,22 +78,15 @@ public:
     // The checks of claim() alone, creating and locking nothing (for --dry-run).
     static void check(const std::string& dir, const std::string& option);
 
-    OutputDir() = default;
-    OutputDir(OutputDir&& other) noexcept { *this = std::move(other); }
-    OutputDir& operator=(OutputDir&& other) noexcept;
-    OutputDir(const OutputDir&) = delete;
-    OutputDir& operator=(const OutputDir&) = delete;
-    ~OutputDir() { release(); }
-
     // Writes DIR/name (a plain file name, no '/') atomically, under the same policy.
     void write(const std::string& name, const std::string& content) const;
     const std::string& path() const { return dir_; }
-    void release() noexcept;
+    void release() noexcept { lock_.release(); }
 
 private:
-    std::string dir_, option_, lock_path_;
+    std::string dir_, option_;
     std::vector<FileIdentity> inputs_;
-    int lock_fd_ = -1;
+    OutputLock lock_;
 };
 
 // The policy check alone, without a lock or a write: throws UsageError if `path` may not be

@@ -11,15 +11,6 @@ namespace suite {
 
 namespace {
 
-const char* kind_of(mode_t mode) {
-    if (S_ISFIFO(mode)) return "a named pipe (FIFO)";
-    if (S_ISCHR(mode)) return "a character device";
-    if (S_ISBLK(mode)) return "a block device";
-    if (S_ISDIR(mode)) return "a directory";
-    if (S_ISSOCK(mode)) return "a socket";
-    return "not a regular file";
-}
-
 AttributeText failed(const std::string& path, int err) {
     AttributeText a;
     a.error = err;
@@ -35,17 +26,27 @@ AttributeText refused(const std::string& path, const std::string& why) {
 
 }  // namespace
 
+const char* file_kind(mode_t mode) {
+    if (S_ISFIFO(mode)) return "a named pipe (FIFO)";
+    if (S_ISLNK(mode)) return "a symlink";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
 AttributeText read_attribute(const std::string& path) {
     // stat() first, so that a FIFO or a device is never even opened; then open without blocking
     // (a FIFO swapped in meanwhile opens at once) and check again what was opened.
     struct stat st{};
     if (stat(path.c_str(), &st) != 0) return failed(path, errno);
-    if (!S_ISREG(st.st_mode)) return refused(path, std::string("is ") + kind_of(st.st_mode));
+    if (!S_ISREG(st.st_mode)) return refused(path, std::string("is ") + file_kind(st.st_mode));
     const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0) return failed(path, errno);
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         close(fd);
-        return refused(path, std::string("is ") + kind_of(st.st_mode));
+        return refused(path, std::string("is ") + file_kind(st.st_mode));
     }
     // One byte more than the bound tells a larger file from one of exactly the bound.
     char buf[max_attribute_bytes + 1];

@@ -3,6 +3,8 @@
 // answers, a regular file of at most 4 KiB whose content is there at once. Never blocks and
 // never reads more: a FIFO, a device, a directory, a read that would wait or a file larger than
 // the bound is refused with the reason, and the caller treats the thing it wanted as unavailable.
+#include <sys/types.h>
+
 #include <cstddef>
 #include <string>
 
@@ -20,5 +22,9 @@ struct AttributeText {
 };
 
 AttributeText read_attribute(const std::string& path);
+
+// What a file that is not a regular one is, for messages: "a named pipe (FIFO)", "a symlink",
+// "a character device", ... (the output writer uses it too).
+const char* file_kind(mode_t mode);
 
 }  // namespace suite

@@ -144,7 +144,7 @@ TEST(Output, SpecialFilesAreRefusedAndLeftAsTheyWere) {
     const std::string target = d.file("target.json");
     const std::string target_text = make_result(target);
     ASSERT_EQ(symlink(target.c_str(), link_path.c_str()), 0);
-    for (const auto& [path, kind] : std::vector<std::pair<std::string, std::string>>{{fifo, "a FIFO"}, {sock, "a socket"}, {link_path, "a symlink"}}) {
+    for (const auto& [path, kind] : std::vector<std::pair<std::string, std::string>>{{fifo, "a named pipe (FIFO)"}, {sock, "a socket"}, {link_path, "a symlink"}}) {
         SCOPED_TRACE(path);
         expect_refused(run_suite(quick({"--out=" + path})), {"--out=" + path, kind, "regular file"});
     }

@@ -75,7 +75,7 @@ TEST(OutputFile, ATargetThatTurnsIntoAFifoAfterTheClaimIsNotWritten) {
     const OutputFile f = OutputFile::claim(p, "--out");
     ASSERT_EQ(mkfifo(p.c_str(), 0644), 0);
     const std::string msg = message_of([&] { f.write("x"); });
-    EXPECT_NE(msg.find("a FIFO"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("a named pipe (FIFO)"), std::string::npos) << msg;
     struct stat st{};
     EXPECT_TRUE(lstat(p.c_str(), &st) == 0 && S_ISFIFO(st.st_mode));
     EXPECT_EQ(names(d), (std::vector<std::string>{"r.json", "r.json.lock"})) << "no temporary file";
