@@ -78,8 +78,8 @@ void run_kernel(benchmark::State& state, const KernelEntry* entry, KernelConfig 
     kernel->run(1);  // warm-up, as suite run does
     for (auto _ : state) kernel->run(1);
     const Verification v = kernel->verify();
-    if (!v.passed) {
-        state.SkipWithError(("failed verification: " + v.detail).c_str());
+    if (!v.passed || v.solver_failed) {
+        state.SkipWithError(((v.solver_failed ? "solver failed: " : "failed verification: ") + v.detail).c_str());
         return;
     }
     const Work w = kernel->work();
@@ -111,10 +111,11 @@ int main(int argc, char** argv) {
                 const Access access{access_name, access_name == "strided" ? 8u : 0u};
                 for (const auto& variant : info.variants)
                     for (int t : threads) {
+                        if (t > 1 && single_thread_only(info, variant)) continue;
                         std::vector<std::uint64_t> sizes = given;
                         if (sizes.empty()) sizes = info.size_kind == SizeKind::bytes ? default_sizes(topo, t) : std::vector<std::uint64_t>{entry.test_size};
                         for (std::uint64_t size : sizes) {
-                            KernelConfig cfg{access, variant, size, 1, t};
+                            KernelConfig cfg{access, variant, size, 1, t, "", default_params(info)};
                             try {
                                 entry.validate(cfg);  // e.g. nt only with sequential, a size too small
                             } catch (const UsageError&) {

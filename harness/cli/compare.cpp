@@ -14,7 +14,8 @@ namespace suite {
 namespace {
 
 const char* const compare_examples = R"(
-Points are matched by kernel, variant, pattern or ordering, size, threads, pinning and placement.
+Points are matched by kernel, variant, pattern or ordering, size, threads, pinning, placement
+and kernel parameters (--tol=... and the like).
 For each file: the best and median of the point's headline figure (GB/s for bandwidth kernels,
 ns per load for latency, instructions for a deterministic run), and its ratio to the first file
 as performance: above 1 is better than the first file, whichever way the figure goes (for a

@@ -120,6 +120,8 @@ std::vector<std::string> inner_args(const RunOptions& o) {
     add("--kernel", o.kernels);
     add("--pattern", o.patterns);
     add("--ordering", o.orderings);
+    add("--phase", o.phases);
+    add("--strategy", o.strategies);
     add("--stores", o.stores);
     add("--size", o.size);
     add("--sizes", o.sizes);
@@ -128,6 +130,7 @@ std::vector<std::string> inner_args(const RunOptions& o) {
     add("--placement", o.placement);
     add("--reps", std::to_string(o.reps));
     add("--seed", std::to_string(o.seed));
+    for (const auto& [name, text] : o.params) add(("--" + name).c_str(), text);
     return a;
 }
 
@@ -184,7 +187,7 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
         return status;
     }
     const std::string run_json = dir + "/run.json";
-    if ((status != 0 && status != 1) || access(run_json.c_str(), R_OK) != 0)
+    if ((status != 0 && status != 1 && status != 3) || access(run_json.c_str(), R_OK) != 0)
         throw std::runtime_error("the run under valgrind failed (exit status " + std::to_string(status) + "): " + log_tail(slurp(dir + "/valgrind.log")));
 
     json doc = json::parse(slurp(run_json));

@@ -11,6 +11,7 @@
 
 #include "harness/cli/commands.hpp"
 #include "harness/cli/parse.hpp"
+#include "harness/cli/run.hpp"
 #include "harness/instruments/counters.hpp"
 #include "harness/kernel/kernel.hpp"
 
@@ -28,6 +29,48 @@ std::string accesses_text(const KernelInfo& info) {
     std::string out;
     for (const auto& a : info.accesses) out += (out.empty() ? "" : ",") + (a == "strided" ? std::string("strided:S") : a);
     return out;
+}
+
+nlohmann::json params_json(const KernelInfo& info) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& p : info.params) out.push_back({{"name", p.name}, {"default", p.default_value}, {"help", p.help}});
+    return out;
+}
+
+// The options that only some kernels take: their variant options and parameters, a line each.
+void print_kernel_options() {
+    bool any = false;
+    for (const auto& e : kernels()) {
+        const auto& i = e.info;
+        std::vector<std::string> named;
+        for (const auto& v : i.variants)
+            if (!v.empty() && v != "nt")
+                named.push_back(v + (std::find(i.single_thread_variants.begin(), i.single_thread_variants.end(), v) != i.single_thread_variants.end()
+                                         ? " (1 thread)" : ""));
+        const bool plain = std::find(i.variants.begin(), i.variants.end(), "") != i.variants.end();
+        if (!named.empty() && plain && i.variant_option == "phase") named.insert(named.begin(), "all");
+        if (named.empty()) continue;
+        if (!any) std::printf("\nOptions of some kernels:\n");
+        any = true;
+        if (!named.empty()) {
+            // "" is the plain kernel, which --phase calls "all".
+            const std::string plain_name = i.variant_option == "phase" ? "all" : "the plain kernel";
+            std::string defaults;
+            for (const auto& v : i.default_variants) defaults += (defaults.empty() ? "" : ",") + (v.empty() ? plain_name : v);
+            std::printf("  %-12s --%s=%s (default %s)\n", i.name.c_str(), i.variant_option.c_str(), join(named, ",").c_str(),
+                        defaults.empty() ? plain_name.c_str() : defaults.c_str());
+        }
+    }
+    // Parameters, once each, with the kernels that take them.
+    std::vector<std::string> names;
+    for (const auto& e : kernels())
+        for (const auto& p : e.info.params)
+            if (std::find(names.begin(), names.end(), p.name) == names.end()) {
+                if (!any) std::printf("\nOptions of some kernels:\n");
+                any = true;
+                names.push_back(p.name);
+                std::printf("  --%s=X: %s; %s\n", p.name.c_str(), p.help.c_str(), param_users(p.name).c_str());
+            }
 }
 
 int list_counters(bool json) {
@@ -92,7 +135,9 @@ int cmd_list(const std::vector<std::string>& args) {
                          {"variants", i.variants}, {"size", i.size_kind == SizeKind::bytes ? "bytes" : "count"},
                          {"metric", i.metric == Metric::bandwidth ? "bandwidth" : "latency"},
                          {"read_bytes_per_unit", i.read_bytes_per_unit}, {"write_bytes_per_unit", i.write_bytes_per_unit},
-                         {"flops_per_unit", i.flops_per_unit}, {"notes", i.notes}});
+                         {"flops_per_unit", i.flops_per_unit}, {"notes", i.notes}, {"variant_option", i.variant_option},
+                         {"default_variants", i.default_variants}, {"single_thread_variants", i.single_thread_variants},
+                         {"params", params_json(i)}});
         }
         std::cout << j.dump(2) << "\n";
         return 0;
@@ -106,6 +151,7 @@ int cmd_list(const std::vector<std::string>& args) {
         std::printf("%-9s %-8s %-30s %-28s %-6s %-12s %g\n", i.name.c_str(), i.group.c_str(), i.formula.c_str(),
                     accesses_text(i).c_str(), nt ? "yes" : "-", bytes, i.flops_per_unit);
     }
+    print_kernel_options();
     std::printf("\nPlacements: local (first touch by the computing threads), node:N, remote (a node none of the threads\n"
                 "runs on), interleave (pages round-robin over all nodes).  Pinning: compact, scatter, none, CPU list.\n"
                 "Counters: --counters=default|none|NAME,... (./suite list --counters).  Energy: --energy=auto|sysfs|perf|none.\n");

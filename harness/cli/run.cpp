@@ -3,11 +3,14 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <cstdio>
 #include <iostream>
+#include <map>
+#include <stdexcept>
 
 #include "harness/cli/commands.hpp"
 #include "harness/cli/parse.hpp"
@@ -57,15 +60,56 @@ Examples:
   ./suite --kernel=sfc-build --mesh=file:../shared/meshes/unit_circle_fine.txt:refine=3 --ordering=morton
   ./suite traverse --mesh=disk:refine=4 --ordering=natural,morton,hilbert --threads=1,4 --out=traverse
 
-Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 130/143 interrupted (the
-result file then holds the finished points and says "complete": false).
+Exit status: 0 ok, 1 a kernel failed verification, 2 bad usage, 3 an iterative solver did not
+converge (before 1), 130/143 interrupted (the result file then holds the finished points and says
+"complete": false).
 )";
 
 std::atomic<int> g_signal{0};
 
 extern "C" void on_signal(int sig) { g_signal.store(sig); }
 
+// One option --NAME=X for every parameter a registered kernel declares (KernelInfo::params),
+// collected now: CLI11 needs its options before it parses. The text is kept as typed and
+// checked by make_plan, which knows the kernels selected.
+void add_param_options(CLI::App& app, RunOptions& o) {
+    std::map<std::string, std::string> help;  // the first kernel's help for each name
+    for (const auto& e : kernels())
+        for (const auto& p : e.info.params)
+            if (!help.count(p.name)) help[p.name] = p.help;
+    for (const auto& [name, text] : help) {
+        const std::string option = "--" + name;
+        if (app.get_option_no_throw(option))
+            throw std::logic_error("a kernel declares the parameter '" + name + "', which is an option of suite run already");
+        app.add_option_function<std::string>(option, [&o, name = name](const std::string& value) { o.params[name] = value; },
+                                             text + "; " + param_users(name))
+            ->type_name("X");
+    }
+}
+
+std::string params_label(const std::map<std::string, double>& params) {
+    std::string out;
+    for (const auto& [name, value] : params) out += " " + name + "=" + format_number(value);
+    return out;
+}
+
 }  // namespace
+
+std::string param_users(const std::string& name) {
+    std::vector<std::string> users, with_defaults;
+    std::vector<double> defaults;
+    for (const auto& e : kernels())
+        for (const auto& p : e.info.params)
+            if (p.name == name) {
+                users.push_back(e.info.name);
+                defaults.push_back(p.default_value);
+                with_defaults.push_back(e.info.name + " (default " + format_number(p.default_value) + ")");
+            }
+    if (users.empty()) return "";
+    if (std::all_of(defaults.begin(), defaults.end(), [&](double d) { return d == defaults.front(); }))
+        return "default " + format_number(defaults.front()) + " (" + join(users, ", ") + ")";
+    return join(with_defaults, ", ");
+}
 
 void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--kernel,-k", o.kernels, "kernels, comma separated (see ./suite list); default: the default sweep");
@@ -73,6 +117,9 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--ordering", o.orderings, "data orderings of application kernels: natural, random, morton, hilbert, rcm");
     app.add_option("--mesh", o.mesh, "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or thesis .txt)");
     app.add_option("--phase", o.phases, "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
+    app.add_option("--strategy", o.strategies,
+                   "strategies of the kernels that have them, each measured as its own point (see ./suite list; default: the kernel's own)");
+    add_param_options(app, o);
     app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store; sequential only)");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
     app.add_option("--sizes", o.sizes, "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
@@ -116,7 +163,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         for (const auto& p : plan.points)
             std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
                       << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads
-                      << (p.mesh.empty() ? "" : " mesh=" + p.mesh) << "\n";
+                      << (p.mesh.empty() ? "" : " mesh=" + p.mesh) << params_label(p.params) << "\n";
         return 0;
     }
     struct sigaction sa{};
@@ -162,10 +209,14 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
             throw;
         }
         if (progress) std::fprintf(stderr, "\r\033[K");
-        if (!rec.verification.passed) {
+        if (rec.verification.solver_failed) {
+            std::cerr << "suite: error: " << rec.name << " " << rec.access << " " << size_label(rec.size_kind, rec.size_requested)
+                      << ": solver failed: " << rec.verification.detail << "\n";
+            status = 3;  // before 1: a solver that did not converge says more than a wrong answer
+        } else if (!rec.verification.passed) {
             std::cerr << "suite: error: " << rec.name << " " << rec.access << " " << size_label(rec.size_kind, rec.size_requested)
                       << " failed verification: " << rec.verification.detail << "\n";
-            status = 1;
+            if (status == 0) status = 1;
         }
         if (console_table) std::cout << table_row(i + 1, total, rec) << std::flush;
         doc.records.push_back(std::move(rec));

@@ -12,12 +12,18 @@
 
 namespace suite {
 
+// The options of `suite run`, --NAME=X for every kernel parameter in the registry included.
 void setup_run_options(CLI::App& app, RunOptions& opts);
+
+// The kernels that take the parameter --NAME and its default: "default 0.05 (fem-cg, fem-spmv)",
+// or each kernel with its own default where they differ.
+std::string param_users(const std::string& name);
 
 // The files a run reads (a --mesh=file:PATH), which its output must not be.
 std::vector<FileIdentity> run_inputs(const RunOptions& opts);
 
-// Runs the plan; returns the process exit status (0, 1 if a verification failed, 128+signal).
+// Runs the plan; returns the process exit status (0; 1 if a verification failed; 3 if a solver
+// did not converge, which wins over 1; 128+signal).
 // `out` is plan.out_path claimed (OutputFile::claim); unused when the plan writes no file.
 int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, const OutputFile* out);
 

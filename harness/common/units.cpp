@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <regex>
 #include <set>
+#include <system_error>
 
 namespace suite {
 
@@ -169,6 +172,28 @@ std::uint64_t parse_whole(std::string_view text, std::string_view option, std::u
         throw UsageError(std::string(option) + "=" + std::string(text) + ": expected a whole number from " + std::to_string(lo) + " to " +
                          std::to_string(hi) + (about.empty() ? "" : " (" + std::string(about) + ")"));
     return *v;
+}
+
+double parse_finite(std::string_view text, std::string_view option) {
+    const std::string given = std::string(option) + "=" + std::string(text) + ": ";
+    const char* accepted = "expected a finite number such as 0.05, 3 or 1e-8";
+    // The grammar first: from_chars alone would take "inf", "nan", hex and a leading part of "1x".
+    static const std::regex decimal(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
+    if (!std::regex_match(text.begin(), text.end(), decimal)) throw UsageError(given + accepted);
+    double v = 0;
+    const std::size_t skip = text[0] == '+' ? 1 : 0;  // from_chars takes no '+'
+    const auto [end, ec] = std::from_chars(text.data() + skip, text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v))
+        throw UsageError(given + "out of the range of a double; " + accepted);
+    return v;
+}
+
+std::string format_number(double value) {
+    // Whole numbers in full (100000, not 1e+05), the rest as short as reads back the same.
+    if (value == std::trunc(value) && std::fabs(value) < 1e15) return std::to_string(static_cast<long long>(value));
+    char buf[64];
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
+    return ec == std::errc() ? std::string(buf, end) : std::to_string(value);
 }
 
 std::uint64_t parse_seed(std::string_view text, std::string_view option) { return parse_whole(text, option, 0, UINT64_MAX); }

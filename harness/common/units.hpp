@@ -27,6 +27,14 @@ std::optional<std::uint64_t> whole_number(std::string_view text, std::uint64_t h
 std::uint64_t parse_whole(std::string_view text, std::string_view option, std::uint64_t lo, std::uint64_t hi,
                           std::string_view about = {});
 
+// The value of option `option` (e.g. "--tol"): a finite decimal number such as 0.05, -2, 1e-8 or
+// 2.5E+3, nothing else (no space, unit, hex, inf or nan, and no value beyond a double's range),
+// else a UsageError of one line that names the value and what is accepted.
+double parse_finite(std::string_view text, std::string_view option);
+
+// The shortest text that reads back as the same double: 0.05, 1e-08, 12, -3.5.
+std::string format_number(double value);
+
 // The seed of every command's random orderings: 0 to 2^64-1, exactly as typed.
 std::uint64_t parse_seed(std::string_view text, std::string_view option = "--seed");
 

@@ -12,6 +12,7 @@
 // KernelInfo says which; the CLI, runner and reports only look at that data.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +39,11 @@ struct KernelConfig {
     std::uint64_t seed = 1;
     int threads = 1;
     std::string mesh = "";   // kernels on a mesh: the --mesh spec; "" = a generated mesh of about `size` elements
+    // The values of the kernel's declared parameters (KernelInfo::params), defaults filled in.
+    std::map<std::string, double> params = {};
+    // One of them; a name the kernel did not declare (or a config built without them) is a
+    // std::logic_error, not a silent 0.
+    double param(const std::string& name) const;
 };
 
 // What one repetition does, counted once, from which the runner derives every rate.
@@ -54,6 +60,17 @@ struct Verification {
     bool passed = false;
     std::string detail;     // what was checked, and the first mismatch if any
     double max_error = 0;   // largest |computed - expected| seen
+    // An iterative solver did not converge: the record is not verified (the runner sets
+    // passed = false too) and the run ends with exit status 3.
+    bool solver_failed = false;
+};
+
+// A number a kernel reports about its last run, beside its timings: an eigenvalue, an iteration
+// count, how many contributions were synchronised. Reported as is; no rate is derived from it.
+struct Fact {
+    std::string name;  // "lambda", "iterations", "cg-iterations"
+    double value = 0;
+    std::string unit;  // "" for a pure number
 };
 
 class Kernel {
@@ -70,6 +87,17 @@ public:
     virtual Verification verify() = 0;
     // Work of one repetition; valid after setup().
     virtual Work work() const = 0;
+    // Facts about the state verify() checked (read by the runner right after verify()).
+    virtual std::vector<Fact> facts() const { return {}; }
+};
+
+// A number that configures a kernel, given on the command line as --NAME=X (e.g. --tol=1e-10).
+// The harness parses it (a finite number) and fills in the default; the kernel's `validate`
+// checks its range.
+struct ParamInfo {
+    std::string name;  // lower case, digits and '-': "delta", "tol"
+    double default_value = 0;
+    std::string help;  // one line for --help and ./suite list
 };
 
 // Facts about a kernel, as data.
@@ -81,6 +109,15 @@ struct KernelInfo {
     AccessAxis axis = AccessAxis::pattern;
     std::vector<std::string> accesses;  // patterns or orderings supported ("strided" stands for strided:S)
     std::vector<std::string> variants = {""};
+    // The command-line option that picks variants other than "" and "nt": "phase" (--phase, where
+    // "all" names the plain kernel "") or "strategy" (--strategy).
+    std::string variant_option = "phase";
+    // The variants run when that option is not given; empty: the plain kernel "" alone.
+    std::vector<std::string> default_variants;
+    // Variants that run on one thread only: left out of points with more threads when the
+    // variants were defaulted, and refused with --threads above 1 when named.
+    std::vector<std::string> single_thread_variants;
+    std::vector<ParamInfo> params;
     SizeKind size_kind = SizeKind::bytes;
     Metric metric = Metric::bandwidth;
     // STREAM-convention bytes and flops per unit, as documentation (Work is authoritative).
@@ -109,10 +146,17 @@ struct KernelEntry {
 
 // The registry: kernels add themselves from their own .cpp with
 //   static const bool registered = register_kernel({...});
+// It throws std::logic_error for a name given twice or facts that do not fit together (a default
+// or single-thread variant not among the variants, an unknown variant_option, a parameter named
+// twice or not in lower case).
 bool register_kernel(KernelEntry entry);
 const std::vector<KernelEntry>& kernels();
 const KernelEntry* find_kernel(const std::string& name);
 std::vector<std::string> kernel_names();
+// Every declared parameter of `info` at its default value.
+std::map<std::string, double> default_params(const KernelInfo& info);
+// Whether `variant` of `info` runs on one thread only (KernelInfo::single_thread_variants).
+bool single_thread_only(const KernelInfo& info, const std::string& variant);
 
 // Throws std::runtime_error when an OpenMP team came out with `got` threads where `asked` were
 // asked for (bind_team, and the kernels' parallel first touch, check their team with it).

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cctype>
 #include <stdexcept>
 #include <string>
 
@@ -15,8 +16,32 @@ std::vector<KernelEntry>& table() {
 }
 }  // namespace
 
+namespace {
+// The facts of a kernel are data, so that they are checked once, here, rather than in every
+// place that reads them.
+void check_info(const KernelInfo& info) {
+    const std::string who = "kernel " + info.name + ": ";
+    auto is_variant = [&](const std::string& v) { return std::find(info.variants.begin(), info.variants.end(), v) != info.variants.end(); };
+    if (info.variant_option != "phase" && info.variant_option != "strategy")
+        throw std::logic_error(who + "variant_option '" + info.variant_option + "' is neither 'phase' nor 'strategy'");
+    for (const auto& v : info.default_variants)
+        if (!is_variant(v)) throw std::logic_error(who + "default variant '" + v + "' is not one of its variants");
+    for (const auto& v : info.single_thread_variants)
+        if (!is_variant(v)) throw std::logic_error(who + "single-thread variant '" + v + "' is not one of its variants");
+    for (std::size_t i = 0; i < info.params.size(); ++i) {
+        const std::string& n = info.params[i].name;
+        const bool lower = !n.empty() && std::isalpha(static_cast<unsigned char>(n[0])) &&
+                           std::all_of(n.begin(), n.end(), [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-'; });
+        if (!lower) throw std::logic_error(who + "parameter '" + n + "' must be lower-case letters, digits and '-', starting with a letter");
+        for (std::size_t j = 0; j < i; ++j)
+            if (info.params[j].name == n) throw std::logic_error(who + "parameter '" + n + "' declared twice");
+    }
+}
+}  // namespace
+
 bool register_kernel(KernelEntry entry) {
     if (find_kernel(entry.info.name)) throw std::logic_error("kernel registered twice: " + entry.info.name);
+    check_info(entry.info);
     auto& t = table();
     t.push_back(std::move(entry));
     std::sort(t.begin(), t.end(), [](const KernelEntry& a, const KernelEntry& b) {
@@ -37,6 +62,24 @@ std::vector<std::string> kernel_names() {
     std::vector<std::string> names;
     for (const auto& e : table()) names.push_back(e.info.name);
     return names;
+}
+
+std::map<std::string, double> default_params(const KernelInfo& info) {
+    std::map<std::string, double> out;
+    for (const auto& p : info.params) out[p.name] = p.default_value;
+    return out;
+}
+
+bool single_thread_only(const KernelInfo& info, const std::string& variant) {
+    return std::find(info.single_thread_variants.begin(), info.single_thread_variants.end(), variant) != info.single_thread_variants.end();
+}
+
+double KernelConfig::param(const std::string& name) const {
+    auto it = params.find(name);
+    if (it == params.end())
+        throw std::logic_error("KernelConfig has no parameter '" + name + "' (not declared in KernelInfo::params, or the config was built "
+                               "without default_params)");
+    return it->second;
 }
 
 void require_team_size(int got, int asked) {

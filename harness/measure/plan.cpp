@@ -49,6 +49,70 @@ std::vector<int> planned_cpus(const Topology& topo, const PinSpec& pin, int thre
     return order;
 }
 
+// "phases", "strategies".
+std::string plural(const std::string& noun) { return noun.back() == 'y' ? noun.substr(0, noun.size() - 1) + "ies" : noun + "s"; }
+
+// The names a kernel's variant option (KernelInfo::variant_option) takes, each with the variant it
+// stands for: the variants other than "" and "nt", and for phases "all", the plain kernel.
+std::vector<std::pair<std::string, std::string>> option_choices(const KernelInfo& info) {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const auto& v : info.variants)
+        if (!v.empty() && v != "nt") out.push_back({v, v});
+    const bool plain = std::find(info.variants.begin(), info.variants.end(), "") != info.variants.end();
+    if (!out.empty() && plain && info.variant_option == "phase") out.insert(out.begin(), {"all", ""});
+    return out;
+}
+
+std::vector<std::string> first_of(const std::vector<std::pair<std::string, std::string>>& pairs) {
+    std::vector<std::string> out;
+    for (const auto& p : pairs) out.push_back(p.first);
+    return out;
+}
+
+// The variants of one kernel to plan, each with the name it was given by (its option's name, or
+// the variant itself when defaulted); `named` says whether the user chose them.
+struct Variants {
+    std::vector<std::pair<std::string, std::string>> list;  // {name as typed, variant}
+    bool named = false;
+    std::string option;  // "--strategy=serial,coloured" when named
+};
+
+Variants plan_variants(const KernelInfo& info, const std::string& stores_variant,
+                       const std::vector<std::pair<std::string, std::string>>& options) {
+    Variants out;
+    for (const auto& [option, text] : options) {
+        if (text.empty()) continue;
+        const auto choices = option_choices(info);
+        if (info.variant_option != option || choices.empty()) {
+            std::vector<std::string> with;
+            for (const auto& e : kernels())
+                if (e.info.variant_option == option && !option_choices(e.info).empty()) with.push_back(e.info.name);
+            throw UsageError("kernel '" + info.name + "' has no " + plural(option) + ", so --" + option + " does not apply" +
+                             (choices.empty() ? "" : " (it takes --" + info.variant_option + ")") + "; kernels with " + plural(option) +
+                             ": " + (with.empty() ? std::string("none") : join(with, ", ")));
+        }
+        out.named = true;
+        out.option = "--" + option + "=" + text;
+        for (const auto& name : parse_name_list(text, "--" + option)) {
+            auto it = std::find_if(choices.begin(), choices.end(), [&](const auto& c) { return c.first == name; });
+            if (it == choices.end()) {
+                std::string hint = nearest(name, first_of(choices));
+                throw UsageError("kernel '" + info.name + "' has no " + option + " '" + name + "'" +
+                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + plural(option) + ": " +
+                                 join(first_of(choices), ", "));
+            }
+            out.list.push_back(*it);
+        }
+    }
+    if (!out.named) {
+        if (stores_variant.empty() && !info.default_variants.empty())
+            for (const auto& v : info.default_variants) out.list.push_back({v, v});
+        else
+            out.list.push_back({stores_variant, stores_variant});
+    }
+    return out;
+}
+
 }  // namespace
 
 Plan make_plan(const RunOptions& o, const Topology& topo) {
@@ -168,13 +232,30 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     for (const auto& e : kernels())
         if (std::find(e.info.variants.begin(), e.info.variants.end(), "nt") != e.info.variants.end()) with_nt.push_back(e.info.name);
 
-    // Kernels on a mesh are sized by it (KernelEntry::mesh_elements); kernels with phases have
-    // variants other than "" and "nt".
-    std::vector<std::string> on_mesh, with_phases;
-    for (const auto& e : kernels()) {
+    // Kernels on a mesh are sized by it (KernelEntry::mesh_elements).
+    std::vector<std::string> on_mesh;
+    for (const auto& e : kernels())
         if (e.mesh_elements) on_mesh.push_back(e.info.name);
-        if (std::any_of(e.info.variants.begin(), e.info.variants.end(), [](const std::string& v) { return !v.empty() && v != "nt"; }))
-            with_phases.push_back(e.info.name);
+
+    // Parameters: --NAME=X, a finite number, for a parameter at least one selected kernel
+    // declares; each kernel gets its declared ones, at their defaults unless given.
+    std::map<std::string, double> given_params;
+    for (const auto& [name, text] : o.params) {
+        std::vector<std::string> takers;
+        for (const auto& e : kernels())
+            for (const auto& p : e.info.params)
+                if (p.name == name) takers.push_back(e.info.name);
+        if (takers.empty()) throw UsageError("--" + name + ": no kernel takes a parameter of that name");
+        given_params[name] = parse_finite(text, "--" + name);
+        bool applies = false;
+        std::vector<std::string> selected;
+        for (const auto& [k, defaults] : ks) {
+            selected.push_back("'" + k->info.name + "'");
+            for (const auto& p : k->info.params) applies = applies || p.name == name;
+        }
+        if (!applies)
+            throw UsageError("--" + name + " does not apply to " + (selected.size() == 1 ? "kernel " : "kernels ") + join(selected, ", ") +
+                             "; kernels that take it: " + join(takers, ", "));
     }
     if (!o.mesh.empty()) {
         if (!default_size) throw UsageError("--mesh and --size/--sizes cannot be used together: the mesh gives the size (its element count)");
@@ -199,24 +280,26 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         if (texts.empty()) texts = defaults.empty() ? std::vector<std::string>{info.accesses.front()} : defaults;
         if (!variant.empty() && std::find(info.variants.begin(), info.variants.end(), variant) == info.variants.end())
             throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt, ", "));
-        // --phase picks variants of the kernels that have phases; "all" is the plain kernel.
-        std::vector<std::string> kernel_variants{variant};
-        if (!o.phases.empty()) {
-            kernel_variants.clear();
-            std::vector<std::string> phases{"all"};
-            for (const auto& v : info.variants)
-                if (!v.empty() && v != "nt") phases.push_back(v);
-            if (phases.size() == 1)
-                throw UsageError("kernel '" + info.name + "' has no phases, so --phase does not apply; kernels with phases: " + join(with_phases, ", "));
-            for (const auto& ph : parse_name_list(o.phases, "--phase")) {
-                if (std::find(phases.begin(), phases.end(), ph) == phases.end()) {
-                    std::string hint = nearest(ph, phases);
-                    throw UsageError("kernel '" + info.name + "' has no phase '" + ph + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                                     "; phases: " + join(phases, ", "));
-                }
-                kernel_variants.push_back(ph == "all" ? "" : ph);
-            }
-        }
+        // --phase and --strategy pick variants of the kernels that have them; without, the
+        // kernel's default variants run.
+        const Variants vs = plan_variants(info, variant, {{"phase", o.phases}, {"strategy", o.strategies}});
+        // A variant on one thread: refused when named with more threads asked for by --threads,
+        // else planned for one thread only.
+        if (vs.named && !o.threads.empty() && most_threads > 1)
+            for (const auto& [name, v] : vs.list)
+                if (single_thread_only(info, v))
+                    throw UsageError(vs.option + ": " + info.variant_option + " '" + name + "' of kernel '" + info.name + "' runs on one thread, but --threads=" +
+                                     o.threads + " asks for up to " + std::to_string(most_threads) + "; give --threads=1, or leave '" + name + "' out");
+        std::vector<std::string> kernel_variants;
+        for (const auto& [name, v] : vs.list) kernel_variants.push_back(v);
+        auto team_sizes = [&](const std::string& v) {
+            if (!single_thread_only(info, v)) return threads;
+            return std::find(threads.begin(), threads.end(), 1) != threads.end() ? std::vector<int>{1} : std::vector<int>{};
+        };
+        std::map<std::string, double> kparams = default_params(info);
+        for (const auto& [name, value] : given_params)
+            if (kparams.count(name)) kparams[name] = value;
+        const std::size_t points_before = plan.points.size();
         // Its meshes: --mesh, or the kernel's defaults when no size is given either; "" = sized by --size.
         std::vector<std::string> meshes{""};
         if (k->mesh_elements && (!o.mesh.empty() || default_size))
@@ -236,22 +319,26 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
                 for (const auto& mesh : meshes) {
                     if (!mesh.empty()) {
                         const std::uint64_t size = k->mesh_elements(mesh);
-                        for (int t : threads) {
-                            KernelConfig cfg{a, kv, size, plan.settings.seed, t, mesh};
+                        for (int t : team_sizes(kv)) {
+                            KernelConfig cfg{a, kv, size, plan.settings.seed, t, mesh, kparams};
                             k->validate(cfg);
-                            plan.points.push_back({k, a, kv, size, t, mesh});
+                            plan.points.push_back({k, a, kv, size, t, mesh, kparams});
                         }
                         continue;
                     }
                     for (std::size_t s = 0; s < sizes_for(info, 1).size(); ++s)
-                        for (int t : threads) {
+                        for (int t : team_sizes(kv)) {
                             const std::uint64_t size = sizes_for(info, t)[s];
-                            KernelConfig cfg{a, kv, size, plan.settings.seed, t};
+                            KernelConfig cfg{a, kv, size, plan.settings.seed, t, "", kparams};
                             k->validate(cfg);
-                            plan.points.push_back({k, a, kv, size, t});
+                            plan.points.push_back({k, a, kv, size, t, "", kparams});
                         }
                 }
         }
+        if (plan.points.size() == points_before &&
+            std::all_of(kernel_variants.begin(), kernel_variants.end(), [&](const std::string& v) { return single_thread_only(info, v); }))
+            throw UsageError("kernel '" + info.name + "': every " + info.variant_option + " planned (" + join(first_of(vs.list), ", ") +
+                             ") runs on one thread, and --threads=" + o.threads + " does not ask for one; add 1 to --threads");
     }
 
     // Memory: refuse before allocating anything.

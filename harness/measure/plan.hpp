@@ -3,6 +3,7 @@
 // completely (kernels, patterns, sizes, threads, pinning, placement, memory, output path)
 // before anything runs or any file is written. Every problem is a UsageError.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct RunOptions {
     std::string orderings;
     std::string mesh;    // --mesh: the mesh of kernels on a mesh
     std::string phases;  // --phase: the phases of kernels that have them (their variants)
+    std::string strategies;  // --strategy: the strategies of kernels that have them (their variants)
+    // --NAME=X for a parameter a kernel declares (KernelInfo::params): NAME -> X as typed.
+    std::map<std::string, std::string> params;
     std::string stores = "default";
     std::string size;
     std::string sizes;

@@ -1,6 +1,7 @@
 #pragma once
 // One measured point, as a plain struct. The runner fills it; reporters only render it.
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,7 +28,7 @@ struct Rates {
 
 struct Record {
     std::string kernel;
-    std::string variant;       // "" or "nt"
+    std::string variant;       // "" or "nt", a phase or a strategy
     std::string name;          // kernel plus variant, e.g. "copy-nt": the name reports use
     AccessAxis axis = AccessAxis::pattern;
     std::string access;        // "sequential", "random", "strided:8", "morton", ...
@@ -58,6 +59,8 @@ struct Record {
     EnergyReadings energy;
     std::uint64_t seed = 0;
     std::string mesh;          // the --mesh spec of a kernel on a mesh; "" otherwise
+    std::map<std::string, double> params;  // the kernel's declared parameters, as it ran (KernelConfig::params)
+    std::vector<Fact> facts;   // what the kernel reported about its last run (Kernel::facts)
 };
 
 // A size as people read it: "64MiB" for a footprint, "1000000" for a count.

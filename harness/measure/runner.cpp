@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "harness/instruments/callgrind_marks.hpp"
 #include "harness/common/units.hpp"
@@ -79,6 +80,11 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     cfg.seed = settings.seed;
     cfg.threads = point.threads;
     cfg.mesh = point.mesh;
+    // Every declared parameter, at its default where the point does not give it.
+    cfg.params = default_params(info);
+    for (const auto& [name, value] : point.params)
+        if (cfg.params.count(name)) cfg.params[name] = value;
+    rec.params = cfg.params;
 
     Arena arena(policy);
     auto kernel = point.kernel->make(cfg);
@@ -138,6 +144,12 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     callgrind::dump(callgrind_label(rec).c_str());
     rec.binding_held = team_still_bound(rec.bindings);
     rec.verification = kernel->verify();
+    if (rec.verification.solver_failed) rec.verification.passed = false;  // a solver that did not converge verifies nothing
+    rec.facts = kernel->facts();
+    for (std::size_t i = 0; i < rec.facts.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (rec.facts[i].name == rec.facts[j].name)
+                throw std::logic_error("kernel " + info.name + " reported the fact '" + rec.facts[i].name + "' twice");
     rec.time = summarise(rec.samples_s);
     rec.rates = derive_rates(rec.work, rec.time, rec.metric, rec.threads);
     if (in) {

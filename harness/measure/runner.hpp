@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct Point {
     std::uint64_t size = 0;
     int threads = 1;
     std::string mesh = "";  // kernels on a mesh: the --mesh spec, or "" (see KernelConfig::mesh)
+    // The kernel's declared parameters (KernelConfig::params); one missing here runs at its default.
+    std::map<std::string, double> params = {};
 };
 
 struct RunSettings {

@@ -108,7 +108,7 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, double tole
     }
     if (rep.points_compared == 0)
         throw InputError("none of the " + std::to_string(run.points.size()) + " point(s) of " + run.path + " is in the baseline " + base.path +
-                         " (points are matched by kernel, variant, pattern, size, threads, pinning and placement); run the baseline's configuration");
+                         " (points are matched by kernel, variant, pattern, size, threads, pinning, placement and kernel parameters); run the baseline's configuration");
     if (rep.findings.empty())
         throw InputError(run.path + " and the baseline " + base.path + " have points in common but no figure to compare in any of them");
     return rep;

@@ -126,7 +126,7 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     }
     if (common == 0)
         throw InputError("no point of " + first.path + " is in any other file (points are matched by kernel, variant, pattern, size, "
-                         "threads, pinning and placement); run the same --kernel/--pattern/--sizes/--threads on each machine");
+                         "threads, pinning, placement and kernel parameters); run the same --kernel/--pattern/--sizes/--threads on each machine");
     std::size_t only_first = first.points.size() - common;
     out += markdown ? "\n### Points\n\n" : "\n";
     out += std::to_string(common) + " point(s) of [1] found in another file" +

@@ -39,6 +39,11 @@ std::string fmt(const char* f, double v) {
 
 std::string csv_opt(const std::optional<double>& v) { return v ? fmt("%.6g", *v) : ""; }
 
+// A fact's value; null where it is not a finite number (JSON has no NaN), e.g. an eigenvalue
+// of a solver that did not converge.
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+
 }  // namespace
 
 nlohmann::json to_json(const Record& r) {
@@ -88,8 +93,19 @@ nlohmann::json to_json(const Record& r) {
     j["counters"] = to_json(r.counters);
     j["energy"] = to_json(r.energy);
     j["verification"] = {{"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
+    if (r.verification.solver_failed) j["verification"]["solver_failed"] = true;
     j["seed"] = r.seed;
     if (!r.mesh.empty()) j["mesh"] = r.mesh;
+    if (!r.params.empty()) {
+        nlohmann::json params = nlohmann::json::object();
+        for (const auto& [name, value] : r.params) params[name] = value;
+        j["parameters"] = params;
+    }
+    if (!r.facts.empty()) {
+        nlohmann::json facts = nlohmann::json::object();
+        for (const auto& f : r.facts) facts[f.name] = {{"value", finite_or_null(f.value)}, {"unit", f.unit}};
+        j["facts"] = facts;
+    }
     return j;
 }
 
@@ -101,10 +117,16 @@ std::string domain_label(const DomainEnergy& d) { return d.domain + (d.socket ? 
 
 }  // namespace
 
+std::string params_text(const std::map<std::string, double>& params) {
+    std::string out;
+    for (const auto& [name, value] : params) out += (out.empty() ? "" : ";") + name + "=" + format_number(value);
+    return out;
+}
+
 std::string csv_header(const Record* first) {
     std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,threads,pin,placement,repetitions,batch,"
                     "time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,stream_gbps_best,stream_gbps_median,"
-                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified";
+                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified,parameters";
     if (first) {
         for (const auto& e : first->counters.events) h += ",counter_" + e.name + "_per_call";
         for (const auto& d : first->energy.domains) h += ",energy_" + domain_label(d) + "_j_per_call";
@@ -120,7 +142,7 @@ std::string to_csv_row(const Record& r) {
       << fmt("%.9g", r.time.max) << ',' << fmt("%.9g", r.time.mean) << ',' << fmt("%.4g", r.time.cv) << ','
       << csv_opt(r.rates.stream_gbps_best) << ',' << csv_opt(r.rates.stream_gbps_median) << ','
       << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.ns_per_load_best) << ','
-      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false");
+      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params);
     for (const auto& e : r.counters.events) o << ',' << (e.available ? fmt("%.9g", e.per_call.median) : "");
     for (const auto& d : r.energy.domains) o << ',' << (d.available ? fmt("%.9g", d.joules_per_call.median) : "");
     o << '\n';
@@ -150,7 +172,15 @@ std::string table_row(std::size_t index, std::size_t total, const Record& r) {
     std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3d %-10s %10s %10s %10s %6.1f %6d %s\n", pos.c_str(), r.name.c_str(),
                   r.access.c_str(), size.c_str(), r.threads, r.placement.c_str(), best.c_str(), median.c_str(), hw.c_str(),
                   r.time.cv * 100.0, r.repetitions, r.verification.passed ? "ok" : "FAILED");
-    return buf;
+    std::string row = buf;
+    // What the kernel reported about the run, on a line of its own under the row.
+    if (!r.facts.empty()) {
+        std::string line;
+        for (const auto& f : r.facts)
+            line += (line.empty() ? "" : ", ") + f.name + "=" + fmt("%.6g", f.value) + (f.unit.empty() ? "" : " " + f.unit);
+        row += "        " + line + "\n";
+    }
+    return row;
 }
 
 std::string ResultDocument::render(FileFormat format, bool complete) const {

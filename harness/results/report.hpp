@@ -2,6 +2,7 @@
 // Reporters render Records; they compute nothing. Files are replaced atomically
 // (write_atomically), so a reader never sees half a file.
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,11 @@ constexpr int schema_version = 1;
 nlohmann::json to_json(const Record& r);
 std::string csv_header(const Record* first = nullptr);  // first: where counter and energy columns come from
 std::string to_csv_row(const Record& r);
+// A record's parameters as the CSV column holds them: "delta=0.05;tol=1e-08" ("" for none).
+std::string params_text(const std::map<std::string, double>& params);
 
-// The console table: a header, then one row per record as it arrives.
+// The console table: a header, then one row per record as it arrives, with the kernel's facts
+// (Record::facts) on an indented line under it when it reported any.
 std::string table_header();
 std::string table_row(std::size_t index, std::size_t total, const Record& r);
 

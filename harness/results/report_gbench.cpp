@@ -83,7 +83,8 @@ std::string render_gbench(const json& context, const std::vector<Record>& record
         if (!r.verification.passed) {
             json e = base_entry(name, i, r);
             e.update({{"run_type", "iteration"}, {"repetition_index", 0}, {"iterations", 0}, {"real_time", 0}, {"cpu_time", 0},
-                      {"error_occurred", true}, {"error_message", "failed verification: " + r.verification.detail}});
+                      {"error_occurred", true},
+                      {"error_message", (r.verification.solver_failed ? "solver failed: " : "failed verification: ") + r.verification.detail}});
             benchmarks.push_back(e);
             continue;
         }

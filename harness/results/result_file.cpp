@@ -157,6 +157,15 @@ LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
     k.pin = r.string(r.field(rec, "pin", where), "requested", where + ".pin");
     k.placement = r.string(r.field(rec, "placement", where), "requested", where + ".placement");
     p.verified = r.boolean(r.field(rec, "verification", where), "passed", where + ".verification");
+    // The kernel's parameters (absent in older files, and for kernels without any) tell points
+    // apart as the size does; any finite number, negative ones included.
+    if (auto it = rec.find("parameters"); it != rec.end()) {
+        if (!it->is_object()) r.fail(where + ".parameters", "expected an object of numbers");
+        for (const auto& [name, value] : it->items()) {
+            if (!value.is_number() || !std::isfinite(value.get<double>())) r.fail(where + ".parameters." + name, "expected a finite number");
+            k.params[name] = value.get<double>();
+        }
+    }
 
     if (rec.contains("callgrind")) {
         p.under_callgrind = true;
@@ -193,8 +202,10 @@ LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
 std::string PointKey::size_label() const { return size_kind == "bytes" ? format_bytes(size) : std::to_string(size); }
 
 std::string PointKey::label() const {
-    return (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " t=" + std::to_string(threads) +
-           " " + pin + "/" + placement;
+    std::string out = (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " t=" + std::to_string(threads) +
+                      " " + pin + "/" + placement;
+    for (const auto& [name, value] : params) out += " " + name + "=" + format_number(value);
+    return out;
 }
 
 std::string ResultFile::machine_label() const {

@@ -4,6 +4,7 @@
 // is read: a truncated, hand-edited or foreign file is an InputError that names the file and
 // the field, never a crash and never a figure made up from a missing one.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -37,17 +38,19 @@ struct Measure {
 };
 
 // What identifies a point across files: the same kernel, variant, access, size, threads,
-// pinning and placement.
+// pinning, placement and kernel parameters.
 struct PointKey {
     std::string kernel, variant, access;  // access: the pattern or ordering, e.g. "strided:8"
     std::string size_kind;                // "bytes" or "count"
     std::uint64_t size = 0;               // as requested
     int threads = 0;
     std::string pin, placement;
-    auto tie() const { return std::tie(kernel, variant, access, size_kind, size, threads, pin, placement); }
+    std::map<std::string, double> params;  // the record's "parameters"; empty when it has none
+    auto tie() const { return std::tie(kernel, variant, access, size_kind, size, threads, pin, placement, params); }
     bool operator<(const PointKey& o) const { return tie() < o.tie(); }
     bool operator==(const PointKey& o) const { return tie() == o.tie(); }
-    // "add random 64KiB t=2 compact/local" (with the variant: "copy-nt ...").
+    // "add random 64KiB t=2 compact/local" (with the variant: "copy-nt ...", with parameters:
+    // "... compact/local tol=1e-08").
     std::string label() const;
     std::string size_label() const;
 };

@@ -58,7 +58,8 @@ TEST_P(Registry, VerifiesAtTinySize) {
     const Case& c = GetParam();
     const Topology topo = Topology::load();
     for (int threads : {1, std::min(2, topo.pu_count())}) {
-        Point p{c.kernel, c.access, c.variant, c.kernel->test_size, threads};
+        if (threads > 1 && single_thread_only(c.kernel->info, c.variant)) continue;
+        Point p{c.kernel, c.access, c.variant, c.kernel->test_size, threads};  // the kernel's default parameters
         Record r = run_point(p, tiny_settings(topo), topo);
         EXPECT_TRUE(r.verification.passed) << r.verification.detail;
         EXPECT_EQ(r.repetitions, 2);
@@ -72,7 +73,7 @@ TEST_P(Registry, VerifiesAtTinySize) {
 TEST_P(Registry, VerificationFailsWhenTheKernelNeverRan) {
     // The check is real: right after setup, before any run(), the answer must not be there.
     const Case& c = GetParam();
-    KernelConfig cfg{c.access, c.variant, 64u << 10, 1, 1};
+    KernelConfig cfg{c.access, c.variant, 64u << 10, 1, 1, "", default_params(c.kernel->info)};
     omp_set_num_threads(1);
     Arena arena(MemoryPolicy{});
     auto k = c.kernel->make(cfg);

@@ -3,11 +3,13 @@
 // pass tests/validate_result.py (Debian's python3 with jsonschema). A few facts the schema
 // cannot express are checked here directly, and broken copies of a valid file must fail, so
 // a schema that accepts everything cannot pass.
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <fstream>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -121,20 +123,31 @@ TEST(ResultSchema, EveryKernelWritesAValidFile) {
 
         const json doc = load(out);
         check_content(doc, name, reps);
-        // One record per access and thread count, each of this kernel, on its axis.
-        ASSERT_EQ(doc.at("results").size(), accesses.size() * thread_count) << doc.at("results").dump(1);
-        std::set<std::pair<std::string, int>> seen;
+        // One record per access, default variant ("" when the kernel names none) and thread
+        // count (one thread only for a single-thread variant), each of this kernel, on its axis.
+        std::vector<std::string> variants = k.at("default_variants").get<std::vector<std::string>>();
+        if (variants.empty()) variants = {""};
+        const auto single = k.at("single_thread_variants").get<std::vector<std::string>>();
+        auto teams = [&](const std::string& v) {
+            return std::find(single.begin(), single.end(), v) != single.end() ? std::size_t{1} : thread_count;
+        };
+        std::size_t expected = 0;
+        for (const auto& v : variants) expected += accesses.size() * teams(v);
+        ASSERT_EQ(doc.at("results").size(), expected) << doc.at("results").dump(1);
+        std::set<std::tuple<std::string, std::string, int>> seen;
         for (const auto& rec : doc.at("results")) {
             EXPECT_EQ(rec.at("kernel"), name);
             EXPECT_EQ(rec.at("axis"), axis);
             EXPECT_EQ(rec.at("metric"), k.at("metric"));
             EXPECT_EQ(rec.at("size").at("kind"), k.at("size"));
-            EXPECT_EQ(rec.at("variant"), "");
-            seen.insert({rec.at(axis).get<std::string>(), rec.at("threads").get<int>()});
+            seen.insert({rec.at(axis).get<std::string>(), rec.at("variant").get<std::string>(), rec.at("threads").get<int>()});
+            // Every declared parameter is recorded, at its default here.
+            for (const auto& p : k.at("params")) EXPECT_EQ(rec.at("parameters").at(p.at("name").get<std::string>()), p.at("default"));
         }
         for (const auto& a : accesses)
-            for (int t = 1; t <= static_cast<int>(thread_count); ++t)
-                EXPECT_TRUE(seen.count({a, t})) << name << " has no record for " << a << " with " << t << " thread(s)";
+            for (const auto& v : variants)
+                for (int t = 1; t <= static_cast<int>(teams(v)); ++t)
+                    EXPECT_TRUE(seen.count({a, v, t})) << name << " has no record for " << a << " '" << v << "' with " << t << " thread(s)";
     }
     Outcome v = validate_against_schema(files);
     EXPECT_EQ(v.status, 0) << describe(v);
