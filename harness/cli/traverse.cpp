@@ -108,12 +108,6 @@ std::string draw(const Plotter& p, const std::string& dir) {
     return last.empty() ? "the plot script failed (status " + std::to_string(status) + ")" : last;
 }
 
-mesh::Mesh ordered(const mesh::Mesh& m, const std::string& ordering, std::uint64_t seed, int depth) {
-    if (ordering == "natural") return m;
-    if (ordering == "random") return shuffled(m, seed).mesh;
-    return reorder(m, parse_method(ordering), depth).mesh;
-}
-
 }  // namespace
 
 int cmd_traverse(const std::vector<std::string>& args) {

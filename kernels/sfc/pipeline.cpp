@@ -94,4 +94,10 @@ Reordered shuffled(const mesh::Mesh& m, std::uint64_t seed) {
     return r;
 }
 
+mesh::Mesh ordered(const mesh::Mesh& m, const std::string& ordering, std::uint64_t seed, int depth) {
+    if (ordering == "natural") return m;
+    if (ordering == "random") return shuffled(m, seed).mesh;
+    return reorder(m, parse_method(ordering), depth).mesh;
+}
+
 }  // namespace suite::sfc

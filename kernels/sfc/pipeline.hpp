@@ -67,4 +67,8 @@ mesh::Mesh permuted(const mesh::Mesh& m, const std::vector<std::uint32_t>& perm,
 // "random": a seeded uniform shuffle of the elements and, independently, of the vertices.
 Reordered shuffled(const mesh::Mesh& m, std::uint64_t seed);
 
+// The mesh in an ordering by name: "natural" (as given), "random" (shuffled by `seed`), or a
+// Method's name (curves at `depth` bits per axis). Throws UsageError for another name.
+mesh::Mesh ordered(const mesh::Mesh& m, const std::string& ordering, std::uint64_t seed, int depth);
+
 }  // namespace suite::sfc

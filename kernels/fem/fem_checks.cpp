@@ -1,0 +1,108 @@
+#include "kernels/fem/fem_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "harness/common/units.hpp"
+#include "kernels/fem/element.hpp"
+#include "kernels/mesh/edges.hpp"
+
+namespace suite::fem {
+
+namespace {
+
+double row_scale(const Pattern& p, const double* v, std::int64_t i) {
+    double s = 0;
+    for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) s = std::max(s, std::fabs(v[k]));
+    return s;
+}
+
+std::string entry(const char* name, std::int64_t i, std::uint32_t j) { return std::string(name) + "(" + std::to_string(i) + ", " + std::to_string(j) + ")"; }
+
+}  // namespace
+
+std::string check_pattern(const MeshArrays& m, const Pattern& p) {
+    for (std::int64_t i = 0; i < p.n; ++i) {
+        bool diagonal = false;
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) {
+            if (k > p.row_ptr[i] && p.col[k] <= p.col[k - 1]) return "row " + std::to_string(i) + " is not strictly ascending";
+            if (p.col[k] >= p.n) return "row " + std::to_string(i) + " has column " + std::to_string(p.col[k]) + " out of range";
+            if (p.col[k] == i) diagonal = true;
+            if (find_entry(p, p.col[k], static_cast<std::uint32_t>(i)) < 0) return "the pattern is not symmetric at " + entry("", i, p.col[k]);
+        }
+        if (!diagonal) return "row " + std::to_string(i) + " has no diagonal entry";
+    }
+    for (std::int64_t e = 0; e < m.ne; ++e)
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                if (find_entry(p, m.conn[3 * e + a], m.conn[3 * e + b]) < 0)
+                    return "triangle " + std::to_string(e) + " has corners " + std::to_string(m.conn[3 * e + a]) + " and " +
+                           std::to_string(m.conn[3 * e + b]) + ", whose entry is missing";
+    const mesh::MeshView view{2, static_cast<std::size_t>(m.nv), static_cast<std::size_t>(m.ne), m.x, m.y, nullptr, m.conn};
+    const std::uint64_t expected = static_cast<std::uint64_t>(m.nv) + 2 * mesh::build_edges(view).count();
+    if (p.nnz() != expected)
+        return std::to_string(p.nnz()) + " nonzeros, where vertices + 2 x edges = " + std::to_string(expected);
+    return "";
+}
+
+std::string check_against(const Matrices& got, AssembledCsr& ref, double rel) {
+    const Pattern rp = ref.pattern();
+    const Pattern& p = got.pattern;
+    if (p.n != rp.n || p.nnz() != rp.nnz()) return "the pattern differs from the serial reference's";
+    for (std::int64_t i = 0; i < p.n; ++i) {
+        const double sa = row_scale(rp, ref.a.data(), i), sm = row_scale(rp, ref.m.data(), i);
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) {
+            if (p.row_ptr[i] != rp.row_ptr[i] || p.col[k] != rp.col[k]) return "row " + std::to_string(i) + "'s columns differ from the serial reference's";
+            if (!(std::fabs(got.a[k] - ref.a[k]) <= rel * sa))
+                return entry("A", i, p.col[k]) + " = " + format_number(got.a[k]) + ", serial " + format_number(ref.a[k]);
+            if (!(std::fabs(got.m[k] - ref.m[k]) <= rel * sm))
+                return entry("M", i, p.col[k]) + " = " + format_number(got.m[k]) + ", serial " + format_number(ref.m[k]);
+        }
+    }
+    return "";
+}
+
+std::string check_properties(const MeshArrays& m, const Matrices& got, double delta, double rel) {
+    const Pattern& p = got.pattern;
+    for (std::int64_t i = 0; i < p.n; ++i) {
+        const double sa = row_scale(p, got.a, i), sm = row_scale(p, got.m, i);
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) {
+            const std::int64_t t = find_entry(p, p.col[k], static_cast<std::uint32_t>(i));
+            if (!(std::fabs(got.a[k] - got.a[t]) <= rel * sa)) return entry("A", i, p.col[k]) + " != " + entry("A", p.col[k], static_cast<std::uint32_t>(i));
+            if (!(std::fabs(got.m[k] - got.m[t]) <= rel * sm)) return entry("M", i, p.col[k]) + " != " + entry("M", p.col[k], static_cast<std::uint32_t>(i));
+        }
+    }
+    // The area from the coordinates, and ∫ k² φ_i by the same Gauss rule but its own loop.
+    double area = 0;
+    std::vector<double> load(static_cast<std::size_t>(m.nv), 0.0);
+    for (std::int64_t e = 0; e < m.ne; ++e) {
+        const std::uint32_t* c = m.conn + 3 * e;
+        const double ex[3] = {m.x[c[0]], m.x[c[1]], m.x[c[2]]}, ey[3] = {m.y[c[0]], m.y[c[1]], m.y[c[2]]};
+        const double t = 0.5 * std::fabs((ex[1] - ex[0]) * (ey[2] - ey[0]) - (ex[2] - ex[0]) * (ey[1] - ey[0]));
+        area += t;
+        for (int q = 0; q < 3; ++q) {
+            double px = 0, py = 0;
+            for (int j = 0; j < 3; ++j) {
+                const double w = j == q ? gauss_major : gauss_minor;
+                px += w * ex[j];
+                py += w * ey[j];
+            }
+            const double k2 = k_squared(px, py, delta) * t / 3.0;
+            for (int j = 0; j < 3; ++j) load[c[j]] += k2 * (j == q ? gauss_major : gauss_minor);
+        }
+    }
+    double total_m = 0;
+    for (std::uint64_t k = 0; k < p.nnz(); ++k) total_m += got.m[k];
+    if (!(std::fabs(total_m - area) <= 1e-12 * area * std::sqrt(static_cast<double>(m.ne))))
+        return "the entries of M add up to " + format_number(total_m) + ", the mesh's area is " + format_number(area);
+    for (std::int64_t i = 0; i < p.n; ++i) {
+        double row = 0, scale = 0;
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) row += got.a[k], scale += std::fabs(got.a[k]);
+        if (!(std::fabs(row + load[static_cast<std::size_t>(i)]) <= 1e-10 * (scale + std::fabs(load[static_cast<std::size_t>(i)]))))
+            return "row " + std::to_string(i) + " of A sums to " + format_number(row) + ", -∫k²φ = " + format_number(-load[static_cast<std::size_t>(i)]);
+    }
+    return "";
+}
+
+}  // namespace suite::fem

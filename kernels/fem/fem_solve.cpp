@@ -1,0 +1,308 @@
+// The solver kernels on the assembled P1 matrices (solver.hpp has the algorithms). One repetition:
+//   fem-spmv    y = A x                                     rated in nonzeros/s
+//   fem-cg      solve A x = M 1 from x = 0 by CG            rated in CG iterations/s
+//   fem-eigen   the inverse power iteration: λ_min of A u = λ M u, u > 0, by CG solves
+//                                                           rated in CG iterations/s; the facts say
+//                                                           λ, outer and CG iterations, the residual
+// A CG that does not converge within --cg-max iterations, or an inverse iteration within 1000
+// steps, is a solver failure: the record is not verified and the run exits with status 3.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "harness/common/units.hpp"
+#include "harness/kernel/blocks.hpp"
+#include "harness/kernel/kernel.hpp"
+#include "kernels/fem/fem_point.hpp"
+#include "kernels/fem/solver.hpp"
+
+namespace suite::fem {
+
+namespace {
+
+enum class Solve { spmv, cg, eigen };
+
+// Traffic of one CG iteration by the STREAM convention: the matrix, and the vectors of the three
+// fused passes (q = A p with pᵀq: p, q; x, r updates with rᵀr: x, p, r, q read, x, r written;
+// p = r + βp: r, p read, p written). Flops: 2 a nonzero, 10 a row.
+double cg_bytes(std::uint64_t nnz, std::int64_t n) { return csr_bytes(nnz, n) + 88.0 * static_cast<double>(n); }
+double cg_flops(std::uint64_t nnz, std::int64_t n) { return 2.0 * static_cast<double>(nnz) + 10.0 * static_cast<double>(n); }
+
+// λ of one mesh and set of parameters must come out the same whatever the ordering (each run
+// checks its points against the first one of this process).
+std::string check_lambda(const std::string& key, const std::string& who, double lambda) {
+    static std::mutex lock;
+    static std::map<std::string, std::pair<double, std::string>> first;
+    const std::lock_guard<std::mutex> hold(lock);
+    const auto [it, inserted] = first.emplace(key, std::make_pair(lambda, who));
+    if (inserted) return "";
+    const double rel = std::fabs(lambda - it->second.first) / std::fabs(it->second.first);
+    if (rel <= 1e-7) return "";
+    return "λ = " + format_number(lambda) + " differs from the " + it->second.second + " point's " + format_number(it->second.first) + " by " +
+           format_number(rel) + " (relative), more than 1e-7";
+}
+
+class FemSolve final : public Kernel {
+public:
+    FemSolve(const KernelConfig& cfg, Solve solve) : cfg_(cfg), solve_(solve) {}
+
+    void setup(Arena& arena) override {
+        d_.setup(arena, cfg_, FemPoint::Build::matrices);
+        const int nt = cfg_.threads;
+        partial_ = arena.allocate<double>("team-sums", 16 * static_cast<std::size_t>(nt));
+        x_ = d_.vector(arena, "x");
+        y_ = d_.vector(arena, "y");
+        if (solve_ != Solve::spmv) {
+            cg_ = {d_.vector(arena, "r"), d_.vector(arena, "p"), d_.vector(arena, "q")};
+            f_ = d_.vector(arena, "f");
+            au_ = solve_ == Solve::eigen ? d_.vector(arena, "Au") : nullptr;
+        }
+        if (solve_ == Solve::eigen) tol_ = param(cfg_, "tol");
+        if (solve_ != Solve::spmv) {
+            cg_tol_ = param(cfg_, "cg-tol");
+            max_cg_ = static_cast<int>(param(cfg_, "cg-max"));
+        }
+        const MeshArrays m = d_.mesh;
+        const Pattern p = d_.pattern;
+        double* const x = x_;
+        double* const y = y_;
+        double* const f = f_;
+        const double* const mv = d_.matrices.m;
+        // x: a smooth field for the SpMV; f = M 1 for CG (y holds the 1 meanwhile).
+#pragma omp parallel
+        {
+            const Block rb = my_block(m.nv);
+            for (std::int64_t i = rb.lo; i < rb.hi; ++i) {
+                x[i] = 1.0 + 0.5 * m.x[i] - 0.25 * m.y[i];
+                y[i] = 1.0;
+            }
+#pragma omp barrier
+            if (f) spmv_rows(p, mv, y, f, rb.lo, rb.hi);
+        }
+        // The solvers' iteration counts are part of their work: one solve now, untimed.
+        if (solve_ != Solve::spmv) run(1);
+        setup_cg_iterations_ = solve_ == Solve::cg ? cg_result_.iterations : eigen_.cg_iterations;
+        // The result poisoned, so that verify() judges what the timed runs left.
+        std::fill(y_, y_ + d_.mesh.nv, std::numeric_limits<double>::quiet_NaN());
+        ran_ = false;
+    }
+
+    void run(int calls) override {
+        const Pattern p = d_.pattern;
+        const double* const a = d_.matrices.a;
+        const double* const mv = d_.matrices.m;
+        const std::int64_t n = d_.mesh.nv;
+        ran_ = ran_ || calls > 0;
+        for (int c = 0; c < calls; ++c) {
+            if (solve_ == Solve::spmv) {
+#pragma omp parallel
+                {
+                    const Block rb = my_block(n);
+                    spmv_rows(p, a, x_, y_, rb.lo, rb.hi);
+                }
+                continue;
+            }
+#pragma omp parallel
+            {
+                const Block rb = my_block(n);
+                TeamSum sum(partial_);
+                // The solution in y; the inverse iteration's M u in x (free there).
+                if (solve_ == Solve::cg) {
+                    for (std::int64_t i = rb.lo; i < rb.hi; ++i) y_[i] = 0;
+#pragma omp barrier
+                    const CgResult r = cg_team(p, a, f_, y_, cg_, cg_tol_, max_cg_, sum, {rb.lo, rb.hi});
+#pragma omp master
+                    cg_result_ = r;
+                } else {
+                    const EigenResult r = inverse_iteration_team(p, a, mv, {y_, f_, au_, x_, cg_}, tol_, cg_tol_,
+                                                                 max_cg_, sum, {rb.lo, rb.hi});
+#pragma omp master
+                    eigen_ = r;
+                }
+            }
+        }
+    }
+
+    Verification verify() override;
+    std::vector<Fact> facts() const override;
+    Work work() const override;
+
+private:
+    KernelConfig cfg_;
+    Solve solve_;
+    FemPoint d_;
+    double* partial_ = nullptr;
+    double *x_ = nullptr, *y_ = nullptr, *f_ = nullptr, *au_ = nullptr;
+    CgVectors cg_;
+    double tol_ = 0, cg_tol_ = 0;
+    int max_cg_ = 0;
+    CgResult cg_result_;
+    EigenResult eigen_;
+    long setup_cg_iterations_ = 0;
+    bool ran_ = false;  // a run() since setup: the solver results below are its
+};
+
+Verification FemSolve::verify() {
+    const Pattern& p = d_.pattern;
+    const double* a = d_.matrices.a;
+    const std::int64_t n = d_.mesh.nv;
+    Verification v;
+    v.passed = true;
+    std::string what;
+    auto fail = [&](const std::string& why) {
+        if (v.passed) what = "FAILED: " + why;
+        v.passed = false;
+    };
+    if (solve_ == Solve::spmv) {
+        // The same rows in the same order, serially: equal to the last bit whatever the team.
+        std::vector<double> ref(static_cast<std::size_t>(n));
+        spmv_rows(p, a, x_, ref.data(), 0, n);
+        for (std::int64_t i = 0; i < n && v.passed; ++i)
+            if (ref[static_cast<std::size_t>(i)] != y_[i])
+                fail("y[" + std::to_string(i) + "] = " + format_number(y_[i]) + ", serial " + format_number(ref[static_cast<std::size_t>(i)]));
+        if (v.passed) what = "y = A x equals a serial replay exactly";
+    } else {
+        // The true residual of what the solver returns, by its own SpMV.
+        const double* sol = y_;
+        std::vector<double> t(static_cast<std::size_t>(n)), t2(static_cast<std::size_t>(n));
+        spmv_rows(p, a, sol, t.data(), 0, n);
+        const bool cg = solve_ == Solve::cg;
+        const bool converged = cg ? cg_result_.converged : eigen_.converged && !eigen_.cg_failed;
+        const long its = cg ? cg_result_.iterations : eigen_.cg_iterations;
+        if (!ran_) {
+            fail("no solve ran after setup");
+        } else if (!converged) {
+            v.solver_failed = true;
+            if (cg || eigen_.cg_failed)
+                fail("conjugate gradients did not reach --cg-tol=" + format_number(cg_tol_) + " within --cg-max=" + std::to_string(max_cg_) + " iterations");
+            else
+                fail("the inverse iteration did not reach --tol=" + format_number(tol_) + " within " + std::to_string(max_outer_iterations) + " steps");
+        }
+        if (ran_ && its != setup_cg_iterations_)
+            fail(std::to_string(its) + " CG iterations, where the same solve took " + std::to_string(setup_cg_iterations_) + " in setup");
+        if (cg) {
+            double rr = 0, ff = 0;
+            for (std::int64_t i = 0; i < n; ++i) {
+                const double r = f_[i] - t[static_cast<std::size_t>(i)];
+                rr += r * r;
+                ff += f_[i] * f_[i];
+            }
+            const double rel = std::sqrt(rr / ff);
+            if (!(rel <= std::max(10 * cg_tol_, 1e-12))) fail("||f - A x|| / ||f|| = " + format_number(rel) + " after convergence");
+            if (v.passed) what = "||f - A x|| / ||f|| = " + format_number(rel) + " (recomputed)";
+        } else {
+            spmv_rows(p, d_.matrices.m, sol, t2.data(), 0, n);
+            double res = 0, ref = 0, num = 0, den = 0;
+            std::int64_t negative = 0;
+            for (std::int64_t i = 0; i < n; ++i) {
+                const double au = t[static_cast<std::size_t>(i)], mu = t2[static_cast<std::size_t>(i)];
+                res += (au - eigen_.lambda * mu) * (au - eigen_.lambda * mu);
+                ref += eigen_.lambda * eigen_.lambda * mu * mu;
+                num += sol[i] * au;
+                den += sol[i] * mu;
+                if (!(sol[i] > 0)) ++negative;
+            }
+            const double rq = num / den, rel = std::sqrt(res / ref);
+            if (!(std::fabs(rq - eigen_.lambda) <= 1e-9 * std::fabs(rq))) fail("λ = " + format_number(eigen_.lambda) + ", the Rayleigh quotient of u is " + format_number(rq));
+            if (negative) fail(std::to_string(negative) + " entries of the eigenvector are not positive (it should have one sign)");
+            if (!(rel <= 1e-3)) fail("||A u - λ M u|| / ||λ M u|| = " + format_number(rel));
+            const std::string agree = !v.passed ? "" : check_lambda(d_.spec + " delta=" + format_number(d_.delta) + " tol=" + format_number(tol_), cfg_.access.name, eigen_.lambda);
+            if (!agree.empty()) fail(agree);
+            if (v.passed)
+                what = "λ = " + format_number(eigen_.lambda) + " is the Rayleigh quotient of u, u > 0, ||A u - λ M u|| / ||λ M u|| = " + format_number(rel) +
+                       ", λ the same as every other ordering's of this run (1e-7)";
+        }
+    }
+    v.detail = d_.describe(cfg_) + what;
+    return v;
+}
+
+std::vector<Fact> FemSolve::facts() const {
+    if (solve_ == Solve::cg)
+        return {{"iterations", static_cast<double>(cg_result_.iterations), "CG iterations"}, {"residual", cg_result_.relative_residual, "||r||/||f||"}};
+    if (solve_ == Solve::eigen)
+        return {{"lambda", eigen_.lambda, ""},
+                {"iterations", static_cast<double>(eigen_.iterations), "inverse iterations"},
+                {"cg-iterations", static_cast<double>(eigen_.cg_iterations), "CG iterations"},
+                {"residual", eigen_.residual, "||Au-λMu||/||λMu||"}};
+    return {};
+}
+
+// SpMV: the matrix and the two vectors once (STREAM convention: the minimal traffic); the
+// hardware estimate adds y's write-allocate. CG: cg_bytes a iteration. The inverse iteration:
+// its CG iterations, and per outer step four SpMVs (M u, A u and M u for λ) and the vector passes.
+Work FemSolve::work() const {
+    const std::uint64_t nz = d_.nnz();
+    const std::int64_t n = d_.mesh.nv;
+    const double nd = static_cast<double>(n);
+    Work w;
+    const double matrix_pass = csr_bytes(nz, n) + 16 * nd;
+    if (solve_ == Solve::spmv) {
+        w.units = static_cast<double>(nz);
+        w.flops = 2.0 * static_cast<double>(nz);
+        w.stream_bytes = matrix_pass;
+        w.hardware_bytes = matrix_pass + 8 * nd;
+    } else {
+        const double its = static_cast<double>(setup_cg_iterations_);
+        const double outer = solve_ == Solve::eigen ? static_cast<double>(eigen_.iterations) : 0;
+        w.units = its;
+        w.flops = its * cg_flops(nz, n) + outer * (3 * 2.0 * static_cast<double>(nz) + 8 * nd);
+        w.stream_bytes = its * cg_bytes(nz, n) + matrix_pass + outer * (3 * matrix_pass + 48 * nd);
+        w.hardware_bytes = w.stream_bytes + its * 32 * nd;  // the write-allocate of q, and of x, r, p rewritten
+    }
+    const int vectors = solve_ == Solve::spmv ? 2 : solve_ == Solve::cg ? 6 : 7;
+    w.footprint_bytes = static_cast<std::uint64_t>(csr_bytes(nz, n) + 8.0 * static_cast<double>(nz) + 8.0 * vectors * nd + 16 * nd + 12.0 * static_cast<double>(d_.mesh.ne));
+    return w;
+}
+
+ParamInfo cg_tol_param() { return {"cg-tol", 1e-10, "CG stops when ||r|| <= cg-tol ||f||; in (0, 1) (fem-cg, fem-eigen)"}; }
+ParamInfo cg_max_param() { return {"cg-max", 100000, "most CG iterations of one solve, a whole number >= 1 (fem-cg, fem-eigen)"}; }
+
+void validate_solve(const KernelConfig& cfg, const std::string& name, Solve s) {
+    if (s != Solve::spmv) {
+        const double t = param(cfg, "cg-tol"), m = param(cfg, "cg-max");
+        if (!(t > 0 && t < 1)) throw UsageError("--cg-tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
+        if (!(m >= 1 && m <= 2e9 && m == std::floor(m))) throw UsageError("--cg-max=" + format_number(m) + " for " + name + ": accepted: a whole number from 1 to 2000000000");
+    }
+    if (s == Solve::eigen) {
+        const double t = param(cfg, "tol");
+        if (!(t > 0 && t < 1)) throw UsageError("--tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
+    }
+    validate_fem(cfg, name, true);
+}
+
+bool register_solve(const char* name, Solve s, const char* formula, const char* unit, const char* notes) {
+    KernelEntry e;
+    e.info.name = name;
+    e.info.group = "fem";
+    e.info.formula = formula;
+    e.info.unit = unit;
+    e.info.params = {delta_param()};
+    if (s != Solve::spmv) e.info.params.insert(e.info.params.end(), {cg_tol_param(), cg_max_param()});
+    if (s == Solve::eigen) e.info.params.push_back({"tol", 1e-8, "the inverse iteration stops when |λ - λ_old| <= tol |λ_old|; in (0, 1) (fem-eigen)"});
+    // Per unit: a nonzero's value and column (SpMV); a CG iteration's per-row bytes (about 7 nonzeros a row).
+    e.info.read_bytes_per_unit = s == Solve::spmv ? 12 : 0;
+    e.info.flops_per_unit = s == Solve::spmv ? 2 : 0;
+    e.info.notes = notes;
+    set_mesh_sizing(e);
+    e.make = [s](const KernelConfig& cfg) { return std::make_unique<FemSolve>(cfg, s); };
+    e.validate = [name = std::string(name), s](const KernelConfig& cfg) { validate_solve(cfg, name, s); };
+    return register_kernel(std::move(e));
+}
+
+const bool registered = register_solve("fem-spmv", Solve::spmv, "y[i] = Σ_k A[k] x[col[k]]", "nonzero", "CSR SpMV of the P1 Helmholtz matrix A") &&
+                        register_solve("fem-cg", Solve::cg, "CG on A x = M 1", "iteration",
+                                       "unpreconditioned CG from x = 0; rated per iteration (facts: iterations, residual)") &&
+                        register_solve("fem-eigen", Solve::eigen, "inverse iteration: A u = λ M u", "iteration",
+                                       "the whole inverse power iteration, rated per CG iteration (facts: λ, iterations, CG iterations, residual)");
+
+}  // namespace
+
+}  // namespace suite::fem

@@ -1,0 +1,71 @@
+#pragma once
+// Conjugate gradients and the inverse power iteration (the thesis's Algorithm 3) on the CSR
+// matrices, run by the whole OpenMP team inside one parallel region: each thread owns a block of
+// rows (the split of first touch), and every reduction is summed in thread order by every thread,
+// so that all threads take the same decisions and a result depends on the thread count only.
+//   cg:      solve A x = f from the given x until ||f - A x|| <= tol ||f|| (the recursive residual)
+//   inverse: u = 1; repeat f = M u, solve A u' = f by cg (from u / λ), u = u' / sqrt(u'ᵀ M u'),
+//            λ = u'ᵀ A u' / u'ᵀ M u', until |λ - λ_old| <= tol |λ_old|
+#include <cstdint>
+
+#include "kernels/fem/csr.hpp"
+
+namespace suite::fem {
+
+// Sums one number from every thread of the team; every thread gets the total. Two slots of
+// cache-line-padded partial sums, used in turn: a slot is written again only after the barrier
+// of the sum in between, by which time every thread has read it.
+class TeamSum {
+public:
+    explicit TeamSum(double* partial) : partial_(partial) {}  // 2 * 8 * threads doubles, shared
+    double operator()(double mine);
+
+private:
+    double* partial_;
+    int slot_ = 0;  // per thread: each thread owns its copy of the TeamSum
+};
+
+struct CgVectors {
+    double* r = nullptr;
+    double* p = nullptr;
+    double* q = nullptr;
+};
+
+struct CgResult {
+    int iterations = 0;
+    bool converged = false;
+    double relative_residual = 0;  // ||r|| / ||f||, recursive
+};
+
+// Called by every thread of the team; rows [rows.lo, rows.hi) are this thread's. x holds the
+// starting guess and, on return, the solution. Ends with a barrier.
+struct RowBlock {
+    std::int64_t lo = 0, hi = 0;
+};
+CgResult cg_team(const Pattern& p, const double* a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
+                 TeamSum& sum, RowBlock rows);
+
+struct EigenVectors {
+    double* u = nullptr;
+    double* f = nullptr;
+    double* au = nullptr;
+    double* mu = nullptr;
+    CgVectors cg;
+};
+
+struct EigenResult {
+    double lambda = 0;
+    int iterations = 0;      // of the outer loop
+    long cg_iterations = 0;  // over all solves
+    bool converged = false;  // outer loop within its limit
+    bool cg_failed = false;  // a solve did not converge within max_cg
+    double residual = 0;     // ||A u - λ M u|| / ||λ M u|| at the end
+};
+
+constexpr int max_outer_iterations = 1000;
+
+// Called by every thread of the team. Ends with a barrier; every thread returns the same result.
+EigenResult inverse_iteration_team(const Pattern& p, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
+                                   int max_cg, TeamSum& sum, RowBlock rows);
+
+}  // namespace suite::fem
