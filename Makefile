@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs bench-noise
+.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv
 
 all: build
 
@@ -56,6 +56,12 @@ bench-vs: bench-deps build
 # minutes), to results/bench/aa_noise.{json,md}.
 bench-noise: bench-deps build
 	/usr/bin/python3 bench/aa_noise.py --suite ./suite --out results/bench $(BENCH_FLAGS)
+
+# The fem SpMV against Eigen's sparse matrix-vector product on the same matrix, interleaved (the
+# thesis mesh, hilbert, 1 thread; a few minutes, most of it assembly). BENCH_FLAGS passes options,
+# e.g. BENCH_FLAGS="--ordering=natural,hilbert,rcm --threads=2 --json=results/bench/spmv_eigen.json".
+bench-spmv: bench-deps build
+	$(BUILD)/suite-spmv-eigen $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(BUILD) build-sanitize suite

@@ -16,6 +16,8 @@ if [ "${1:-build}" = bench ]; then
   # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by
   # the build or the tests).
   want+=(likwid python3)
+  # Eigen: the sparse product `make bench-spmv` compares the fem SpMV with (headers, bench/ only).
+  want+=(libeigen3-dev)
 fi
 if ! command -v dpkg-query > /dev/null; then
   echo "suite: not a Debian system, so the packages cannot be checked; CMake will name anything missing" >&2
