@@ -73,7 +73,7 @@ TEST_P(Registry, VerifiesAtTinySize) {
 TEST_P(Registry, VerificationFailsWhenTheKernelNeverRan) {
     // The check is real: right after setup, before any run(), the answer must not be there.
     const Case& c = GetParam();
-    KernelConfig cfg{c.access, c.variant, 64u << 10, 1, 1, "", default_params(c.kernel->info)};
+    KernelConfig cfg{c.access, c.variant, c.kernel->test_size, 1, 1, "", default_params(c.kernel->info)};
     omp_set_num_threads(1);
     Arena arena(MemoryPolicy{});
     auto k = c.kernel->make(cfg);
