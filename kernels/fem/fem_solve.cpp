@@ -117,12 +117,12 @@ public:
                 if (solve_ == Solve::cg) {
                     for (std::int64_t i = rb.lo; i < rb.hi; ++i) y_[i] = 0;
 #pragma omp barrier
-                    const CgResult r = cg_team(p, a, f_, y_, cg_, cg_tol_, max_cg_, sum, {rb.lo, rb.hi});
+                    const CgResult r = cg_team(p, a, f_, y_, cg_, cg_tol_, max_cg_, sum, rb);
 #pragma omp master
                     cg_result_ = r;
                 } else {
                     const EigenResult r = inverse_iteration_team(p, a, mv, {y_, f_, au_, x_, cg_}, tol_, cg_tol_,
-                                                                 max_cg_, sum, {rb.lo, rb.hi});
+                                                                 max_cg_, sum, rb);
 #pragma omp master
                     eigen_ = r;
                 }

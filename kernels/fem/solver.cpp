@@ -18,7 +18,7 @@ double TeamSum::operator()(double mine) {
 }
 
 CgResult cg_team(const Pattern& pat, const double* a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
-                 TeamSum& sum, RowBlock rows) {
+                 TeamSum& sum, Block rows) {
     double* const r = v.r;
     double* const p = v.p;
     double* const q = v.q;
@@ -74,7 +74,7 @@ CgResult cg_team(const Pattern& pat, const double* a, const double* f, double* x
 }
 
 EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
-                                   int max_cg, TeamSum& sum, RowBlock rows) {
+                                   int max_cg, TeamSum& sum, Block rows) {
     double* const u = v.u;
     EigenResult out;
     // The Rayleigh quotient of u, and u scaled to uᵀMu = 1 with Σu > 0 (the eigenvector's sign).

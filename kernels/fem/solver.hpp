@@ -8,6 +8,7 @@
 //            λ = u'ᵀ A u' / u'ᵀ M u', until |λ - λ_old| <= tol |λ_old|
 #include <cstdint>
 
+#include "harness/kernel/blocks.hpp"
 #include "kernels/fem/csr.hpp"
 
 namespace suite::fem {
@@ -37,13 +38,10 @@ struct CgResult {
     double relative_residual = 0;  // ||r|| / ||f||, recursive
 };
 
-// Called by every thread of the team; rows [rows.lo, rows.hi) are this thread's. x holds the
-// starting guess and, on return, the solution. Ends with a barrier.
-struct RowBlock {
-    std::int64_t lo = 0, hi = 0;
-};
+// Called by every thread of the team; rows [rows.lo, rows.hi) are this thread's (blocks.hpp).
+// x holds the starting guess and, on return, the solution. Ends with a barrier.
 CgResult cg_team(const Pattern& p, const double* a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
-                 TeamSum& sum, RowBlock rows);
+                 TeamSum& sum, Block rows);
 
 struct EigenVectors {
     double* u = nullptr;
@@ -66,6 +64,6 @@ constexpr int max_outer_iterations = 1000;
 
 // Called by every thread of the team. Ends with a barrier; every thread returns the same result.
 EigenResult inverse_iteration_team(const Pattern& p, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
-                                   int max_cg, TeamSum& sum, RowBlock rows);
+                                   int max_cg, TeamSum& sum, Block rows);
 
 }  // namespace suite::fem

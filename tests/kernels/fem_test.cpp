@@ -60,7 +60,7 @@ EigenResult eigen(const Matrices& mats, int threads, double tol = 1e-8) {
         TeamSum sum(partial.data());
         const EigenResult e =
             inverse_iteration_team(mats.pattern, mats.a, mats.m, {u.data(), f.data(), au.data(), mu.data(), {r.data(), p.data(), q.data()}}, tol, 1e-10,
-                                   100000, sum, {b.lo, b.hi});
+                                   100000, sum, b);
 #pragma omp master
         result = e;
     }
