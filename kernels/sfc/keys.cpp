@@ -43,8 +43,13 @@ void keys_loop(const mesh::MeshView& m, const KeyFrame& f, std::uint64_t* keys) 
                     if (Dim == 3) __builtin_prefetch(m.z + c[j]);
                 }
             }
-            keys[e] = key_of<Dim, C, Pdep>(m, f, static_cast<std::size_t>(e));
+            // Hilbert: the Morton code here, turned into the Hilbert key below.
+            keys[e] = key_of<Dim, C == Curve::hilbert ? Curve::morton : C, Pdep>(m, f, static_cast<std::size_t>(e));
         }
+        // The table walk is a chain of dependent loads per key. Kept apart from the gathers, it
+        // is a loop of independent chains that the core overlaps (see hilbert_from_morton_run).
+        if constexpr (C == Curve::hilbert)
+            if (b.hi > b.lo) hilbert_from_morton_run<Dim>(keys + b.lo, static_cast<std::size_t>(b.hi - b.lo), f.depth);
     }
 }
 

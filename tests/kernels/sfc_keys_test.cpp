@@ -108,6 +108,43 @@ TEST(SfcKeys, HilbertKnownValuesAndClassicAlgorithm) {
     for (const auto& q : random_cells(2, 32, 10000, 6)) ASSERT_EQ(hilbert<2>(q.data(), 32), hilbert_classic(q[0], q[1], 32));
 }
 
+TEST(SfcKeys, HilbertTablesGiveTheDefiningTransformsKeysAtEveryDepth) {
+    // The fast key is a table walk built from the transform at compile time; here it is held
+    // to the transform itself, at every depth (those that are not a multiple of the lookup's
+    // levels take the padded path) and through both interleaves.
+    EXPECT_EQ(HilbertTables<2>::states, 4);   // the square's curve has 4 orientations
+    EXPECT_EQ(HilbertTables<3>::states, 24);  // the cube's: 24 (Skilling's curve, as the literature counts it)
+    for (int d = 1; d <= 32; ++d)
+        for (const auto& q : random_cells(2, d, 3000, 100 + d)) {
+            ASSERT_EQ((hilbert_key<2, false>(q.data(), d)), hilbert_key_reference<2>(q.data(), d)) << "depth " << d;
+            ASSERT_EQ((hilbert_key<2, have_pdep>(q.data(), d)), hilbert_key_reference<2>(q.data(), d)) << "depth " << d;
+        }
+    for (int d = 1; d <= 21; ++d)
+        for (const auto& q : random_cells(3, d, 3000, 200 + d)) {
+            ASSERT_EQ((hilbert_key<3, false>(q.data(), d)), hilbert_key_reference<3>(q.data(), d)) << "depth " << d;
+            ASSERT_EQ((hilbert_key<3, have_pdep>(q.data(), d)), hilbert_key_reference<3>(q.data(), d)) << "depth " << d;
+        }
+}
+
+TEST(SfcKeys, HilbertRunsOfKeysEqualKeysOneAtATime) {
+    // The run converts four keys in lock step and the rest one by one: every remainder, and a
+    // depth off the lookup's grid.
+    for (int d : {32, 13}) {
+        const auto cells = random_cells(2, d, 11, 300 + d);
+        for (std::size_t n = 0; n <= cells.size(); ++n) {
+            std::vector<std::uint64_t> run(n);
+            for (std::size_t i = 0; i < n; ++i) run[i] = morton_portable<2>(cells[i].data());
+            hilbert_from_morton_run<2>(run.data(), n, d);
+            for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(run[i], hilbert_key_reference<2>(cells[i].data(), d)) << "n " << n << " i " << i;
+        }
+    }
+    const auto cells = random_cells(3, 20, 9, 400);
+    std::vector<std::uint64_t> run;
+    for (const auto& q : cells) run.push_back(morton_portable<3>(q.data()));
+    hilbert_from_morton_run<3>(run.data(), run.size(), 20);
+    for (std::size_t i = 0; i < cells.size(); ++i) ASSERT_EQ(run[i], hilbert_key_reference<3>(cells[i].data(), 20));
+}
+
 TEST(SfcKeys, HilbertVisitsNeighboursInTurnOnceEach) {
     for (int dim : {2, 3})
         for (int depth = 1; depth <= (dim == 2 ? 6 : 4); ++depth) {
