@@ -4,6 +4,8 @@
 // schema, and feed `suite check`. Needs valgrind and a build valgrind can decode (x86-64-v3).
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
@@ -112,6 +114,28 @@ TEST(Deterministic, CountsRepeatExactlyAndFeedTheGate) {
     Outcome gate = run_suite({"check", "--baseline", dir.file("a.json"), dir.file("worse.json"), "--tolerance=1%"});
     EXPECT_EQ(gate.status, 1) << describe(gate);
     EXPECT_NE(gate.out.find("callgrind instructions"), std::string::npos) << gate.out;
+}
+
+TEST(Deterministic, MeshKernelsTakeTheirSizeFromTheMeshAndOrderingsShowInTheMisses) {
+    if (!have_valgrind()) GTEST_SKIP() << "valgrind is not installed (scripts/install-deps.sh test installs it)";
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "an AddressSanitizer build (make test-sanitize) cannot run under valgrind; the plain build runs this test";
+#endif
+    if (uses_avx512(deterministic_binary()))
+        GTEST_SKIP() << "no build valgrind can run: the main build uses AVX-512 and suite-x86-64-v3 was not built (SUITE_VALGRIND_TWIN=OFF?)";
+    TempDir dir;
+    // x is 96 KiB here, three times the simulated D1: a random numbering misses on most of its
+    // reads, a Hilbert one on few. (The default sizes are not added beside --mesh.)
+    Outcome r = run_program({deterministic_binary(), "deterministic", "--kernel=fem-spmv", "--mesh=disk:refine=6", "--ordering=random,hilbert", "--reps=1", "--out=" + dir.file("m.json")}, 300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json d = json::parse(slurp(dir.file("m.json")));
+    ASSERT_EQ(d["results"].size(), 2u);
+    std::map<std::string, double> d1_per_nnz;
+    for (const auto& rec : d["results"]) {
+        EXPECT_EQ(rec["verification"]["passed"], true);
+        d1_per_nnz[rec["ordering"]] = per_call(rec)["D1mr"].get<double>() / rec["work_per_repetition"]["units"].get<double>();
+    }
+    EXPECT_GT(d1_per_nnz["random"], 2 * d1_per_nnz["hilbert"]) << "random " << d1_per_nnz["random"] << " hilbert " << d1_per_nnz["hilbert"];
 }
 
 TEST(Deterministic, UsageErrorsAreRefusedBeforeValgrindRuns) {
