@@ -26,6 +26,6 @@ if(SUITE_VALGRIND_TWIN)
   target_compile_options(suite-x86-64-v3 PRIVATE -march=x86-64-v3 -Wall -Wextra)
   # The same libraries and definitions as suite_core (keep in step with CMakeLists.txt).
   target_link_libraries(suite-x86-64-v3 PRIVATE OpenMP::OpenMP_CXX CLI11::CLI11 nlohmann_json::nlohmann_json PkgConfig::HWLOC suite::numa suite::pfm
-                        Boost::headers)
+                        Boost::headers suite_sparse)
   target_compile_definitions(suite-x86-64-v3 PRIVATE $<TARGET_PROPERTY:suite_core,COMPILE_DEFINITIONS>)
 endif()

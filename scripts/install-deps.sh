@@ -4,11 +4,12 @@
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 want+=(libboost-graph-dev)  # RCM ordering (kernels/sfc)
+want+=(libsuitesparse-dev libmetis-dev)  # suite matrix: AMD, CHOLMOD, nested dissection
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
   # clang + compiler-rt build the libFuzzer targets; valgrind: the deterministic mode (its header
   # also makes the build add suite-x86-64-v3); matplotlib: plots/plot.py and `suite traverse` PNGs.
-  want+=(binutils python3 python3-jsonschema clang libclang-rt-dev valgrind python3-matplotlib python3-numpy)
+  want+=(binutils python3 python3-jsonschema clang libclang-rt-dev valgrind python3-matplotlib python3-numpy python3-scipy)
   # make test-numa: an emulated two-node machine (the kernel itself is fetched by scripts/numa-vm/run.sh).
   want+=(qemu-system-x86 busybox-static cpio)
 fi

@@ -23,5 +23,7 @@ int cmd_check(const std::vector<std::string>& args);
 int cmd_deterministic(const std::vector<std::string>& args, const std::vector<std::string>& full_argv);
 // `suite traverse --mesh=... --out=DIR`: how a loop walks a mesh, per ordering (traverse.cpp).
 int cmd_traverse(const std::vector<std::string>& args);
+// `suite matrix --mesh=... [--out=DIR]`: the fem matrix's structure, fill and SpMV per vertex ordering (matrix.cpp).
+int cmd_matrix(const std::vector<std::string>& args);
 
 }  // namespace suite

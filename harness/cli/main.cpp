@@ -33,9 +33,10 @@ int main(int argc, char** argv) {
         if (command == "check") return cmd_check(args);
         if (command == "deterministic") return cmd_deterministic(args, all);
         if (command == "traverse") return cmd_traverse(args);
-        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic", "traverse"});
+        if (command == "matrix") return cmd_matrix(args);
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic", "traverse", "matrix"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info, compare, check, deterministic, traverse (see ./suite --help)");
+                         "; commands: run, list, info, compare, check, deterministic, traverse, matrix (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();

@@ -34,6 +34,7 @@ Commands:
   check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
   deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
   traverse        how a loop walks a mesh, per ordering: ./suite traverse --mesh=... --out=DIR (see ./suite traverse --help)
+  matrix          the fem matrix per vertex ordering (bandwidth, Cholesky fill, SpMV): ./suite matrix --mesh=... --out=DIR
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes

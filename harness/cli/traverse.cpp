@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/parse.hpp"
+#include "harness/cli/plotter.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
@@ -61,51 +62,6 @@ std::string join(const std::vector<std::string>& v) {
     std::string s;
     for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
     return s;
-}
-
-// The interpreter and script that draw the PNGs, or why there are none.
-struct Plotter {
-    std::string python, script, reason;
-};
-Plotter find_plotter() {
-    Plotter p;
-    p.script = std::string(SUITE_PLOTS_DIR) + "/traverse.py";
-    if (access(p.script.c_str(), R_OK) != 0) {
-        p.reason = p.script + " is not readable (the source tree this suite was built from has moved)";
-        return p;
-    }
-    if (const char* env = std::getenv("SUITE_PYTHON"); env && *env) p.python = env;
-    else if (access("/usr/bin/python3", X_OK) == 0) p.python = "/usr/bin/python3";  // Debian's, which has matplotlib
-    else p.python = "python3";
-    return p;
-}
-
-// Runs the plot script on DIR; "" on success, else why it failed (its last line of stderr).
-std::string draw(const Plotter& p, const std::string& dir) {
-    const std::string err_file = dir + "/.plot-stderr";
-    std::fflush(nullptr);  // or the child would write out its copy of what is still buffered
-    const pid_t pid = fork();
-    if (pid < 0) return std::string("fork failed: ") + std::strerror(errno);
-    if (pid == 0) {
-        if (!std::freopen(err_file.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) _exit(126);
-        execlp(p.python.c_str(), p.python.c_str(), p.script.c_str(), dir.c_str(), static_cast<char*>(nullptr));
-        std::fprintf(stderr, "cannot run %s: %s\n", p.python.c_str(), std::strerror(errno));
-        _exit(127);
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    std::string last;
-    if (FILE* f = std::fopen(err_file.c_str(), "r")) {
-        char line[512];
-        while (std::fgets(line, sizeof line, f))
-            if (line[0] != '\n') last = line;
-        std::fclose(f);
-    }
-    unlink(err_file.c_str());
-    while (!last.empty() && last.back() == '\n') last.pop_back();
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-    return last.empty() ? "the plot script failed (status " + std::to_string(status) + ")" : last;
 }
 
 }  // namespace
@@ -214,7 +170,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     if (o.no_png) {
         summary["png"] = {{"available", false}, {"reason", "--no-png"}};
     } else {
-        const Plotter p = find_plotter();
+        const Plotter p = find_plotter("traverse.py");
         const std::string why = p.reason.empty() ? draw(p, o.out) : p.reason;
         if (why.empty()) {
             summary["png"] = {{"available", true}, {"percent", {0, 20, 40, 60, 80, 100}}, {"pattern", "ORDERING-tT-PPP.png"}};

@@ -1,0 +1,53 @@
+#include "harness/cli/plotter.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace suite {
+
+Plotter find_plotter(const std::string& script) {
+    Plotter p;
+    p.script = std::string(SUITE_PLOTS_DIR) + "/" + script;
+    if (access(p.script.c_str(), R_OK) != 0) {
+        p.reason = p.script + " is not readable (the source tree this suite was built from has moved)";
+        return p;
+    }
+    if (const char* env = std::getenv("SUITE_PYTHON"); env && *env) p.python = env;
+    else if (access("/usr/bin/python3", X_OK) == 0) p.python = "/usr/bin/python3";  // Debian's, which has matplotlib
+    else p.python = "python3";
+    return p;
+}
+
+std::string draw(const Plotter& p, const std::string& dir) {
+    const std::string err_file = dir + "/.plot-stderr";
+    std::fflush(nullptr);  // or the child would write out its copy of what is still buffered
+    const pid_t pid = fork();
+    if (pid < 0) return std::string("fork failed: ") + std::strerror(errno);
+    if (pid == 0) {
+        if (!std::freopen(err_file.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) _exit(126);
+        execlp(p.python.c_str(), p.python.c_str(), p.script.c_str(), dir.c_str(), static_cast<char*>(nullptr));
+        std::fprintf(stderr, "cannot run %s: %s\n", p.python.c_str(), std::strerror(errno));
+        _exit(127);
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    std::string last;
+    if (FILE* f = std::fopen(err_file.c_str(), "r")) {
+        char line[512];
+        while (std::fgets(line, sizeof line, f))
+            if (line[0] != '\n') last = line;
+        std::fclose(f);
+    }
+    unlink(err_file.c_str());
+    while (!last.empty() && last.back() == '\n') last.pop_back();
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+    return last.empty() ? "the plot script failed (status " + std::to_string(status) + ")" : last;
+}
+
+}  // namespace suite
