@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv
+.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem
 
 all: build
 
@@ -62,6 +62,11 @@ bench-noise: bench-deps build
 # e.g. BENCH_FLAGS="--ordering=natural,hilbert,rcm --threads=2 --json=results/bench/spmv_eigen.json".
 bench-spmv: bench-deps build
 	$(BUILD)/suite-spmv-eigen $(BENCH_FLAGS)
+
+# The fem kernels by ordering (about 25 minutes): SpMV against the triad bound, time against the
+# file's order, simulated misses; to results/bench/fem_orderings.{json,md}. BENCH_FLAGS=--quick.
+bench-fem: build
+	/usr/bin/python3 bench/fem_orderings.py --out results/bench $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(BUILD) build-sanitize suite

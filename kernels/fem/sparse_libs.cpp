@@ -51,10 +51,12 @@ std::vector<std::uint32_t> from_int(const int* p, std::int64_t n) {
 }
 
 // One cholmod_common for a scope: started, told to keep the matrix's own numbering, finished.
+// CHOLMOD's 64-bit interface (cholmod_l_*): the symbolic analysis of a banded or random order of
+// a large mesh counts more than 2^31 factor nonzeros, which the int interface refuses.
 struct Cholmod {
     cholmod_common c;
     explicit Cholmod(bool own_ordering) {
-        cholmod_start(&c);
+        cholmod_l_start(&c);
         c.print = 0;  // errors come back through c.status, said once by the caller
         // Always the supernodal LLᵀ: CHOLMOD's simplicial default is LDLᵀ, which factorises an
         // indefinite matrix without a word (D has negative entries); LLᵀ stops at the first
@@ -66,7 +68,7 @@ struct Cholmod {
             c.postorder = 0;
         }
     }
-    ~Cholmod() { cholmod_finish(&c); }
+    ~Cholmod() { cholmod_l_finish(&c); }
     Cholmod(const Cholmod&) = delete;
     Cholmod& operator=(const Cholmod&) = delete;
     void ok(const char* what) const {
@@ -79,20 +81,20 @@ cholmod_sparse* upper(const Csr& a, cholmod_common* c) {
     std::size_t count = 0;
     for (std::int64_t i = 0; i < a.n; ++i)
         for (std::uint32_t k = a.row_ptr[i]; k < a.row_ptr[i + 1]; ++k) count += a.col[k] <= i;
-    cholmod_sparse* s = cholmod_allocate_sparse(static_cast<std::size_t>(a.n), static_cast<std::size_t>(a.n), count, 1, 1, 1, CHOLMOD_REAL, c);
+    cholmod_sparse* s = cholmod_l_allocate_sparse(static_cast<std::size_t>(a.n), static_cast<std::size_t>(a.n), count, 1, 1, 1, CHOLMOD_REAL, c);
     if (!s) throw std::runtime_error("CHOLMOD could not allocate the matrix");
-    int* p = static_cast<int*>(s->p);
-    int* r = static_cast<int*>(s->i);
+    auto* p = static_cast<SuiteSparse_long*>(s->p);
+    auto* r = static_cast<SuiteSparse_long*>(s->i);
     double* x = static_cast<double*>(s->x);
     std::size_t t = 0;
     for (std::int64_t i = 0; i < a.n; ++i) {
-        p[i] = static_cast<int>(t);
+        p[i] = static_cast<SuiteSparse_long>(t);
         for (std::uint32_t k = a.row_ptr[i]; k < a.row_ptr[i + 1] && a.col[k] <= i; ++k) {
-            r[t] = static_cast<int>(a.col[k]);
+            r[t] = static_cast<SuiteSparse_long>(a.col[k]);
             x[t++] = a.val[k];
         }
     }
-    p[a.n] = static_cast<int>(t);
+    p[a.n] = static_cast<SuiteSparse_long>(t);
     return s;
 }
 
@@ -132,14 +134,14 @@ Symbolic analyse(const Csr& a) {
     Cholmod ch(false);
     cholmod_sparse* s = upper(a, &ch.c);
     const auto t0 = Clock::now();
-    cholmod_factor* l = cholmod_analyze(s, &ch.c);
+    cholmod_factor* l = cholmod_l_analyze(s, &ch.c);
     Symbolic r;
     r.seconds = since(t0);
-    cholmod_free_sparse(&s, &ch.c);
+    cholmod_l_free_sparse(&s, &ch.c);
     ch.ok("analyze");
     r.factor_nnz = ch.c.lnz;
     r.flops = ch.c.fl;
-    cholmod_free_factor(&l, &ch.c);
+    cholmod_l_free_factor(&l, &ch.c);
     return r;
 }
 
@@ -148,62 +150,62 @@ Factorisation factorise(const Csr& a, int reps) {
     cholmod_sparse* s = upper(a, &ch.c);
     Factorisation f;
     auto t0 = Clock::now();
-    cholmod_factor* l = cholmod_analyze(s, &ch.c);
+    cholmod_factor* l = cholmod_l_analyze(s, &ch.c);
     f.analyse_seconds = since(t0);
     ch.ok("analyze");
     f.factor_nnz = ch.c.lnz;
     f.flops = ch.c.fl;
-    cholmod_dense* ones = cholmod_ones(static_cast<std::size_t>(a.n), 1, CHOLMOD_REAL, &ch.c);
-    cholmod_dense* b = cholmod_zeros(static_cast<std::size_t>(a.n), 1, CHOLMOD_REAL, &ch.c);
+    cholmod_dense* ones = cholmod_l_ones(static_cast<std::size_t>(a.n), 1, CHOLMOD_REAL, &ch.c);
+    cholmod_dense* b = cholmod_l_zeros(static_cast<std::size_t>(a.n), 1, CHOLMOD_REAL, &ch.c);
     double one[2] = {1, 0}, zero[2] = {0, 0}, minus[2] = {-1, 0};
-    cholmod_sdmult(s, 0, one, zero, ones, b, &ch.c);  // b = A 1
+    cholmod_l_sdmult(s, 0, one, zero, ones, b, &ch.c);  // b = A 1
     cholmod_dense* x = nullptr;
     for (int r = 0; r < reps; ++r) {
         t0 = Clock::now();
-        cholmod_factorize(s, l, &ch.c);
+        cholmod_l_factorize(s, l, &ch.c);
         f.factor_seconds.push_back(since(t0));
         if (ch.c.status == CHOLMOD_NOT_POSDEF) {
             const auto minor = static_cast<std::int64_t>(l->minor);
-            if (x) cholmod_free_dense(&x, &ch.c);
-            cholmod_free_dense(&ones, &ch.c);
-            cholmod_free_dense(&b, &ch.c);
-            cholmod_free_factor(&l, &ch.c);
-            cholmod_free_sparse(&s, &ch.c);
+            if (x) cholmod_l_free_dense(&x, &ch.c);
+            cholmod_l_free_dense(&ones, &ch.c);
+            cholmod_l_free_dense(&b, &ch.c);
+            cholmod_l_free_factor(&l, &ch.c);
+            cholmod_l_free_sparse(&s, &ch.c);
             throw NotDefinite(minor, "the matrix is not positive definite: CHOLMOD stopped at column " + std::to_string(minor) + " of " + std::to_string(a.n));
         }
         ch.ok("factorize");
-        if (x) cholmod_free_dense(&x, &ch.c);
+        if (x) cholmod_l_free_dense(&x, &ch.c);
         t0 = Clock::now();
-        x = cholmod_solve(CHOLMOD_A, l, b, &ch.c);
+        x = cholmod_l_solve(CHOLMOD_A, l, b, &ch.c);
         f.solve_seconds.push_back(since(t0));
         ch.ok("solve");
     }
     f.method = std::string(l->is_super ? "supernodal" : "simplicial") + (l->is_ll ? " LLᵀ" : " LDLᵀ");
     // The answer is checked, as every kernel's: x must be 1, and b - A x small.
-    cholmod_dense* res = cholmod_copy_dense(b, &ch.c);
-    cholmod_sdmult(s, 0, minus, one, x, res, &ch.c);  // res = b - A x
+    cholmod_dense* res = cholmod_l_copy_dense(b, &ch.c);
+    cholmod_l_sdmult(s, 0, minus, one, x, res, &ch.c);  // res = b - A x
     const double* xv = static_cast<const double*>(x->x);
     for (std::int64_t i = 0; i < a.n; ++i) f.max_error = std::max(f.max_error, std::fabs(xv[i] - 1));
-    f.residual = cholmod_norm_dense(res, 2, &ch.c) / cholmod_norm_dense(b, 2, &ch.c);
-    cholmod_free_dense(&res, &ch.c);
-    cholmod_free_dense(&x, &ch.c);
-    cholmod_free_dense(&ones, &ch.c);
-    cholmod_free_dense(&b, &ch.c);
-    cholmod_free_factor(&l, &ch.c);
-    cholmod_free_sparse(&s, &ch.c);
+    f.residual = cholmod_l_norm_dense(res, 2, &ch.c) / cholmod_l_norm_dense(b, 2, &ch.c);
+    cholmod_l_free_dense(&res, &ch.c);
+    cholmod_l_free_dense(&x, &ch.c);
+    cholmod_l_free_dense(&ones, &ch.c);
+    cholmod_l_free_dense(&b, &ch.c);
+    cholmod_l_free_factor(&l, &ch.c);
+    cholmod_l_free_sparse(&s, &ch.c);
     return f;
 }
 
 void check_definite(const Csr& a) {
     Cholmod ch(true);
     cholmod_sparse* s = upper(a, &ch.c);
-    cholmod_factor* l = cholmod_analyze(s, &ch.c);
+    cholmod_factor* l = cholmod_l_analyze(s, &ch.c);
     ch.ok("analyze");
-    cholmod_factorize(s, l, &ch.c);
+    cholmod_l_factorize(s, l, &ch.c);
     const bool bad = ch.c.status == CHOLMOD_NOT_POSDEF;
     const std::int64_t minor = static_cast<std::int64_t>(l->minor);
-    cholmod_free_factor(&l, &ch.c);
-    cholmod_free_sparse(&s, &ch.c);
+    cholmod_l_free_factor(&l, &ch.c);
+    cholmod_l_free_sparse(&s, &ch.c);
     if (bad) throw NotDefinite(minor, "the matrix is not positive definite (CHOLMOD, in its own ordering, met a non-positive pivot)");
     ch.ok("factorize");
 }
