@@ -135,11 +135,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
 
     // Everything is checked before anything is computed or written.
     const std::vector<std::string> orderings = parse_name_list(o.orderings, "--ordering");
-    for (const auto& name : orderings)
-        if (std::find(accepted.begin(), accepted.end(), name) == accepted.end()) {
-            const std::string hint = nearest(name, accepted);
-            throw UsageError("unknown ordering '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + join(accepted));
-        }
+    require_known(orderings, accepted, "ordering");
     const double delta = parse_finite(o.delta, "--delta");
     if (delta < 0) throw UsageError("--delta=" + o.delta + ": δ must be >= 0 (the waveguide's k² = (100 + δ) exp(-50 r²) - 100)");
     double max_factor = 0;

@@ -89,11 +89,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
         throw UsageError("--mesh=" + o.mesh + " has " + std::to_string(counts.elements) + " elements; traverse writes every element to .vtu files, so at most " +
                          std::to_string(max_traverse_elements));
     const std::vector<std::string> orderings = parse_name_list(o.orderings, "--ordering");
-    for (const auto& name : orderings)
-        if (std::find(orderings_accepted.begin(), orderings_accepted.end(), name) == orderings_accepted.end()) {
-            const std::string hint = nearest(name, orderings_accepted);
-            throw UsageError("unknown ordering '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + join(orderings_accepted));
-        }
+    require_known(orderings, orderings_accepted, "ordering");
     if (o.threads == "all") throw UsageError("--threads=all: traverse splits the loop into the blocks of the thread counts given, e.g. --threads=1,4");
     // Thread counts here are the blocks of a static split, not this machine's processing units.
     const std::vector<int> threads = parse_thread_list(o.threads, 1024, "traverse splits the loop into 1 to 1024 static blocks");

@@ -40,6 +40,17 @@ json per_call(const json& rec) { return rec["callgrind"]["per_call"]; }
 
 }  // namespace
 
+// Why the deterministic mode cannot run here, or "" when it can.
+static std::string why_valgrind_cannot_run() {
+    if (!have_valgrind()) return "valgrind is not installed (scripts/install-deps.sh test installs it)";
+#if defined(__SANITIZE_ADDRESS__)
+    return "an AddressSanitizer build (make test-sanitize) cannot run under valgrind; the plain build runs this test";
+#endif
+    if (uses_avx512(deterministic_binary()))
+        return "no build valgrind can run: the main build uses AVX-512 and suite-x86-64-v3 was not built (SUITE_VALGRIND_TWIN=OFF?)";
+    return "";
+}
+
 TEST(CallgrindDump, TotalsAreReadByEventName) {
     const std::string text =
         "# callgrind format\nversion: 1\ncreator: callgrind-3.19.0\ncmd: suite\npart: 2\ndesc: I1 cache: 32768 B, 64 B, 8-way associative\n"
@@ -57,12 +68,7 @@ TEST(CallgrindDump, TotalsAreReadByEventName) {
 }
 
 TEST(Deterministic, CountsRepeatExactlyAndFeedTheGate) {
-    if (!have_valgrind()) GTEST_SKIP() << "valgrind is not installed (scripts/install-deps.sh test installs it)";
-#if defined(__SANITIZE_ADDRESS__)
-    GTEST_SKIP() << "an AddressSanitizer build (make test-sanitize) cannot run under valgrind; the plain build runs this test";
-#endif
-    if (uses_avx512(deterministic_binary()))
-        GTEST_SKIP() << "no build valgrind can run: the main build uses AVX-512 and suite-x86-64-v3 was not built (SUITE_VALGRIND_TWIN=OFF?)";
+    if (const std::string why = why_valgrind_cannot_run(); !why.empty()) GTEST_SKIP() << why;
     TempDir dir;
     const std::vector<std::string> args = {"deterministic", "--kernel=add,latency", "--pattern=sequential,random", "--sizes=16KiB,256KiB,16MiB"};
     std::vector<std::string> a1{deterministic_binary()}, a2{deterministic_binary()};
@@ -117,12 +123,7 @@ TEST(Deterministic, CountsRepeatExactlyAndFeedTheGate) {
 }
 
 TEST(Deterministic, MeshKernelsTakeTheirSizeFromTheMeshAndOrderingsShowInTheMisses) {
-    if (!have_valgrind()) GTEST_SKIP() << "valgrind is not installed (scripts/install-deps.sh test installs it)";
-#if defined(__SANITIZE_ADDRESS__)
-    GTEST_SKIP() << "an AddressSanitizer build (make test-sanitize) cannot run under valgrind; the plain build runs this test";
-#endif
-    if (uses_avx512(deterministic_binary()))
-        GTEST_SKIP() << "no build valgrind can run: the main build uses AVX-512 and suite-x86-64-v3 was not built (SUITE_VALGRIND_TWIN=OFF?)";
+    if (const std::string why = why_valgrind_cannot_run(); !why.empty()) GTEST_SKIP() << why;
     TempDir dir;
     // x is 96 KiB here, three times the simulated D1: a random numbering misses on most of its
     // reads, a Hilbert one on few. (The default sizes are not added beside --mesh.)
