@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <algorithm>
+
 #include <CLI/CLI.hpp>
 
 #include "harness/common/units.hpp"
@@ -62,6 +64,18 @@ CLI::Option* add_whole_option(CLI::App& app, const std::string& names, T& target
 // --seed of every command that has one: parse_seed, 0 to 2^64-1 exactly as typed.
 inline CLI::Option* add_seed_option(CLI::App& app, std::uint64_t& seed, const std::string& help) {
     return app.add_option_function<std::string>("--seed", [&seed](const std::string& text) { seed = parse_seed(text); }, help)->type_name("UINT");
+}
+
+// Throws a UsageError "unknown WHAT 'name' (did you mean 'x'?); accepted: a, b, c" for the first of
+// `names` that is not in `accepted`.
+inline void require_known(const std::vector<std::string>& names, const std::vector<std::string>& accepted, std::string_view what) {
+    for (const auto& name : names) {
+        if (std::find(accepted.begin(), accepted.end(), name) != accepted.end()) continue;
+        const std::string hint = nearest(name, accepted);
+        std::string list;
+        for (const auto& a : accepted) list += (list.empty() ? "" : ", ") + a;
+        throw UsageError("unknown " + std::string(what) + " '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + list);
+    }
 }
 
 }  // namespace suite

@@ -389,17 +389,3 @@ std::string nearest(std::string_view word, const std::vector<std::string>& candi
 }
 
 }  // namespace suite
-
-namespace suite {
-
-void require_known(const std::vector<std::string>& names, const std::vector<std::string>& accepted, std::string_view what) {
-    for (const auto& name : names) {
-        if (std::find(accepted.begin(), accepted.end(), name) != accepted.end()) continue;
-        const std::string hint = nearest(name, accepted);
-        std::string list;
-        for (const auto& a : accepted) list += (list.empty() ? "" : ", ") + a;
-        throw UsageError("unknown " + std::string(what) + " '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + list);
-    }
-}
-
-}  // namespace suite

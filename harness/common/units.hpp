@@ -76,9 +76,6 @@ std::string format_bytes(std::uint64_t bytes);
 std::size_t edit_distance(std::string_view a, std::string_view b);
 // The candidate nearest to `word`, or "" when none is reasonably close.
 std::string nearest(std::string_view word, const std::vector<std::string>& candidates);
-// Throws a UsageError "unknown WHAT 'name' (did you mean 'x'?); accepted: a, b, c" for the first of
-// `names` that is not in `accepted`.
-void require_known(const std::vector<std::string>& names, const std::vector<std::string>& accepted, std::string_view what);
 
 std::vector<std::string> split(std::string_view text, char sep);
 std::string join(const std::vector<std::string>& parts, std::string_view sep);
