@@ -58,12 +58,6 @@ struct Options {
     bool dry_run = false;
 };
 
-std::string join(const std::vector<std::string>& v) {
-    std::string s;
-    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-    return s;
-}
-
 }  // namespace
 
 int cmd_traverse(const std::vector<std::string>& args) {

@@ -35,7 +35,8 @@ std::string join(const std::vector<std::string>& parts, std::string_view sep) {
 
 namespace {
 
-std::string quoted(std::string_view s) { return "'" + std::string(s) + "'"; }
+// Not "quoted": with <iomanip> seen (the precompiled header has it), ADL would pick std::quoted.
+std::string in_quotes(std::string_view s) { return "'" + std::string(s) + "'"; }
 
 bool is_digit(char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }
 
@@ -114,8 +115,8 @@ std::vector<std::uint64_t> sizes_from(std::string_view text, One one, Show show,
             const std::uint64_t v = one(part);
             for (std::size_t i = 0; i < out.size(); ++i)
                 if (out[i] == v)
-                    throw UsageError("size list " + quoted(text) + " names " + show(v) + " twice" +
-                                     (given[i] != part ? " (as " + quoted(given[i]) + " and " + quoted(part) + ")" : "") + "; give each size once");
+                    throw UsageError("size list " + in_quotes(text) + " names " + show(v) + " twice" +
+                                     (given[i] != part ? " (as " + in_quotes(given[i]) + " and " + in_quotes(part) + ")" : "") + "; give each size once");
             out.push_back(v);
             given.push_back(part);
         }
@@ -123,7 +124,7 @@ std::vector<std::uint64_t> sizes_from(std::string_view text, One one, Show show,
     }
     auto parts = split(text, ':');
     if (parts.size() > 3)
-        throw UsageError("invalid size sweep " + quoted(text) + ": expected FROM:TO or FROM:TO:xFACTOR, e.g. 16KiB:1GiB:x2");
+        throw UsageError("invalid size sweep " + in_quotes(text) + ": expected FROM:TO or FROM:TO:xFACTOR, e.g. 16KiB:1GiB:x2");
     const std::uint64_t from = one(parts[0]);
     const std::uint64_t to = one(parts[1]);
     double factor = 2.0;
@@ -132,19 +133,19 @@ std::vector<std::uint64_t> sizes_from(std::string_view text, One one, Show show,
         if (!f.empty() && (f[0] == 'x' || f[0] == '*')) f.remove_prefix(1);
         Decimal d;
         if (!parse_decimal(f, d) || d.used != f.size() || d.too_long || !(d.value > 1.0))
-            throw UsageError("invalid size sweep step " + quoted(parts[2]) +
+            throw UsageError("invalid size sweep step " + in_quotes(parts[2]) +
                              ": expected x and a decimal number above 1, such as x2 or x1.5 (digits and one point only: no sign, no exponent)");
         factor = d.value;
     }
-    if (from > to) throw UsageError("invalid size sweep " + quoted(text) + ": the first size is larger than the last");
+    if (from > to) throw UsageError("invalid size sweep " + in_quotes(text) + ": the first size is larger than the last");
     // Counted before generating, so that a tiny factor costs nothing.
     if (std::log(static_cast<double>(to) / static_cast<double>(from)) / std::log(factor) >= 1000 - 1e-9)
-        throw UsageError("size sweep " + quoted(text) + " has more than 1000 points; use a larger factor");
+        throw UsageError("size sweep " + in_quotes(text) + " has more than 1000 points; use a larger factor");
     for (double s = static_cast<double>(from); s <= static_cast<double>(to) * (1 + 1e-9); s *= factor) {
         // Within the tolerance a step that lands past TO by rounding error means TO.
         const auto v = std::min(static_cast<std::uint64_t>(std::llround(s)), to);
         if (!out.empty() && v == out.back())
-            throw UsageError("size sweep " + quoted(text) + " gives " + show(v) + " twice: its steps are less than one " + unit +
+            throw UsageError("size sweep " + in_quotes(text) + " gives " + show(v) + " twice: its steps are less than one " + unit +
                              " apart there; use a larger factor or a larger first size");
         out.push_back(v);
     }
@@ -210,7 +211,7 @@ std::vector<std::string> parse_name_list(std::string_view text, std::string_view
 }
 
 std::uint64_t parse_count(std::string_view text, std::string_view noun, std::string_view owner) {
-    const std::string what = "invalid size " + quoted(text) + " for " + std::string(owner) + ", which is sized by a count of " + std::string(noun);
+    const std::string what = "invalid size " + in_quotes(text) + " for " + std::string(owner) + ", which is sized by a count of " + std::string(noun);
     const auto v = whole_number(text);
     if (v && *v > max_size) throw UsageError(what + ": at most " + std::to_string(max_size));
     if (!v || *v < 1) throw UsageError(what + ": expected a whole number of " + std::string(noun) + ", at least 1 (no unit), e.g. 10000");
@@ -220,9 +221,9 @@ std::uint64_t parse_count(std::string_view text, std::string_view noun, std::str
 std::uint64_t parse_bytes(std::string_view text) {
     const std::string accepted = "a whole number of bytes such as 4096, 32KiB, 64MiB, 1.5GiB or 100MB";
     if (!text.empty() && text[0] == '-')
-        throw UsageError("invalid size " + quoted(text) + ": sizes must be positive; expected " + accepted);
+        throw UsageError("invalid size " + in_quotes(text) + ": sizes must be positive; expected " + accepted);
     Decimal d;
-    if (!parse_decimal(text, d)) throw UsageError("invalid size " + quoted(text) + ": expected " + accepted);
+    if (!parse_decimal(text, d)) throw UsageError("invalid size " + in_quotes(text) + ": expected " + accepted);
     const std::string unit(text.substr(d.used));
     static const std::pair<const char*, std::uint64_t> units[] = {
         {"", 1},           {"B", 1},
@@ -233,20 +234,20 @@ std::uint64_t parse_bytes(std::string_view text) {
     };
     for (const auto& [name, factor] : units) {
         if (unit != name) continue;
-        const std::string too_large = "invalid size " + quoted(text) + ": too large; at most " + std::to_string(max_size) + " bytes";
+        const std::string too_large = "invalid size " + in_quotes(text) + ": too large; at most " + std::to_string(max_size) + " bytes";
         if (d.int_digits > 19) throw UsageError(too_large);
-        if (d.too_long) throw UsageError("invalid size " + quoted(text) + ": too many digits; expected " + accepted);
+        if (d.too_long) throw UsageError("invalid size " + in_quotes(text) + ": too many digits; expected " + accepted);
         // Exact: mantissa < 10^24 and factor <= 2^40 stay far below 2^128.
         const unsigned __int128 num = d.mantissa * factor, den = pow10(d.scale);
         if (num % den != 0)
-            throw UsageError("invalid size " + quoted(text) + ": that is " + shown(d.value * static_cast<double>(factor)) +
+            throw UsageError("invalid size " + in_quotes(text) + ": that is " + shown(d.value * static_cast<double>(factor)) +
                              " bytes, not a whole number of bytes; expected " + accepted);
         const unsigned __int128 bytes = num / den;
-        if (bytes < 1) throw UsageError("invalid size " + quoted(text) + ": sizes must be at least 1 byte");
+        if (bytes < 1) throw UsageError("invalid size " + in_quotes(text) + ": sizes must be at least 1 byte");
         if (bytes > max_size) throw UsageError(too_large);
         return static_cast<std::uint64_t>(bytes);
     }
-    throw UsageError("invalid size " + quoted(text) + ": unknown unit " + quoted(unit) +
+    throw UsageError("invalid size " + in_quotes(text) + ": unknown unit " + in_quotes(unit) +
                      "; accepted units are B, KiB, MiB, GiB, TiB (powers of 2) and kB, MB, GB, TB (powers of 10)");
 }
 
