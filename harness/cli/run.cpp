@@ -224,6 +224,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         if (to_file) out->write(doc.render(format, false));
     }
     if (progress) std::fprintf(stderr, "\r\033[K");
+    if (console_table) std::cout << stability_summary(doc.records) << std::flush;
     const int sig = g_signal.load();
     if (to_file) {
         out->write(doc.render(format, sig == 0));

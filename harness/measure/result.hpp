@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "harness/kernel/kernel.hpp"
+#include "harness/instruments/machine_load.hpp"
 #include "harness/instruments/measurements.hpp"
 #include "harness/machine/placement.hpp"
 #include "harness/common/stats.hpp"
@@ -57,6 +58,7 @@ struct Record {
     Verification verification;
     CounterReadings counters;  // around the same repetitions as samples_s
     EnergyReadings energy;
+    Stability stability;       // what else the machine did around the repetitions; unstable: a noisy point
     std::uint64_t seed = 0;
     std::string mesh;          // the --mesh spec of a kernel on a mesh; "" otherwise
     std::map<std::string, double> params;  // the kernel's declared parameters, as it ran (KernelConfig::params)

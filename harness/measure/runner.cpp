@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <unistd.h>
+
 #include "harness/instruments/callgrind_marks.hpp"
 #include "harness/common/units.hpp"
 
@@ -16,6 +18,11 @@ using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC on Linux
 static_assert(Clock::is_steady);
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double clock_ticks_per_s() {
+    const long t = sysconf(_SC_CLK_TCK);
+    return t > 0 ? static_cast<double>(t) : 100.0;
+}
 
 void check_stop(const RunSettings& s) {
     if (s.stop && s.stop->load() != 0) throw Interrupted();
@@ -127,6 +134,9 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     EnergyMeter* energy = in && in->energy.available() ? &in->energy : nullptr;
 
     rec.samples_s.reserve(static_cast<std::size_t>(rec.repetitions));
+    std::vector<int> team_cpus;  // the CPUs whose load says whether the team was disturbed
+    for (const auto& b : rec.bindings) team_cpus.insert(team_cpus.end(), b.allowed.begin(), b.allowed.end());
+    const LoadSnapshot load_before = take_load_snapshot(team_cpus);
     for (int r = 0; r < rec.repetitions; ++r) {
         check_stop(settings);
         if (energy) energy->start();
@@ -140,6 +150,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         if (energy) energy->stop(seconds);
         rec.samples_s.push_back(seconds / rec.batch);
     }
+    const LoadSnapshot load_after = take_load_snapshot(team_cpus);
     counters.check_team();
     callgrind::dump(callgrind_label(rec).c_str());
     rec.binding_held = team_still_bound(rec.bindings);
@@ -152,6 +163,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
                 throw std::logic_error("kernel " + info.name + " reported the fact '" + rec.facts[i].name + "' twice");
     rec.time = summarise(rec.samples_s);
     rec.rates = derive_rates(rec.work, rec.time, rec.metric, rec.threads);
+    rec.stability = assess_stability(load_before, load_after, rec.samples_s, rec.threads, settings.stability, clock_ticks_per_s());
     if (in) {
         rec.counters = counters.readings(rec.batch, rec.work.units, rec.work.stream_bytes, in->line_bytes);
         rec.counters.requested = in->counters.requested;

@@ -42,6 +42,7 @@ struct RunSettings {
     std::uint64_t seed = 1;
     const std::atomic<int>* stop = nullptr;  // set by a signal handler: abandon the point
     Instruments* instruments = nullptr;      // counters and energy; none: the clock only
+    StabilityThresholds stability;           // when a point is flagged unstable
 };
 
 // Thrown when RunSettings::stop is raised during a point; the point yields no record.

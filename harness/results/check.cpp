@@ -26,7 +26,25 @@ std::string num(double v) {
     return buf;
 }
 
-const char* verdict_word(Verdict v) { return v == Verdict::regressed ? "REGRESSED" : v == Verdict::improved ? "improved" : "unchanged"; }
+const char* verdict_word(Verdict v) {
+    switch (v) {
+        case Verdict::regressed: return "REGRESSED";
+        case Verdict::improved: return "improved";
+        case Verdict::inconclusive: return "inconclusive";
+        case Verdict::unchanged: break;
+    }
+    return "unchanged";
+}
+
+// A failed verification has no figures to show; an inconclusive finding shows them.
+bool shows_values(const Finding& f) { return f.note.empty() || f.verdict == Verdict::inconclusive; }
+
+// The first figure compared at a point, so that a point's reasons are printed once.
+std::string first_figure_of(const CheckReport& rep, const PointKey& key) {
+    for (const auto& f : rep.findings)
+        if (f.key == key) return f.figure;
+    return "";
+}
 
 std::string change_text(const Finding& f) {
     if (f.note == "failed verification") return "failed verification";
@@ -101,6 +119,13 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, double tole
                 if (bm.name == rm.name && bm.unit == rm.unit) {
                     Finding f = judge(bm, rm, tolerance);
                     f.key = p.key;
+                    // callgrind's counts are exact: no noise can make them inconclusive.
+                    const bool timed = bm.name.rfind("callgrind", 0) != 0;
+                    if (timed && (b.unstable || p.unstable)) {
+                        f.verdict = Verdict::inconclusive;
+                        f.note = std::string(b.unstable ? "unstable in the baseline: " + b.unstable_why : "") +
+                                 (b.unstable && p.unstable ? "; " : "") + (p.unstable ? "unstable in the run: " + p.unstable_why : "");
+                    }
                     rep.findings.push_back(f);
                     any = true;
                 }
@@ -119,15 +144,19 @@ std::string render_check_text(const CheckReport& rep) {
                       " plus the runs' spread)\n";
     for (const auto& n : rep.notes) out += "note: " + n + "\n";
     TextTable t{{"", "point", "figure (median)", "baseline", "run", "change", "allowed"}, {}, {false, false, false, true, true, true, true}};
-    for (Verdict v : {Verdict::regressed, Verdict::improved})
+    for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
         for (const auto& f : rep.findings)
             if (f.verdict == v)
-                t.rows.push_back({verdict_word(v), f.key.label(), f.figure, f.note.empty() ? num(f.baseline) : "-", f.note.empty() ? num(f.run) : "-",
-                                  change_text(f), f.note.empty() ? pct(f.allowed) : "-"});
+                t.rows.push_back({verdict_word(v), f.key.label(), f.figure, shows_values(f) ? num(f.baseline) : "-", shows_values(f) ? num(f.run) : "-",
+                                  change_text(f), shows_values(f) ? pct(f.allowed) : "-"});
     if (!t.rows.empty()) out += t.render_text();
+    for (const auto& f : rep.findings)
+        if (f.verdict == Verdict::inconclusive && f.figure == first_figure_of(rep, f.key))
+            out += "inconclusive: " + f.key.label() + ": " + f.note + "\n";
     out += std::to_string(rep.points_compared) + " point(s) compared, " + std::to_string(rep.findings.size()) + " figure(s): " +
            std::to_string(rep.count(Verdict::regressed)) + " regressed, " + std::to_string(rep.count(Verdict::improved)) + " improved, " +
-           std::to_string(rep.count(Verdict::unchanged)) + " within the threshold.\n";
+           std::to_string(rep.count(Verdict::unchanged)) + " within the threshold, " + std::to_string(rep.count(Verdict::inconclusive)) +
+           " inconclusive (unstable points, not gated).\n";
     if (!rep.missing_from_run.empty()) {
         out += std::to_string(rep.missing_from_run.size()) + " point(s) of the baseline are missing from the run:";
         for (const auto& k : rep.missing_from_run) out += " [" + k.label() + "]";
@@ -139,17 +168,19 @@ std::string render_check_text(const CheckReport& rep) {
 
 std::string render_check_markdown(const CheckReport& rep) {
     const std::size_t bad = rep.count(Verdict::regressed), good = rep.count(Verdict::improved);
+    const std::size_t unsure = rep.count(Verdict::inconclusive);
     std::string out = "### suite check: " + std::string(bad ? "**" + std::to_string(bad) + " regression(s)**" : "no regression") +
-                      (good ? ", " + std::to_string(good) + " improvement(s)" : "") + "\n\n";
+                      (good ? ", " + std::to_string(good) + " improvement(s)" : "") +
+                      (unsure ? ", " + std::to_string(unsure) + " inconclusive (unstable points)" : "") + "\n\n";
     out += "Run `" + rep.run_path + "` against the baseline `" + rep.baseline_path + "`: " + std::to_string(rep.points_compared) +
            " point(s), " + std::to_string(rep.findings.size()) + " figure(s) compared; tolerance " + pct(rep.tolerance) +
            " plus the runs' spread.\n\n";
     TextTable t{{"", "point", "figure (median)", "baseline", "run", "change", "allowed"}, {}, {false, false, false, true, true, true, true}};
-    for (Verdict v : {Verdict::regressed, Verdict::improved})
+    for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
         for (const auto& f : rep.findings)
             if (f.verdict == v)
-                t.rows.push_back({verdict_word(v), "`" + f.key.label() + "`", f.figure, f.note.empty() ? num(f.baseline) : "-",
-                                  f.note.empty() ? num(f.run) : "-", change_text(f), f.note.empty() ? pct(f.allowed) : "-"});
+                t.rows.push_back({verdict_word(v), "`" + f.key.label() + "`", f.figure, shows_values(f) ? num(f.baseline) : "-",
+                                  shows_values(f) ? num(f.run) : "-", change_text(f), shows_values(f) ? pct(f.allowed) : "-"});
     if (!t.rows.empty()) out += t.render_markdown() + "\n";
     for (const auto& n : rep.notes) out += "- " + n + "\n";
     if (!rep.missing_from_run.empty()) out += "- " + std::to_string(rep.missing_from_run.size()) + " point(s) of the baseline are missing from the run\n";

@@ -2,7 +2,8 @@
 // `suite check --baseline BASE.json RUN.json`: the CI regression gate. Every figure has a
 // direction (bandwidth higher is better; latency, counts and energy lower is better); a point
 // regresses when its median is worse than the baseline's by more than the tolerance plus the
-// combined spread of the two runs' repetitions. Exit 0: nothing regressed; 1: something did;
+// combined spread of the two runs' repetitions. A point either run flagged unstable is
+// inconclusive, not a pass nor a regression. Exit 0: nothing regressed; 1: something did;
 // 2: the input cannot be used.
 #include <string>
 #include <vector>
@@ -11,7 +12,9 @@
 
 namespace suite {
 
-enum class Verdict { regressed, improved, unchanged };
+// inconclusive: the point was flagged unstable in the baseline or the run (the machine was busy,
+// or its repetitions spread), so its change, whatever it is, says nothing; it never fails the gate.
+enum class Verdict { regressed, improved, unchanged, inconclusive };
 
 struct Finding {
     PointKey key;

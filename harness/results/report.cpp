@@ -1,6 +1,8 @@
 #include "harness/results/report.hpp"
 
+#include <cctype>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "harness/measure/instrument_set.hpp"
@@ -45,6 +47,18 @@ nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 
 
 }  // namespace
+
+nlohmann::json to_json(const Stability& s) {
+    return {{"unstable", s.unstable},
+            {"reasons", s.reasons},
+            {"spread", s.spread},
+            {"steal_fraction", opt(s.steal_fraction)},
+            {"others_fraction", opt(s.others_fraction)},
+            {"waited_fraction", opt(s.waited_fraction)},
+            {"involuntary_switches", s.involuntary_switches},
+            {"window_s", s.window_s},
+            {"load_average_1m", opt(s.load_average)}};
+}
 
 nlohmann::json to_json(const Record& r) {
     nlohmann::json j;
@@ -92,6 +106,7 @@ nlohmann::json to_json(const Record& r) {
     j["gflops_best"] = opt(r.rates.gflops_best);
     j["counters"] = to_json(r.counters);
     j["energy"] = to_json(r.energy);
+    j["stability"] = to_json(r.stability);
     j["verification"] = {{"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
     if (r.verification.solver_failed) j["verification"]["solver_failed"] = true;
     j["seed"] = r.seed;
@@ -126,7 +141,7 @@ std::string params_text(const std::map<std::string, double>& params) {
 std::string csv_header(const Record* first) {
     std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,threads,pin,placement,repetitions,batch,"
                     "time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,stream_gbps_best,stream_gbps_median,"
-                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified,parameters";
+                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified,parameters,unstable";
     if (first) {
         for (const auto& e : first->counters.events) h += ",counter_" + e.name + "_per_call";
         for (const auto& d : first->energy.domains) h += ",energy_" + domain_label(d) + "_j_per_call";
@@ -142,11 +157,35 @@ std::string to_csv_row(const Record& r) {
       << fmt("%.9g", r.time.max) << ',' << fmt("%.9g", r.time.mean) << ',' << fmt("%.4g", r.time.cv) << ','
       << csv_opt(r.rates.stream_gbps_best) << ',' << csv_opt(r.rates.stream_gbps_median) << ','
       << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.ns_per_load_best) << ','
-      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params);
+      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params)
+      << ',' << (r.stability.unstable ? "true" : "false");
     for (const auto& e : r.counters.events) o << ',' << (e.available ? fmt("%.9g", e.per_call.median) : "");
     for (const auto& d : r.energy.domains) o << ',' << (d.available ? fmt("%.9g", d.joules_per_call.median) : "");
     o << '\n';
     return o.str();
+}
+
+std::string stability_summary(const std::vector<Record>& records) {
+    std::size_t unstable = 0;
+    std::map<std::string, std::size_t> kinds;  // the reason's words before its number
+    for (const auto& r : records) {
+        if (!r.stability.unstable) continue;
+        ++unstable;
+        for (const auto& why : r.stability.reasons) {
+            std::string kind;
+            for (char c : why) {
+                if (std::isdigit(static_cast<unsigned char>(c))) break;
+                kind += c;
+            }
+            while (!kind.empty() && kind.back() == ' ') kind.pop_back();
+            ++kinds[kind];
+        }
+    }
+    if (unstable == 0) return "";
+    std::string out = std::to_string(unstable) + " of " + std::to_string(records.size()) +
+                      " point(s) unstable (the machine was busy or the repetitions spread; `suite check` calls them inconclusive):";
+    for (const auto& [kind, n] : kinds) out += " " + kind + " (" + std::to_string(n) + ")";
+    return out + "\n";
 }
 
 std::string table_header() {
@@ -171,7 +210,8 @@ std::string table_row(std::size_t index, std::size_t total, const Record& r) {
     char buf[320];
     std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3d %-10s %10s %10s %10s %6.1f %6d %s\n", pos.c_str(), r.name.c_str(),
                   r.access.c_str(), size.c_str(), r.threads, r.placement.c_str(), best.c_str(), median.c_str(), hw.c_str(),
-                  r.time.cv * 100.0, r.repetitions, r.verification.passed ? "ok" : "FAILED");
+                  r.time.cv * 100.0, r.repetitions,
+                  r.verification.passed ? (r.stability.unstable ? "ok unstable" : "ok") : (r.stability.unstable ? "FAILED unstable" : "FAILED"));
     std::string row = buf;
     // What the kernel reported about the run, on a line of its own under the row.
     if (!r.facts.empty()) {

@@ -15,6 +15,10 @@ namespace suite {
 constexpr int schema_version = 1;
 
 nlohmann::json to_json(const Record& r);
+nlohmann::json to_json(const Stability& s);
+// Under the table: how many points were flagged unstable and why (the reasons' kinds, counted);
+// "" when none was.
+std::string stability_summary(const std::vector<Record>& records);
 std::string csv_header(const Record* first = nullptr);  // first: where counter and energy columns come from
 std::string to_csv_row(const Record& r);
 // A record's parameters as the CSV column holds them: "delta=0.05;tol=1e-08" ("" for none).

@@ -191,6 +191,19 @@ LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
                                   bw ? Direction::higher_is_better : Direction::lower_is_better, r.number(best, rat + ".best"),
                                   r.number(median, rat + ".median"), noise});
     }
+    // The noise flag; optional, absent in older files.
+    if (auto it = rec.find("stability"); it != rec.end() && !it->is_null()) {
+        const std::string at = where + ".stability";
+        p.unstable = r.boolean(*it, "unstable", at);
+        if (p.unstable) {
+            const json& reasons = r.field(*it, "reasons", at);
+            if (!reasons.is_array()) r.fail(at + ".reasons", "expected an array of strings");
+            for (std::size_t i = 0; i < reasons.size(); ++i) {
+                if (!reasons[i].is_string()) r.fail(at + ".reasons[" + std::to_string(i) + "]", "expected a string");
+                p.unstable_why += (p.unstable_why.empty() ? "" : "; ") + reasons[i].get<std::string>();
+            }
+        }
+    }
     // Issue 3's instruments; optional, absent in older files.
     if (rec.contains("counters") && !rec["counters"].is_null()) read_counters(r, rec["counters"], where + ".counters", p);
     if (rec.contains("energy") && !rec["energy"].is_null()) read_energy(r, rec["energy"], where + ".energy", p);

@@ -60,6 +60,10 @@ struct LoadedPoint {
     bool verified = true;
     bool under_callgrind = false;  // timings were taken under valgrind: only its counts are figures
     std::vector<Measure> measures;  // the headline first
+    // Flagged by the run as unstable (the machine was busy, or the repetitions spread): its
+    // timings are not to be trusted, so `check` calls it inconclusive. False in older files.
+    bool unstable = false;
+    std::string unstable_why;  // the reasons, joined
 };
 
 struct ResultFile {

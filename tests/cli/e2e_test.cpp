@@ -155,6 +155,13 @@ TEST(E2E, ResultRecordsPinningAndPagesAsObserved) {
     EXPECT_EQ(rec["pin"]["threads"][0]["allowed_cpus"], json::array({0}));
     EXPECT_EQ(rec["pin"]["threads"][0]["cpu"], 0);
     EXPECT_EQ(rec["pin"]["held_during_run"], true);
+    // What else the machine did around the repetitions: measured, and the flag agrees with its reasons.
+    const json& st = rec["stability"];
+    ASSERT_TRUE(st.is_object()) << rec.dump(1);
+    EXPECT_GT(st["window_s"].get<double>(), 0.0);
+    EXPECT_GE(st["spread"].get<double>(), 0.0);
+    EXPECT_EQ(st["unstable"].get<bool>(), !st["reasons"].empty()) << st.dump();
+    EXPECT_FALSE(st["load_average_1m"].is_null()) << "Linux has /proc/loadavg";
     // a, b, c; every page present and counted on an existing node (node 0 on a one-node machine).
     ASSERT_EQ(rec["placement"]["arrays"].size(), 3u);
     for (const auto& a : rec["placement"]["arrays"]) {

@@ -176,6 +176,41 @@ TEST(Check, AFailedVerificationIsARegression) {
     EXPECT_NE(r.out.find("failed verification"), std::string::npos) << r.out;
 }
 
+TEST(Check, AnUnstablePointIsInconclusiveNeitherARegressionNorAPass) {
+    TempDir dir;
+    const std::string why = "other tasks took 48% of the team's CPUs (over 10%)";
+    json base = load(fixture("vm-native.json"));
+    json run = base;
+    // Twice as slow in the run, where the run says the machine was busy: not a regression.
+    slow_down(record(run, "add", "random", 64ULL << 20, 1), 2.0);
+    record(run, "add", "random", 64ULL << 20, 1)["stability"] = {{"unstable", true}, {"reasons", {why}}};
+    // Unchanged, but the baseline was busy there: not a pass either.
+    record(base, "copy", "sequential", 16ULL << 20, 2)["stability"] = {{"unstable", true}, {"reasons", {"the repetitions spread 23% (over 10%)"}}};
+    save(base, dir.file("base.json"));
+    save(run, dir.file("run.json"));
+    Outcome r = run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json"), "--markdown=" + dir.file("gate.md")});
+    EXPECT_EQ(r.status, 0) << describe(r);
+    EXPECT_NE(r.out.find("inconclusive  add random 64MiB t=1 compact/local"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("inconclusive: add random 64MiB t=1 compact/local: unstable in the run: " + why), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("inconclusive: copy sequential 16MiB t=2 compact/local: unstable in the baseline: the repetitions spread"),
+              std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("0 regressed, 0 improved, 124 within the threshold, 2 inconclusive"), std::string::npos) << r.out;
+    EXPECT_NE(slurp(dir.file("gate.md")).find("no regression, 2 inconclusive (unstable points)"), std::string::npos);
+    // A stable slow point beside them still fails the gate.
+    slow_down(record(run, "triad", "sequential", 16ULL << 10, 1), 2.0);
+    save(run, dir.file("run.json"));
+    Outcome bad = run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")});
+    EXPECT_EQ(bad.status, 1) << describe(bad);
+    // A failed verification is a regression however busy the machine was.
+    record(run, "add", "random", 64ULL << 20, 1)["verification"]["passed"] = false;
+    save(run, dir.file("run.json"));
+    EXPECT_NE(run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")}).out.find("failed verification"), std::string::npos);
+    // A stability block that is not what suite writes is refused, naming the field.
+    record(run, "add", "random", 64ULL << 20, 1)["stability"] = {{"unstable", "yes"}};
+    save(run, dir.file("run.json"));
+    expect_one_line_error(run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")}), ".stability.unstable");
+}
+
 TEST(Check, CountersAndEnergyAreGatedLowerIsBetter) {
     TempDir dir;
     const std::string base = fixture("vm-native-HANDMADE-counters-energy.json");
