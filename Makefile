@@ -4,25 +4,46 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps test-deps build run test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem
+.PHONY: all deps run-deps test-deps configure build run plots test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem
+
+# CMake's generated makefiles run make within make: without this each step says which directory it
+# enters and leaves.
+MAKEFLAGS += --no-print-directory
+# The plots need Debian's matplotlib: /usr/bin/python3, not whatever python3 comes first on PATH.
+PYTHON ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
+PLOTS ?= results/plots
 
 all: build
 
 deps:
 	@scripts/install-deps.sh build
 
+run-deps:
+	@scripts/install-deps.sh run
+
 test-deps:
 	@scripts/install-deps.sh test
 
 # Configured every time, so ARCH=... and CMAKE_FLAGS=... take effect on an existing build too.
-build: deps
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=$(ARCH) $(CMAKE_FLAGS) > /dev/null
+configure:
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=$(ARCH) $(CMAKE_FLAGS) > /dev/null
+
+# Everything: the program, the tests, the x86-64-v3 twin for valgrind, suite-gbench, the fuzz targets.
+build: deps configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-# The default sweep: a table on the console and results/latest.json.
-# The default sweep, its sizes taken from the caches this process really gets (--probe-caches).
-run: build
+# The default sweep, its sizes taken from the caches this process really gets (--probe-caches): a
+# table on the console, results/latest.json, and its figures in $(PLOTS)/. Builds the program only.
+run: run-deps configure
+	@cmake --build $(BUILD) -j $(JOBS) --target suite suite_link
 	./suite --probe-caches --out=results/latest.json
+	@$(MAKE) plots
+
+# The figures of results/latest.json (or RESULT=...), in $(PLOTS)/; the last line names them.
+RESULT ?= results/latest.json
+plots:
+	@files="$$($(PYTHON) plots/plot.py $(RESULT) --out $(PLOTS))" && \
+	  echo "figures of $(RESULT) in $(PLOTS)/: $$(for f in $$files; do printf '%s ' "$$(basename "$$f")"; done)"
 
 test: test-deps build
 	cd $(BUILD) && ctest --output-on-failure -j 2

@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the suite needs, if any is missing. As root it runs apt-get;
-# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|test|bench]
+# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|run|test|bench]
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 want+=(libboost-graph-dev)  # RCM ordering (kernels/sfc)
 want+=(libsuitesparse-dev libmetis-dev)  # suite matrix: AMD, CHOLMOD, nested dissection
+if [ "${1:-build}" = run ] || [ "${1:-build}" = test ]; then
+  # make run draws the default sweep's figures (plots/plot.py).
+  want+=(python3 python3-matplotlib python3-numpy)
+fi
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
   # clang + compiler-rt build the libFuzzer targets; valgrind: the deterministic mode (its header

@@ -184,7 +184,11 @@ std::string stability_summary(const std::vector<Record>& records) {
     if (unstable == 0) return "";
     std::string out = std::to_string(unstable) + " of " + std::to_string(records.size()) +
                       " point(s) unstable (the machine was busy or the repetitions spread; `suite check` calls them inconclusive):";
-    for (const auto& [kind, n] : kinds) out += " " + kind + " (" + std::to_string(n) + ")";
+    std::string sep = " ";
+    for (const auto& [kind, n] : kinds) {
+        out += sep + kind + " (" + std::to_string(n) + ")";
+        sep = ", ";
+    }
     return out + "\n";
 }
 
