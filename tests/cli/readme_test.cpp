@@ -24,13 +24,14 @@ std::vector<std::string> words(const std::string& line) {
     return out;
 }
 
-std::vector<std::string> readme_examples() {
-    std::istringstream in(slurp(std::string(SUITE_SOURCE_DIR) + "/README.md"));
+// The `./suite ...` lines of the code blocks of `file`, in the section `section` ("" for every section).
+std::vector<std::string> examples_in(const std::string& file, const std::string& section) {
+    std::istringstream in(slurp(std::string(SUITE_SOURCE_DIR) + "/" + file));
     std::string line;
-    bool in_section = false, in_code = false;
+    bool in_section = section.empty(), in_code = false;
     std::vector<std::string> lines;
     while (std::getline(in, line)) {
-        if (line.rfind("## ", 0) == 0) in_section = line == "## Examples";
+        if (!section.empty() && line.rfind("## ", 0) == 0) in_section = line == section;
         if (!in_section) continue;
         if (line.rfind("```", 0) == 0) { in_code = !in_code; continue; }
         if (in_code && line.rfind("./suite", 0) == 0) lines.push_back(line);
@@ -38,11 +39,25 @@ std::vector<std::string> readme_examples() {
     return lines;
 }
 
+void expect_accepted(const std::vector<std::string>& examples);
+
 }  // namespace
 
 TEST(Readme, ExamplesAreAcceptedAsWritten) {
-    const auto examples = readme_examples();
+    const auto examples = examples_in("README.md", "## Examples");
     ASSERT_GE(examples.size(), 10u) << "the README's Examples block was not found";
+    expect_accepted(examples);
+}
+
+TEST(Readme, TheFullListOfExamplesInDocsIsAcceptedAsWritten) {
+    const auto examples = examples_in("docs/examples.md", "");
+    ASSERT_GE(examples.size(), 20u) << "docs/examples.md has lost its examples";
+    expect_accepted(examples);
+}
+
+namespace {
+
+void expect_accepted(const std::vector<std::string>& examples) {
     const bool one_node = suite::Topology::load().nodes.size() < 2;
     for (const auto& line : examples) {
         auto args = words(line);
@@ -68,3 +83,5 @@ TEST(Readme, ExamplesAreAcceptedAsWritten) {
         EXPECT_FALSE(r.out.empty()) << line;
     }
 }
+
+}  // namespace
