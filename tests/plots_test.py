@@ -1,7 +1,13 @@
 #!/usr/bin/python3
 """ctest: plots/plot.py renders the committed fixture results (tests/fixtures/results/) into every
 expected figure, each a real PNG (signature, IHDR) of plausible size, and refuses bad input with
-exit status 2 and one clear line. Usage: plots_test.py SOURCE_DIR"""
+exit status 2 and one clear line. Then, on the matplotlib figures its functions build (fixtures
+and copies of them changed in memory): log bandwidth axes, cache markers at the measured sizes
+where the context has context.caches_measured (else the reported ones, so labelled), the probe's
+sweeps in the 1-thread panels, the runs in a corner of every figure, whitespace-free CPU names,
+counters titled by the kind of event counted, series kept apart by run and huge-pages setting,
+unstable records hollow. Usage: plots_test.py SOURCE_DIR"""
+import copy
 import json
 import os
 import stat
@@ -118,6 +124,197 @@ with tempfile.TemporaryDirectory() as tmp:
     open(not_a_dir, "w").write("x")
     r = run([fx("vm-native.json")], not_a_dir)
     check(r.returncode == 2 and "not a directory" in r.stderr, f"--out a file: expected exit 2, got {r.returncode} {r.stderr!r}")
+
+# Figure contents, read from the figure objects plot.py builds (no files written).
+sys.path.insert(0, os.path.join(src, "plots"))
+import plot as pl  # noqa: E402  (the module; `plot` is the script's path)
+
+plt = pl.pyplot()
+native = json.load(open(fx("vm-native.json")))
+latency_doc = json.load(open(fx("vm-native-latency.json")))
+
+
+def figures(*docs):
+    """{name: figure} for in-memory result documents, as plot.py would write them."""
+    return dict(pl.make_figures(plt, pl.gather([(f"doc{i}.json", d) for i, d in enumerate(docs)])))
+
+
+def panel(fig, title):
+    found = [a for a in fig.axes if a.get_visible() and a.get_title() == title]
+    return found[0] if found else None
+
+
+def texts(ax):
+    return [t.get_text().strip() for t in ax.texts]
+
+
+def legend_texts(ax):
+    leg = ax.get_legend()
+    return [t.get_text() for t in leg.get_texts()] if leg else []
+
+
+def hollow_points(ax):
+    """Points drawn as hollow markers (white face, no line): plot.py's unstable points."""
+    return sum(len(l.get_xdata()) for l in ax.get_lines()
+               if l.get_linestyle() == "None" and l.get_markerfacecolor() == "white")
+
+
+def close(figs):
+    for f in figs.values():
+        plt.close(f)
+
+
+def probed(doc, l3=9860448):
+    """A copy of `doc` with a cache probe in its context, as `suite run --probe-caches` writes it
+    (the sizes the development VM measured); l3=None: the probe found no L3."""
+    d = copy.deepcopy(doc)
+    sweep = [4096 * 2 ** (i / 4) for i in range(40)]
+    d["context"]["caches_measured"] = {
+        "method": "latency: the latency kernel (random pointer chase), 1 thread; bandwidth: the load kernel, 1 thread; ...",
+        "levels": [{"level": 1, "capacity_bytes": 47209, "reported_bytes": 49152, "latency_ns": 1.1, "partial": False},
+                   {"level": 2, "capacity_bytes": 655781, "reported_bytes": 1048576, "latency_ns": 4.0, "partial": False},
+                   {"level": 3, "capacity_bytes": l3, "reported_bytes": 33554432, "latency_ns": 15.0, "partial": False}],
+        "bandwidth_sweep": [{"size_bytes": round(x), "gbps": 300.0 / (1 + x / 1e6)} for x in sweep],
+        "latency_sweep": [{"size_bytes": round(x), "ns": 1 + x / 1e5} for x in sweep]}
+    return d
+
+
+# Bandwidth on log axes (random and sin-add are not flattened onto zero); latency too.
+figs = figures(native, latency_doc)
+for name in ("bandwidth_vs_footprint", "latency_vs_footprint", "patterns"):
+    for ax in (a for a in figs[name].axes if a.get_visible()):
+        check(ax.get_yscale() == "log", f"{name}: panel {ax.get_title()!r} has a {ax.get_yscale()} y axis, not log")
+check(figs["threads_scaling"].axes[0].get_yscale() == "log", "threads_scaling: the bandwidth panel's y axis is not log")
+check("GB/s" in figs["bandwidth_vs_footprint"].axes[0].get_ylabel(), "bandwidth_vs_footprint: no unit on the y axis")
+# Without a probe the markers are hwloc's sizes, labelled as reported.
+one = panel(figs["bandwidth_vs_footprint"], "1 thread")
+check("L2 1MiB reported" in texts(one), f"no probe: expected the marker 'L2 1MiB reported', got {texts(one)}")
+check(not any("measured" in t for t in texts(one)), f"no probe, yet a marker says measured: {texts(one)}")
+check(not any(l.startswith("cache probe") for l in legend_texts(one)), "no probe, yet a probe line")
+
+# Every figure: the runs in small text in a corner: host, CPU, date, suite version and revision.
+for name, fig in figs.items():
+    stamp = [t.get_text() for t in fig.texts if t.get_gid() == pl.STAMP_GID]
+    check(len(stamp) == 1, f"{name}: expected one corner text naming the runs, got {stamp}")
+    for part in ("vm", "AMD EPYC", "2026-11-22 04:44", "suite 0.1.0", "2ddd7e4d2055-dirty"):
+        check(stamp and part in stamp[0], f"{name}: the corner text lacks {part!r}: {stamp}")
+close(figs)
+
+# With a probe: markers at the measured sizes (per-core caches once per thread, the shared L3
+# once), and its sweeps as a grey line in the 1-thread panels only.
+figs = figures(probed(native), probed(latency_doc))
+bw = figs["bandwidth_vs_footprint"]
+one, two = panel(bw, "1 thread"), panel(bw, "2 threads")
+for label in ("L1d 46.1KiB measured", "L2 640KiB measured", "L3 9.4MiB measured"):
+    check(label in texts(one), f"probe: 1-thread marker {label!r} missing: {texts(one)}")
+for label in ("L1d 92.2KiB measured (x2)", "L2 1.25MiB measured (x2)", "L3 9.4MiB measured"):
+    check(label in texts(two), f"probe: 2-thread marker {label!r} missing: {texts(two)}")
+check(not any("reported" in t for t in texts(one) + texts(two)), "probe: a marker still at a reported size")
+probe_lines = [l for l in one.get_lines() if l.get_label().startswith("cache probe")]
+check(len(probe_lines) == 1 and "load kernel" in probe_lines[0].get_label() and len(probe_lines[0].get_xdata()) == 40,
+      f"probe: expected one 40-point probe line naming the load kernel in the 1-thread panel, got {[l.get_label() for l in probe_lines]}")
+check(not any(l.get_label().startswith("cache probe") for l in two.get_lines()), "probe line drawn in the 2-thread panel")
+lat = panel(figs["latency_vs_footprint"], "1 thread")
+check(any(l.get_label().startswith("cache probe") and "latency kernel" in l.get_label() for l in lat.get_lines()),
+      f"probe: no latency-kernel probe line in latency_vs_footprint: {legend_texts(lat)}")
+close(figs)
+# A level the probe did not find falls back to the reported size, so labelled.
+figs = figures(probed(native, l3=None))
+one = panel(figs["bandwidth_vs_footprint"], "1 thread")
+check("L3 32MiB reported" in texts(one) and "L2 640KiB measured" in texts(one), f"probe without L3: {texts(one)}")
+close(figs)
+
+# The CPU model without hwloc's padding, in the title and the corner.
+padded = copy.deepcopy(native)
+padded["context"]["cpu_model"] = "  Oxide Virtual   Turin-like Processor             "
+figs = figures(padded)
+title = figs["bandwidth_vs_footprint"]._suptitle.get_text()
+check("(Oxide Virtual Turin-like Processor)" in title and "  " not in title, f"padded CPU name: title {title!r}")
+close(figs)
+
+# Counters titled by what was counted.
+handmade = json.load(open(fx("vm-native-HANDMADE-counters-energy.json")))
+figs = figures(handmade)
+check(figs["counters"]._suptitle.get_text().startswith("Hardware counters"), "hardware events: title is not 'Hardware counters'")
+close(figs)
+software = copy.deepcopy(handmade)
+for r in software["results"]:
+    for e in r["counters"]["events"]:
+        e["kind"] = "software"
+figs = figures(software)
+title = figs["counters"]._suptitle.get_text()
+check(title.startswith("Counters (software events: ") and "Hardware" not in title, f"software events: title {title!r}")
+close(figs)
+
+# Series never merge across contexts. Another run of the machine (other date and command line)
+# measuring the same kernels: separate lines, labelled by run; the same run given twice: once.
+def bw_lines(figs, title="1 thread"):
+    return [l.get_label() for l in panel(figs["bandwidth_vs_footprint"], title).get_lines()
+            if not l.get_label().startswith("_")]
+
+
+figs = figures(native)
+alone = bw_lines(figs)
+close(figs)
+figs = figures(native, copy.deepcopy(native))
+check(bw_lines(figs) == alone, f"the same run twice: expected {alone}, got {bw_lines(figs)}")
+close(figs)
+later = copy.deepcopy(native)
+later["context"]["date"] = "2026-11-23T10:00:00Z"
+later["context"]["command_line"] = later["context"]["command_line"] + ["--reps=7"]
+figs = figures(native, later)
+labels = bw_lines(figs)
+check(len(labels) == 2 * len(alone), f"two runs of one machine: expected {2 * len(alone)} lines, got {len(labels)}")
+for tag in ("run 2026-11-22 04:44", "run 2026-11-23 10:00"):
+    check("copy sequential [" + tag + "]" in labels, f"two runs: no line labelled 'copy sequential [{tag}]' in {labels}")
+close(figs)
+# Records of one file with different huge-pages settings: separate lines and bars, so labelled.
+mixed = copy.deepcopy(native)
+for r in list(mixed["results"]):
+    if r["name"] == "copy":
+        r2 = copy.deepcopy(r)
+        r2["hugepages"] = {"requested": "thp", "anon_huge_bytes": 0}
+        mixed["results"].append(r2)
+figs = figures(mixed)
+labels = bw_lines(figs)
+check("copy sequential [huge pages thp]" in labels and "copy sequential [huge pages unrecorded]" in labels,
+      f"huge pages: expected separate labelled copy lines, got {labels}")
+bars = [legend_texts(a) for a in figs["patterns"].axes if a.get_visible() and a.get_title().startswith("copy")]
+check(bars and "sequential [huge pages thp]" in bars[0], f"huge pages: patterns legend {bars}")
+close(figs)
+
+# Unstable records hollow, the legend saying so once; no note where nothing is unstable.
+shaky = copy.deepcopy(native)
+flagged = {}
+for r in shaky["results"]:
+    if r["pattern"] == "random" and r["size"]["requested"] == 1048576:
+        r["stability"] = {"unstable": True, "reasons": ["the repetitions spread 23% (over 10%)"]}
+        flagged[r["threads"]] = flagged.get(r["threads"], 0) + 1
+    else:
+        r["stability"] = {"unstable": False, "reasons": []}
+figs = figures(shaky)
+for t, title in ((1, "1 thread"), (2, "2 threads")):
+    ax = panel(figs["bandwidth_vs_footprint"], title)
+    check(hollow_points(ax) == flagged[t], f"unstable: {title}: {hollow_points(ax)} hollow points, expected {flagged[t]}")
+    check(legend_texts(ax).count(pl.UNSTABLE_NOTE) == 1, f"unstable: {title}: legend {legend_texts(ax)}")
+pat = [a for a in figs["patterns"].axes if a.get_visible()]
+white = sum(1 for a in pat for p in a.patches if tuple(p.get_facecolor()) == (1.0, 1.0, 1.0, 1.0))
+check(white == flagged[1], f"unstable: {white} hollow bars in patterns, expected {flagged[1]} (1 thread)")
+check(all(legend_texts(a).count(pl.UNSTABLE_NOTE) == 1 for a in pat), "unstable: a patterns legend lacks the note")
+close(figs)
+figs = figures(native)
+check(hollow_points(panel(figs["bandwidth_vs_footprint"], "1 thread")) == 0, "no stability block, yet hollow points")
+check(not any(pl.UNSTABLE_NOTE in legend_texts(a) for f in figs.values() for a in f.axes), "nothing unstable, yet the note")
+close(figs)
+
+# End to end: a probed, partly unstable result with software counters renders every figure.
+with tempfile.TemporaryDirectory() as tmp:
+    full = probed(shaky)
+    for r in full["results"]:
+        r["counters"] = copy.deepcopy(software["results"][0]["counters"])
+    path = os.path.join(tmp, "full.json")
+    json.dump(full, open(path, "w"))
+    expect_figures([path], ["bandwidth_vs_footprint", "threads_scaling", "patterns", "counters"])
 
 for f in failures:
     print("FAIL:", f)
