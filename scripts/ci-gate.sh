@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The CI gate's small configurations, in one place (the workflow in docs/ci-workflow.yml, the
-# README and results/baseline/README.md refer to this file). Run from the top of the tree after
+# docs/results-tools.md and results/baseline/README.md refer to this file). Run from the top of the tree after
 # a build.
 #   scripts/ci-gate.sh timing OUT.json          # timed, one thread, about 10 s
 #   scripts/ci-gate.sh deterministic OUT.json   # under valgrind's callgrind, exact counts, about 15 s
