@@ -46,6 +46,19 @@ inline bool parse_command_line(CLI::App& app, const char* name, const std::vecto
     } catch (const CLI::CallForHelp&) {
         std::cout << app.help();
         return false;
+    } catch (const CLI::ExtrasError&) {
+        // An option typed wrong: name the nearest one this command has.
+        for (const auto& a : app.remaining()) {
+            if (a.rfind("--", 0) != 0) continue;
+            const std::string given = a.substr(0, a.find('='));
+            std::vector<std::string> known;
+            for (const CLI::Option* o : app.get_options())
+                for (const auto& n : o->get_lnames()) known.push_back("--" + n);
+            const std::string hint = nearest(given, known);
+            throw UsageError("unknown option '" + given + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; see " +
+                             std::string(name) + " --help");
+        }
+        throw;
     }
     return true;
 }
