@@ -96,6 +96,7 @@ LoadSnapshot take_load_snapshot(const std::vector<int>& cpus, const std::string&
 Stability assess_stability(const LoadSnapshot& before, const LoadSnapshot& after, const std::vector<double>& samples, int threads,
                            const StabilityThresholds& limits, double ticks_per_s) {
     Stability st;
+    st.assessed = true;
     st.spread = robust_relative_spread(samples);
     st.window_s = std::max(0.0, after.wall_s - before.wall_s);
     st.involuntary_switches = std::max<std::int64_t>(0, after.involuntary_switches - before.involuntary_switches);

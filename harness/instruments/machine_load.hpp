@@ -53,6 +53,7 @@ struct StabilityThresholds {
 };
 
 struct Stability {
+    bool assessed = false;  // false: not judged (under valgrind); nothing below is then measured
     bool unstable = false;
     std::vector<std::string> reasons;          // e.g. "spread 23% > 10%", "other tasks took 48% of the team's CPUs"
     double spread = 0;                         // robust relative spread of the samples
