@@ -51,11 +51,11 @@ inline bool parse_command_line(CLI::App& app, const char* name, const std::vecto
         for (const auto& a : app.remaining()) {
             if (a.rfind("--", 0) != 0) continue;
             const std::string given = a.substr(0, a.find('='));
-            std::vector<std::string> known;
+            std::vector<std::string> known;  // without the dashes, which would make every name look close
             for (const CLI::Option* o : app.get_options())
-                for (const auto& n : o->get_lnames()) known.push_back("--" + n);
-            const std::string hint = nearest(given, known);
-            throw UsageError("unknown option '" + given + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; see " +
+                for (const auto& n : o->get_lnames()) known.push_back(n);
+            const std::string hint = nearest(given.substr(2), known);
+            throw UsageError("unknown option '" + given + "'" + (hint.empty() ? "" : " (did you mean '--" + hint + "'?)") + "; see ./" +
                              std::string(name) + " --help");
         }
         throw;

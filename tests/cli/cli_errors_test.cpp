@@ -167,12 +167,12 @@ const std::vector<Case>& cases() {
         {"FormatTableToFile", {"--kernel=add", "--format=table", "--out={tmp}/r.txt"}, {"--format=table", "json or csv"}},
 
         // Options and commands.
-        {"UnknownOption", {"--bogus", "--out={tmp}/r.json"}, {"--bogus", "./suite --help"}},
+        {"UnknownOption", {"--bogus", "--out={tmp}/r.json"}, {"unknown option '--bogus'; see ./suite --help"}},
         {"UnknownCommandSuggestsList", {"lsit"}, {"'lsit'", "did you mean 'list'?", "run, list, info"}},
-        {"UnknownOptionSuggestsKernel", {"--kernal=add", "--out={tmp}/r.json"}, {"unknown option '--kernal'", "did you mean '--kernel'?", "suite --help"}},
+        {"UnknownOptionSuggestsKernel", {"--kernal=add", "--out={tmp}/r.json"}, {"unknown option '--kernal'", "did you mean '--kernel'?", "./suite --help"}},
         {"UnknownCheckOptionSuggestsTolerance", {"check", "--baseline={tmp}/base.json", "--tolerence=5", "{tmp}/run.json"},
-         {"unknown option '--tolerence'", "did you mean '--tolerance'?", "suite check --help"}},
-        {"UnknownOptionFarFromAnyHasNoGuess", {"--zzzzzzzzzz", "--out={tmp}/r.json"}, {"unknown option '--zzzzzzzzzz'; see suite --help"}},
+         {"unknown option '--tolerence'", "did you mean '--tolerance'?", "./suite check --help"}},
+        {"UnknownOptionFarFromAnyHasNoGuess", {"--zzzzzzzzzz", "--out={tmp}/r.json"}, {"unknown option '--zzzzzzzzzz'; see ./suite --help"}},
         {"ListUnknownOption", {"list", "--bogus"}, {"--bogus"}},
     };
     return table;
