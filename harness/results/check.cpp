@@ -46,10 +46,14 @@ std::string first_figure_of(const CheckReport& rep, const PointKey& key) {
     return "";
 }
 
+// The change of the figure itself, signed: "-62.0%" for a bandwidth that fell by 62 %, "+25.0%"
+// for a latency that rose by a quarter (whether that is worse follows from the figure's direction
+// and the verdict). "worse by (baseline/run - 1)" printed a 62 % drop as "162 % worse".
 std::string change_text(const Finding& f) {
     if (f.note == "failed verification") return "failed verification";
-    if (std::isinf(f.worse_by)) return "was 0";
-    return f.worse_by >= 0 ? pct(f.worse_by) + " worse" : pct(-f.worse_by) + " better";
+    if (f.baseline == 0) return f.run == 0 ? "+0.0%" : "was 0";
+    const double change = f.run / f.baseline - 1;
+    return (change >= 0 ? "+" : "") + pct(change);
 }
 
 }  // namespace

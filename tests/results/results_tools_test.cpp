@@ -158,6 +158,11 @@ TEST(Check, ASlowerPointIsARegressionAndAFasterOneAnImprovement) {
     EXPECT_NE(r.out.find("REGRESSED  add random 64MiB t=1 compact/local"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("improved   copy sequential 16MiB t=2 compact/local"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("1 regressed, 1 improved, 124 within the threshold"), std::string::npos) << r.out;
+    // The change is the figure's own, signed: half the bandwidth is -50 %, twice is +100 %.
+    const auto row = [&](const std::string& start) { return r.out.substr(r.out.find(start), r.out.find('\n', r.out.find(start)) - r.out.find(start)); };
+    EXPECT_NE(row("REGRESSED  add random 64MiB").find("-50.0%"), std::string::npos) << r.out;
+    EXPECT_NE(row("improved   copy sequential 16MiB").find("+100.0%"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("worse"), std::string::npos) << r.out;
     const std::string md = slurp(dir.file("gate.md"));
     EXPECT_NE(md.find("### suite check: **1 regression(s)**, 1 improvement(s)"), std::string::npos) << md;
     EXPECT_NE(md.find("| REGRESSED | `add random 64MiB t=1 compact/local` |"), std::string::npos) << md;
