@@ -128,6 +128,7 @@ with tempfile.TemporaryDirectory() as tmp:
 # Figure contents, read from the figure objects plot.py builds (no files written).
 sys.path.insert(0, os.path.join(src, "plots"))
 import plot as pl  # noqa: E402  (the module; `plot` is the script's path)
+import figure_parts as parts  # noqa: E402
 
 plt = pl.pyplot()
 native = json.load(open(fx("vm-native.json")))
@@ -194,7 +195,7 @@ check(not any(l.startswith("cache probe") for l in legend_texts(one)), "no probe
 
 # Every figure: the runs in small text in a corner: host, CPU, date, suite version and revision.
 for name, fig in figs.items():
-    stamp = [t.get_text() for t in fig.texts if t.get_gid() == pl.STAMP_GID]
+    stamp = [t.get_text() for t in fig.texts if t.get_gid() == parts.STAMP_GID]
     check(len(stamp) == 1, f"{name}: expected one corner text naming the runs, got {stamp}")
     for part in ("vm", "AMD EPYC", "2026-11-22 04:44", "suite 0.1.0", "2ddd7e4d2055-dirty"):
         check(stamp and part in stamp[0], f"{name}: the corner text lacks {part!r}: {stamp}")
@@ -296,15 +297,15 @@ figs = figures(shaky)
 for t, title in ((1, "1 thread"), (2, "2 threads")):
     ax = panel(figs["bandwidth_vs_footprint"], title)
     check(hollow_points(ax) == flagged[t], f"unstable: {title}: {hollow_points(ax)} hollow points, expected {flagged[t]}")
-    check(legend_texts(ax).count(pl.UNSTABLE_NOTE) == 1, f"unstable: {title}: legend {legend_texts(ax)}")
+    check(legend_texts(ax).count(parts.UNSTABLE_NOTE) == 1, f"unstable: {title}: legend {legend_texts(ax)}")
 pat = [a for a in figs["patterns"].axes if a.get_visible()]
 white = sum(1 for a in pat for p in a.patches if tuple(p.get_facecolor()) == (1.0, 1.0, 1.0, 1.0))
 check(white == flagged[1], f"unstable: {white} hollow bars in patterns, expected {flagged[1]} (1 thread)")
-check(all(legend_texts(a).count(pl.UNSTABLE_NOTE) == 1 for a in pat), "unstable: a patterns legend lacks the note")
+check(all(legend_texts(a).count(parts.UNSTABLE_NOTE) == 1 for a in pat), "unstable: a patterns legend lacks the note")
 close(figs)
 figs = figures(native)
 check(hollow_points(panel(figs["bandwidth_vs_footprint"], "1 thread")) == 0, "no stability block, yet hollow points")
-check(not any(pl.UNSTABLE_NOTE in legend_texts(a) for f in figs.values() for a in f.axes), "nothing unstable, yet the note")
+check(not any(parts.UNSTABLE_NOTE in legend_texts(a) for f in figs.values() for a in f.axes), "nothing unstable, yet the note")
 close(figs)
 
 # End to end: a probed, partly unstable result with software counters renders every figure.
