@@ -101,8 +101,11 @@ Stability assess_stability(const LoadSnapshot& before, const LoadSnapshot& after
     st.window_s = std::max(0.0, after.wall_s - before.wall_s);
     st.involuntary_switches = std::max<std::int64_t>(0, after.involuntary_switches - before.involuntary_switches);
     st.load_average = after.load_average;
-    if (st.spread > limits.spread)
-        st.reasons.push_back("the repetitions spread " + percent(st.spread) + " (over " + percent(limits.spread) + ")");
+    // The sentence begins with its kind, which the table's summary counts.
+    auto flag = [&st](const char* kind, double value, const std::string& of, double limit) {
+        st.reasons.push_back({kind, std::string(kind) + " " + percent(value) + of + " (over " + percent(limit) + ")"});
+    };
+    if (st.spread > limits.spread) flag("the repetitions spread", st.spread, "", limits.spread);
     if (before.have_stat && after.have_stat && after.cpus.total() >= before.cpus.total() &&
         after.cpus.total() - before.cpus.total() >= limits.min_jiffies) {
         const double total = static_cast<double>(after.cpus.total() - before.cpus.total());
@@ -111,15 +114,12 @@ Stability assess_stability(const LoadSnapshot& before, const LoadSnapshot& after
         const double ours = std::max(0.0, after.process_cpu_s - before.process_cpu_s) * ticks_per_s;
         st.steal_fraction = steal / total;
         st.others_fraction = std::clamp((busy - ours) / total, 0.0, 1.0);
-        if (*st.steal_fraction > limits.steal)
-            st.reasons.push_back("the hypervisor stole " + percent(*st.steal_fraction) + " of the team's CPU time (over " + percent(limits.steal) + ")");
-        if (*st.others_fraction > limits.others)
-            st.reasons.push_back("other tasks took " + percent(*st.others_fraction) + " of the team's CPUs (over " + percent(limits.others) + ")");
+        if (*st.steal_fraction > limits.steal) flag("the hypervisor stole", *st.steal_fraction, " of the team's CPU time", limits.steal);
+        if (*st.others_fraction > limits.others) flag("other tasks took", *st.others_fraction, " of the team's CPUs", limits.others);
     }
     if (st.window_s > 0 && threads > 0 && before.run_delay_s && after.run_delay_s) {
         st.waited_fraction = std::max(0.0, *after.run_delay_s - *before.run_delay_s) / (st.window_s * threads);
-        if (*st.waited_fraction > limits.waited)
-            st.reasons.push_back("the team waited for a CPU " + percent(*st.waited_fraction) + " of the time (over " + percent(limits.waited) + ")");
+        if (*st.waited_fraction > limits.waited) flag("the team waited for a CPU", *st.waited_fraction, " of the time", limits.waited);
     }
     st.unstable = !st.reasons.empty();
     return st;

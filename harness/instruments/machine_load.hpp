@@ -52,10 +52,17 @@ struct StabilityThresholds {
     std::uint64_t min_jiffies = 10;  // fewer ticks on the team's CPUs than this: too short to judge /proc/stat
 };
 
+// Why a point is unstable: which threshold was passed ("other tasks took") and the sentence that
+// begins with it and gives the numbers ("other tasks took 48% of the team's CPUs (over 10%)").
+struct UnstableReason {
+    const char* kind;
+    std::string text;
+};
+
 struct Stability {
     bool assessed = false;  // false: not judged (under valgrind); nothing below is then measured
     bool unstable = false;
-    std::vector<std::string> reasons;          // e.g. "spread 23% > 10%", "other tasks took 48% of the team's CPUs"
+    std::vector<UnstableReason> reasons;       // one for each threshold passed
     double spread = 0;                         // robust relative spread of the samples
     std::optional<double> steal_fraction;      // empty: not judged (window too short, no /proc/stat)
     std::optional<double> others_fraction;     // empty: not judged

@@ -134,14 +134,12 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     EnergyMeter* energy = in && in->energy.available() ? &in->energy : nullptr;
 
     rec.samples_s.reserve(static_cast<std::size_t>(rec.repetitions));
-    std::vector<int> team_cpus;  // the CPUs whose load says whether the team was disturbed
-    for (const auto& b : rec.bindings) team_cpus.insert(team_cpus.end(), b.allowed.begin(), b.allowed.end());
     // Not under valgrind: there the figures are callgrind's exact counts, not times; and the
     // snapshots and the reasons (strings whose length follows the timings) would leave a heap
     // that differs from run to run before the next counted calls, whose OpenMP region allocates:
     // the counts would no longer repeat exactly. The record then has no stability block.
     const bool judge_load = !callgrind::running_on_valgrind();
-    const LoadSnapshot load_before = judge_load ? take_load_snapshot(team_cpus) : LoadSnapshot{};
+    const LoadSnapshot load_before = judge_load ? take_load_snapshot(cpus) : LoadSnapshot{};
     for (int r = 0; r < rec.repetitions; ++r) {
         check_stop(settings);
         if (energy) energy->start();
@@ -155,7 +153,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         if (energy) energy->stop(seconds);
         rec.samples_s.push_back(seconds / rec.batch);
     }
-    const LoadSnapshot load_after = judge_load ? take_load_snapshot(team_cpus) : LoadSnapshot{};
+    const LoadSnapshot load_after = judge_load ? take_load_snapshot(cpus) : LoadSnapshot{};
     counters.check_team();
     callgrind::dump(callgrind_label(rec).c_str());
     rec.binding_held = team_still_bound(rec.bindings);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <set>
 
 #include "harness/results/report.hpp"
 #include "harness/results/text_table.hpp"
@@ -39,12 +40,6 @@ const char* verdict_word(Verdict v) {
 // A failed verification has no figures to show; an inconclusive finding shows them.
 bool shows_values(const Finding& f) { return f.note.empty() || f.verdict == Verdict::inconclusive; }
 
-// The first figure compared at a point, so that a point's reasons are printed once.
-std::string first_figure_of(const CheckReport& rep, const PointKey& key) {
-    for (const auto& f : rep.findings)
-        if (f.key == key) return f.figure;
-    return "";
-}
 
 // The change of the figure itself, signed: "-62.0%" for a bandwidth that fell by 62 %, "+25.0%"
 // for a latency that rose by a quarter (whether that is worse follows from the figure's direction
@@ -154,9 +149,9 @@ std::string render_check_text(const CheckReport& rep) {
                 t.rows.push_back({verdict_word(v), f.key.label(), f.figure, shows_values(f) ? num(f.baseline) : "-", shows_values(f) ? num(f.run) : "-",
                                   change_text(f), shows_values(f) ? pct(f.allowed) : "-"});
     if (!t.rows.empty()) out += t.render_text();
+    std::set<PointKey> said;  // a point's reasons once, however many of its figures were inconclusive
     for (const auto& f : rep.findings)
-        if (f.verdict == Verdict::inconclusive && f.figure == first_figure_of(rep, f.key))
-            out += "inconclusive: " + f.key.label() + ": " + f.note + "\n";
+        if (f.verdict == Verdict::inconclusive && said.insert(f.key).second) out += "inconclusive: " + f.key.label() + ": " + f.note + "\n";
     out += std::to_string(rep.points_compared) + " point(s) compared, " + std::to_string(rep.findings.size()) + " figure(s): " +
            std::to_string(rep.count(Verdict::regressed)) + " regressed, " + std::to_string(rep.count(Verdict::improved)) + " improved, " +
            std::to_string(rep.count(Verdict::unchanged)) + " within the threshold, " + std::to_string(rep.count(Verdict::inconclusive)) +

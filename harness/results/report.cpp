@@ -1,6 +1,5 @@
 #include "harness/results/report.hpp"
 
-#include <cctype>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -48,9 +47,19 @@ nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 
 }  // namespace
 
+namespace {
+
+nlohmann::json reason_texts(const Stability& s) {
+    nlohmann::json texts = nlohmann::json::array();
+    for (const auto& r : s.reasons) texts.push_back(r.text);
+    return texts;
+}
+
+}  // namespace
+
 nlohmann::json to_json(const Stability& s) {
     return {{"unstable", s.unstable},
-            {"reasons", s.reasons},
+            {"reasons", reason_texts(s)},
             {"spread", s.spread},
             {"steal_fraction", opt(s.steal_fraction)},
             {"others_fraction", opt(s.others_fraction)},
@@ -167,19 +176,11 @@ std::string to_csv_row(const Record& r) {
 
 std::string stability_summary(const std::vector<Record>& records) {
     std::size_t unstable = 0;
-    std::map<std::string, std::size_t> kinds;  // the reason's words before its number
+    std::map<std::string, std::size_t> kinds;  // how many points passed each threshold
     for (const auto& r : records) {
         if (!r.stability.unstable) continue;
         ++unstable;
-        for (const auto& why : r.stability.reasons) {
-            std::string kind;
-            for (char c : why) {
-                if (std::isdigit(static_cast<unsigned char>(c))) break;
-                kind += c;
-            }
-            while (!kind.empty() && kind.back() == ' ') kind.pop_back();
-            ++kinds[kind];
-        }
+        for (const auto& why : r.stability.reasons) ++kinds[why.kind];
     }
     if (unstable == 0) return "";
     std::string out = std::to_string(unstable) + " of " + std::to_string(records.size()) +

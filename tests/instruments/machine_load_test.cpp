@@ -100,7 +100,7 @@ TEST(MachineLoad, EachThresholdFlagsThePointWithItsReason) {
     // One second, two CPUs at 100 ticks/s: 200 ticks. This process used 1.9 s of CPU.
     const LoadSnapshot b = snapshot(10.0, 1000, 1000, 0, 5.0, 0.0);
     const Stability quiet = assess_stability(b, snapshot(11.0, 1195, 1005, 0, 6.9, 0.01), steady, 2);
-    EXPECT_FALSE(quiet.unstable) << (quiet.reasons.empty() ? "" : quiet.reasons[0]);
+    EXPECT_FALSE(quiet.unstable) << (quiet.reasons.empty() ? "" : quiet.reasons[0].text);
     EXPECT_NEAR(*quiet.others_fraction, (195 - 190) / 200.0, 1e-12);
     EXPECT_NEAR(*quiet.waited_fraction, 0.01 / 2, 1e-12);
     EXPECT_NEAR(*quiet.steal_fraction, 0.0, 1e-12);
@@ -110,23 +110,23 @@ TEST(MachineLoad, EachThresholdFlagsThePointWithItsReason) {
     const Stability others = assess_stability(b, snapshot(11.0, 1195, 1005, 0, 6.35, 0.0), steady, 2);
     ASSERT_TRUE(others.unstable);
     EXPECT_NEAR(*others.others_fraction, 0.30, 1e-9);
-    EXPECT_NE(others.reasons.at(0).find("other tasks took 30%"), std::string::npos) << others.reasons[0];
+    EXPECT_NE(others.reasons.at(0).text.find("other tasks took 30%"), std::string::npos) << others.reasons[0].text;
 
     // The hypervisor stole 20 ticks.
     const Stability steal = assess_stability(b, snapshot(11.0, 1175, 1005, 20, 6.75, 0.0), steady, 2);
     ASSERT_TRUE(steal.unstable);
-    EXPECT_NE(steal.reasons.at(0).find("stole 10%"), std::string::npos) << steal.reasons[0];
+    EXPECT_NE(steal.reasons.at(0).text.find("stole 10%"), std::string::npos) << steal.reasons[0].text;
 
     // The team's two threads waited 0.4 s in all for a CPU: 20 % of 2 x 1 s.
     const Stability waited = assess_stability(b, snapshot(11.0, 1195, 1005, 0, 6.9, 0.4), steady, 2);
     ASSERT_TRUE(waited.unstable);
-    EXPECT_NE(waited.reasons.at(0).find("waited for a CPU 20%"), std::string::npos) << waited.reasons[0];
+    EXPECT_NE(waited.reasons.at(0).text.find("waited for a CPU 20%"), std::string::npos) << waited.reasons[0].text;
 
     // Repetitions that spread: half of them 30 % slower.
     const Stability spread = assess_stability(b, snapshot(11.0, 1195, 1005, 0, 6.9, 0.0), {1.0, 1.3, 1.0, 1.3, 1.0, 1.3}, 2);
     ASSERT_TRUE(spread.unstable);
     EXPECT_GT(spread.spread, 0.10);
-    EXPECT_NE(spread.reasons.at(0).find("the repetitions spread"), std::string::npos) << spread.reasons[0];
+    EXPECT_NE(spread.reasons.at(0).text.find("the repetitions spread"), std::string::npos) << spread.reasons[0].text;
 
     // The thresholds are the caller's.
     StabilityThresholds lax;
