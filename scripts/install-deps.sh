@@ -5,6 +5,7 @@ set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 want+=(libboost-graph-dev)  # RCM ordering (kernels/sfc)
 want+=(libsuitesparse-dev libmetis-dev)  # suite matrix: AMD, CHOLMOD, nested dissection
+want+=(libsqlite3-dev)  # suite history: the database of every run added
 if [ "${1:-build}" = run ] || [ "${1:-build}" = test ]; then
   # make run draws the default sweep's figures (plots/plot.py).
   want+=(python3 python3-matplotlib python3-numpy)
