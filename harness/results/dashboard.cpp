@@ -1,0 +1,159 @@
+#include "harness/results/dashboard.hpp"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/common/output_file.hpp"
+#include "harness/common/units.hpp"
+#include "harness/results/dashboard_page.hpp"
+
+namespace suite {
+
+// Named, not anonymous: the harness compiles one unit a folder, and these names must not meet
+// another file's helpers there.
+namespace dashboard_detail {
+
+std::string html_text(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    for (char c : s) {
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\'': out += "&#39;"; break;
+            default: out += c;
+        }
+    }
+    return out;
+}
+
+// JSON that may sit inside <script>: '<' only occurs inside strings there, and as \u003c no
+// label can close the script element ("</script>") or open a comment ("<!--").
+std::string script_safe(const std::string& json) {
+    std::string out;
+    out.reserve(json.size());
+    for (char c : json) {
+        if (c == '<')
+            out += "\\u003c";
+        else
+            out += c;
+    }
+    return out;
+}
+
+nlohmann::json series_json(const Series& s) {
+    nlohmann::json entries = nlohmann::json::array(), steps = nlohmann::json::array();
+    for (const auto& e : s.entries)
+        entries.push_back({{"commit", e.commit}, {"branch", e.branch}, {"date", e.date}, {"run_id", e.run_id}, {"median", e.median},
+                           {"noise", e.noise}, {"samples", e.samples.size()}, {"unstable", e.unstable}});
+    for (const auto& st : s.steps)
+        steps.push_back({{"index", st.index}, {"commit", st.commit}, {"before", st.before}, {"after", st.after}, {"change", st.change},
+                         {"p", st.p}, {"worse", st.worse}});
+    return {{"machine", s.machine},
+            {"fingerprint", s.fingerprint},
+            {"context", s.context_class},
+            {"label", s.key.label()},
+            {"kernel", s.key.kernel},
+            {"figure", s.figure},
+            {"unit", s.unit},
+            {"direction", s.direction == Direction::higher_is_better ? "higher" : "lower"},
+            {"entries", std::move(entries)},
+            {"steps", std::move(steps)}};
+}
+
+std::string utc_now() {
+    const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", &tm);
+    return buf;
+}
+
+// "12 series on 2 machines, 40 runs of 31 commits, 3 steps (2 worse)".
+std::string summary_line(const std::vector<Series>& series) {
+    std::set<std::string> machines, commits;
+    std::set<std::int64_t> runs;
+    std::size_t steps = 0, worse = 0;
+    for (const auto& s : series) {
+        machines.insert(s.fingerprint);
+        for (const auto& e : s.entries) {
+            runs.insert(e.run_id);
+            commits.insert(e.commit);
+        }
+        steps += s.steps.size();
+        for (const auto& st : s.steps) worse += st.worse ? 1 : 0;
+    }
+    auto count = [](std::size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
+    return count(series.size(), "series", "series") + " on " + count(machines.size(), "machine", "machines") + ", " +
+           count(runs.size(), "run", "runs") + " of " + count(commits.size(), "commit", "commits") + ", " + count(steps, "step", "steps") +
+           " (" + std::to_string(worse) + " worse)";
+}
+
+std::string read_chart_library(const std::string& path) {
+    const std::string install = "; install Debian's libjs-chart.js (apt-get install libjs-chart.js, or scripts/install-deps.sh run)";
+    struct stat st{};
+    if (stat(path.c_str(), &st) != 0) throw UsageError("the history page needs Chart.js, not found at " + path + install);
+    if (!S_ISREG(st.st_mode)) throw UsageError("the history page needs Chart.js, and " + path + " is not a file" + install);
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in || text.str().empty()) throw UsageError("the history page needs Chart.js, and " + path + " cannot be read (" + std::strerror(errno) + ")" + install);
+    return text.str();
+}
+
+std::string page_html(const std::vector<Series>& series, const DashboardOptions& options) {
+    nlohmann::json doc = {{"title", options.title}, {"series", nlohmann::json::array()}};
+    for (const auto& s : series) doc["series"].push_back(series_json(s));
+    // A host name or label with bytes that are not UTF-8 must not cost the whole page.
+    const std::string data = script_safe(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    const std::string title = html_text(options.title);
+
+    std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+                       "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+                       "<link rel=\"icon\" href=\"data:,\">\n"
+                       // Nothing but this page's inline code and the chart library beside it: no network.
+                       "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'self' file: 'unsafe-inline'; "
+                       "style-src 'unsafe-inline'; img-src data:\">\n"
+                       "<title>" + title + "</title>\n<style>\n" + page_style + "</style>\n</head>\n<body>\n"
+                       "<header class=\"top\">\n<h1>" + title + "</h1>\n"
+                       "<p class=\"summary\">Generated " + utc_now() + " &middot; " + html_text(summary_line(series)) + "</p>\n";
+    if (series.empty()) {
+        html += "</header>\n<main>\n<p class=\"empty\" id=\"empty\">The history is empty: no run has been recorded yet, so there is no "
+                "trend to draw.</p>\n</main>\n";
+    } else {
+        html += page_controls;
+        html += "</header>\n<p class=\"failure\" id=\"failure\" hidden></p>\n<main id=\"charts\"></main>\n";
+    }
+    html += "<script type=\"application/json\" id=\"history-data\">" + data + "</script>\n";
+    if (!series.empty()) html += "<script src=\"chart.min.js\"></script>\n<script>\n" + std::string(page_script) + "</script>\n";
+    html += "</body>\n</html>\n";
+    return html;
+}
+
+}  // namespace dashboard_detail
+
+std::string write_dashboard(const std::vector<Series>& series, const std::string& out_dir, const DashboardOptions& options) {
+    // Everything that can fail for want of the library fails before the directory is created.
+    const std::string library = dashboard_detail::read_chart_library(options.chart_js);
+    const std::string page = dashboard_detail::page_html(series, options);
+    const OutputDir out = OutputDir::claim(out_dir, "--out");
+    out.write("chart.min.js", library);
+    out.write("index.html", page);
+    std::string dir = out_dir;
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    return dir + "/index.html";
+}
+
+}  // namespace suite
