@@ -7,8 +7,9 @@ want+=(libboost-graph-dev)  # RCM ordering (kernels/sfc)
 want+=(libsuitesparse-dev libmetis-dev)  # suite matrix: AMD, CHOLMOD, nested dissection
 want+=(libsqlite3-dev)  # suite history: the database of every run added
 if [ "${1:-build}" = run ] || [ "${1:-build}" = test ]; then
-  # make run draws the default sweep's figures (plots/plot.py).
-  want+=(python3 python3-matplotlib python3-numpy)
+  # make run draws the default sweep's figures (plots/plot.py); `suite history html` copies
+  # Debian's Chart.js beside its page.
+  want+=(python3 python3-matplotlib python3-numpy libjs-chart.js)
 fi
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
@@ -17,6 +18,8 @@ if [ "${1:-build}" = test ]; then
   want+=(binutils python3 python3-jsonschema clang libclang-rt-dev valgrind python3-matplotlib python3-numpy python3-scipy)
   # make test-numa: an emulated two-node machine (the kernel itself is fetched by scripts/numa-vm/run.sh).
   want+=(qemu-system-x86 busybox-static cpio)
+  # The history page drawn in a real browser (tests/dashboard_browser_test.py), with its Chart.js.
+  want+=(chromium libjs-chart.js)
 fi
 if [ "${1:-build}" = bench ]; then
   # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by
