@@ -165,7 +165,7 @@ const char* const page_script = R"js("use strict";
           },
         },
         scales: {
-          x: { grid: { display: false }, ticks: { maxRotation: 0, autoSkipPadding: 10, font: { family: "monospace" } } },
+          x: { offset: true, grid: { display: false }, ticks: { maxRotation: 0, autoSkipPadding: 10, font: { family: "monospace" } } },
           y: { grace: "10%", title: { display: true, text: series.figure + " (" + series.unit + ")" } },
         },
       },
