@@ -26,7 +26,7 @@ if(SUITE_VALGRIND_TWIN)
   target_compile_options(suite-x86-64-v3 PRIVATE -march=x86-64-v3 -Wall -Wextra)
   # The same libraries and definitions as suite_core (keep in step with CMakeLists.txt).
   target_link_libraries(suite-x86-64-v3 PRIVATE OpenMP::OpenMP_CXX CLI11::CLI11 nlohmann_json::nlohmann_json PkgConfig::HWLOC suite::numa suite::pfm
-                        Boost::headers suite_sparse)
+                        Boost::headers SQLite::SQLite3 suite_sparse)
   target_compile_definitions(suite-x86-64-v3 PRIVATE $<TARGET_PROPERTY:suite_core,COMPILE_DEFINITIONS>)
   # The harness's files compile one unit a folder here too (their UNITY_GROUP, CMakeLists.txt).
   set_target_properties(suite-x86-64-v3 PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
