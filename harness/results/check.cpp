@@ -2,6 +2,7 @@
 #include "harness/common/stats.hpp"
 #include "harness/results/context_fields.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -38,17 +39,28 @@ const char* verdict_word(Verdict v) {
 }
 
 // A failed verification has no figures to show; an inconclusive finding shows them.
-bool shows_values(const Finding& f) { return f.note.empty() || f.verdict == Verdict::inconclusive; }
+bool shows_values(const Finding& f) { return f.note != "failed verification"; }
 
 
 // The change of the figure itself, signed: "-62.0%" for a bandwidth that fell by 62 %, "+25.0%"
 // for a latency that rose by a quarter (whether that is worse follows from the figure's direction
 // and the verdict). "worse by (baseline/run - 1)" printed a 62 % drop as "162 % worse".
+std::string signed_pct(double x) { return (x >= 0 ? "+" : "") + pct(x); }
+
+// ...with the 95 % interval of the change where the repetitions gave one: "-12.0% [-15.1%, -9.0%]".
 std::string change_text(const Finding& f) {
     if (f.note == "failed verification") return "failed verification";
     if (f.baseline == 0) return f.run == 0 ? "+0.0%" : "was 0";
-    const double change = f.run / f.baseline - 1;
-    return (change >= 0 ? "+" : "") + pct(change);
+    std::string out = signed_pct(f.run / f.baseline - 1);
+    if (std::isfinite(f.ratio_low) && std::isfinite(f.ratio_high)) out += " [" + signed_pct(f.ratio_low - 1) + ", " + signed_pct(f.ratio_high - 1) + "]";
+    return out;
+}
+
+std::string p_text(const Finding& f) { return f.tested ? num(f.p) : "-"; }
+
+std::string rule_text(const GateRule& r) {
+    return "a change counts beyond " + pct(r.tolerance) + " when the repetitions tell the runs apart at p < " + num(r.alpha) +
+           "; without repetitions, beyond " + pct(r.tolerance) + " plus the runs' spread";
 }
 
 }  // namespace
@@ -59,36 +71,79 @@ std::size_t CheckReport::count(Verdict v) const {
     return n;
 }
 
-Finding judge(const Measure& b, const Measure& r, double tolerance) {
+Finding judge(const Measure& b, const Measure& r, const GateRule& rule) {
     Finding f;
     f.figure = b.name + " " + b.unit;
     f.direction = b.direction;
     f.baseline = b.median;
     f.run = r.median;
-    f.allowed = tolerance + std::sqrt(b.noise * b.noise + r.noise * r.noise);
     // How many times worse the run is (above 1: worse), the same way for both directions.
-    const double bad = b.direction == Direction::lower_is_better ? r.median : b.median;
-    const double good = b.direction == Direction::lower_is_better ? b.median : r.median;
+    const bool lower_better = b.direction == Direction::lower_is_better;
+    const double bad = lower_better ? r.median : b.median;
+    const double good = lower_better ? b.median : r.median;
     double factor;
     if (good > 0) factor = bad / good;
     else factor = bad > 0 ? INFINITY : 1.0;  // 0 -> 0 is no change; 0 misses -> some is worse
     f.worse_by = factor - 1;
+    // A count of a few events a repetition moves by whole events: no ratio of it means anything.
+    if (std::isfinite(b.count_per_call) && std::isfinite(r.count_per_call) && std::max(b.count_per_call, r.count_per_call) < rule.min_count) {
+        f.allowed = rule.tolerance;
+        f.note = "fewer than " + num(rule.min_count) + " events a repetition in both runs: not gated by ratio";
+        return f;
+    }
+    const bool beyond_worse = factor > 1 + rule.tolerance, beyond_better = factor < 1 / (1 + rule.tolerance);
+    if (b.samples.size() >= 2 && r.samples.size() >= 2) {
+        f.allowed = rule.tolerance;
+        f.tested = true;
+        const RankTest t = mann_whitney(r.samples, b.samples);
+        // "run smaller" is worse for a rate, better for a time or a count.
+        const double p_worse = lower_better ? t.p_x_larger : t.p_x_smaller, p_better = lower_better ? t.p_x_smaller : t.p_x_larger;
+        f.p = factor >= 1 ? p_worse : p_better;
+        if (b.median > 0) {
+            const Interval iv = median_ratio_interval(b.samples, r.samples);
+            f.ratio_low = iv.low;
+            f.ratio_high = iv.high;
+        }
+        if (!beyond_worse && !beyond_better) return f;
+        if (f.p < rule.alpha) {
+            f.verdict = beyond_worse ? Verdict::regressed : Verdict::improved;
+        } else {
+            f.verdict = Verdict::inconclusive;
+            f.note = "a change beyond " + pct(rule.tolerance) + " that the repetitions cannot tell from noise (Mann-Whitney p = " +
+                     num(f.p) + ", " + std::to_string(b.samples.size()) + " against " + std::to_string(r.samples.size()) +
+                     " repetitions; significant below " + num(rule.alpha) + ")";
+        }
+        return f;
+    }
+    f.allowed = rule.tolerance + std::sqrt(b.noise * b.noise + r.noise * r.noise);
     if (factor > 1 + f.allowed) f.verdict = Verdict::regressed;
     else if (factor < 1 / (1 + f.allowed)) f.verdict = Verdict::improved;
     return f;
 }
 
-CheckReport check_run(const ResultFile& base, const ResultFile& run, double tolerance) {
+CheckReport check_run(const ResultFile& base, const ResultFile& run, const GateRule& rule, bool force) {
     CheckReport rep;
     rep.baseline_path = base.path;
     rep.run_path = run.path;
-    rep.tolerance = tolerance;
+    rep.rule = rule;
     std::map<PointKey, const LoadedPoint*> in_base, in_run;
     for (const auto& p : base.points) in_base[p.key] = &p;
     for (const auto& p : run.points) in_run[p.key] = &p;
-    for (const auto& [field, values] : context_differences({&base, &run}))
-        rep.notes.push_back("the context differs from the baseline's: " + field + " '" + values[0] + "' -> '" + values[1] +
-                            "'; differences may come from that");
+    // A gate compares one configuration over time: another machine or another build or setting
+    // makes every point a different experiment, so that is refused unless asked for.
+    std::string refused;
+    for (const auto& [field, values] : context_differences({&base, &run})) {
+        const std::string said = field + " '" + values[0] + "' -> '" + values[1] + "'";
+        if (context_field_kind(field) == FieldKind::informational) {
+            rep.notes.push_back("the context differs from the baseline's: " + said + "; differences may come from that");
+            continue;
+        }
+        refused += (refused.empty() ? "" : ", ") + said;
+        if (force) rep.notes.push_back("the context differs from the baseline's (compared anyway, --force): " + said);
+    }
+    if (!refused.empty() && !force)
+        throw InputError("the run is not comparable with the baseline " + base.path + ": " + refused +
+                         "; gate against a baseline of the same machine and build, or pass --force to compare anyway");
     for (const auto& p : base.points)
         if (!in_run.count(p.key)) rep.missing_from_run.push_back(p.key);
     for (const auto& p : run.points) {
@@ -116,7 +171,7 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, double tole
         for (const auto& bm : b.measures)
             for (const auto& rm : p.measures)
                 if (bm.name == rm.name && bm.unit == rm.unit) {
-                    Finding f = judge(bm, rm, tolerance);
+                    Finding f = judge(bm, rm, rule);
                     f.key = p.key;
                     // callgrind's counts are exact: no noise can make them inconclusive.
                     const bool timed = bm.name.rfind("callgrind", 0) != 0;
@@ -139,15 +194,14 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, double tole
 }
 
 std::string render_check_text(const CheckReport& rep) {
-    std::string out = "suite check: " + rep.run_path + " against the baseline " + rep.baseline_path + " (tolerance " + pct(rep.tolerance) +
-                      " plus the runs' spread)\n";
+    std::string out = "suite check: " + rep.run_path + " against the baseline " + rep.baseline_path + " (" + rule_text(rep.rule) + ")\n";
     for (const auto& n : rep.notes) out += "note: " + n + "\n";
-    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change", "allowed"}, {}, {false, false, false, true, true, true, true}};
+    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change [95% interval]", "p", "allowed"}, {}, {false, false, false, true, true, true, true, true}};
     for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
         for (const auto& f : rep.findings)
             if (f.verdict == v)
                 t.rows.push_back({verdict_word(v), f.key.label(), f.figure, shows_values(f) ? num(f.baseline) : "-", shows_values(f) ? num(f.run) : "-",
-                                  change_text(f), shows_values(f) ? pct(f.allowed) : "-"});
+                                  change_text(f), p_text(f), shows_values(f) ? pct(f.allowed) : "-"});
     if (!t.rows.empty()) out += t.render_text();
     std::set<PointKey> said;  // a point's reasons once, however many of its figures were inconclusive
     for (const auto& f : rep.findings)
@@ -155,7 +209,7 @@ std::string render_check_text(const CheckReport& rep) {
     out += std::to_string(rep.points_compared) + " point(s) compared, " + std::to_string(rep.findings.size()) + " figure(s): " +
            std::to_string(rep.count(Verdict::regressed)) + " regressed, " + std::to_string(rep.count(Verdict::improved)) + " improved, " +
            std::to_string(rep.count(Verdict::unchanged)) + " within the threshold, " + std::to_string(rep.count(Verdict::inconclusive)) +
-           " inconclusive (unstable points, not gated).\n";
+           " inconclusive (unstable points, or changes the repetitions cannot tell from noise; not gated).\n";
     if (!rep.missing_from_run.empty()) {
         out += std::to_string(rep.missing_from_run.size()) + " point(s) of the baseline are missing from the run:";
         for (const auto& k : rep.missing_from_run) out += " [" + k.label() + "]";
@@ -170,21 +224,33 @@ std::string render_check_markdown(const CheckReport& rep) {
     const std::size_t unsure = rep.count(Verdict::inconclusive);
     std::string out = "### suite check: " + std::string(bad ? "**" + std::to_string(bad) + " regression(s)**" : "no regression") +
                       (good ? ", " + std::to_string(good) + " improvement(s)" : "") +
-                      (unsure ? ", " + std::to_string(unsure) + " inconclusive (unstable points)" : "") + "\n\n";
+                      (unsure ? ", " + std::to_string(unsure) + " inconclusive" : "") + "\n\n";
     out += "Run `" + rep.run_path + "` against the baseline `" + rep.baseline_path + "`: " + std::to_string(rep.points_compared) +
-           " point(s), " + std::to_string(rep.findings.size()) + " figure(s) compared; tolerance " + pct(rep.tolerance) +
-           " plus the runs' spread.\n\n";
-    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change", "allowed"}, {}, {false, false, false, true, true, true, true}};
+           " point(s), " + std::to_string(rep.findings.size()) + " figure(s) compared; " + rule_text(rep.rule) + ".\n\n";
+    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change [95% interval]", "p", "allowed"}, {}, {false, false, false, true, true, true, true, true}};
     for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
         for (const auto& f : rep.findings)
             if (f.verdict == v)
                 t.rows.push_back({verdict_word(v), "`" + f.key.label() + "`", f.figure, shows_values(f) ? num(f.baseline) : "-",
-                                  shows_values(f) ? num(f.run) : "-", change_text(f), shows_values(f) ? pct(f.allowed) : "-"});
+                                  shows_values(f) ? num(f.run) : "-", change_text(f), p_text(f), shows_values(f) ? pct(f.allowed) : "-"});
     if (!t.rows.empty()) out += t.render_markdown() + "\n";
     for (const auto& n : rep.notes) out += "- " + n + "\n";
     if (!rep.missing_from_run.empty()) out += "- " + std::to_string(rep.missing_from_run.size()) + " point(s) of the baseline are missing from the run\n";
     if (!rep.not_in_baseline.empty()) out += "- " + std::to_string(rep.not_in_baseline.size()) + " point(s) of the run are not in the baseline (not gated)\n";
     return out;
+}
+
+double parse_alpha(const std::string& text) {
+    std::size_t used = 0;
+    double v = -1;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (text.empty() || used != text.size() || !(v > 0 && v <= 0.5))
+        throw UsageError("--alpha='" + text + "': give the test's significance level, a probability in (0, 0.5], e.g. --alpha=0.01");
+    return v;
 }
 
 double parse_tolerance(const std::string& text) {

@@ -32,21 +32,69 @@ const Measure* find_measure(const LoadedPoint& p, const std::string& name) {
     return nullptr;
 }
 
-// Performance of `other` relative to `first`: above 1 is better, whichever way the figure goes.
-double performance_ratio(const Measure& first, const Measure& other) {
-    if (first.best <= 0 || other.best <= 0) return NAN;
-    return first.direction == Direction::higher_is_better ? other.best / first.best : first.best / other.best;
+// Performance of `other` relative to `first` from the medians: above 1 is better, whichever way
+// the figure goes; with a 95 % bootstrap interval where both have repetitions (NAN otherwise).
+struct Ratio {
+    double value = NAN, low = NAN, high = NAN;
+};
+Ratio performance_ratio(const Measure& first, const Measure& other) {
+    Ratio r;
+    if (first.median <= 0 || other.median <= 0) return r;
+    const bool higher = first.direction == Direction::higher_is_better;
+    r.value = higher ? other.median / first.median : first.median / other.median;
+    if (first.samples.size() >= 2 && other.samples.size() >= 2) {
+        // The interval of other/first; for a time-like figure performance is its inverse.
+        const Interval iv = median_ratio_interval(first.samples, other.samples);
+        r.low = higher ? iv.low : 1 / iv.high;
+        r.high = higher ? iv.high : 1 / iv.low;
+    }
+    return r;
+}
+
+std::string ratio_text(const Ratio& r) {
+    if (std::isnan(r.value)) return "-";
+    std::string out = fmt_ratio(r.value);
+    if (!std::isnan(r.low)) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, " [%.3f, %.3f]", r.low, r.high);
+        out += buf;
+    }
+    return out;
+}
+
+// A point run on every CPU the machine has ("--threads=all", or the same count given by
+// number): two machines' "all threads" points are one comparable point whatever their counts.
+bool on_all_threads(const ResultFile& f, const PointKey& k) {
+    const std::string pus = context_text(f.context, "pus");
+    return k.threads > 1 && pus == std::to_string(k.threads);
+}
+
+PointKey all_threads_key(PointKey k) {
+    k.threads = -1;
+    return k;
 }
 
 std::string file_tag(std::size_t i) { return "[" + std::to_string(i + 1) + "]"; }
 
 }  // namespace
 
-std::string render_comparison(const std::vector<ResultFile>& files, bool markdown) {
+std::string render_comparison(const std::vector<ResultFile>& files, bool markdown, bool force) {
     const ResultFile& first = files.front();
     std::vector<std::map<PointKey, const LoadedPoint*>> index(files.size());
+    // "All threads" points by a key without the count, for machines with different core counts.
+    std::vector<std::map<PointKey, const LoadedPoint*>> all_index(files.size());
     for (std::size_t f = 0; f < files.size(); ++f)
-        for (const auto& p : files[f].points) index[f][p.key] = &p;
+        for (const auto& p : files[f].points) {
+            index[f][p.key] = &p;
+            if (on_all_threads(files[f], p.key)) all_index[f][all_threads_key(p.key)] = &p;
+        }
+    // The point of file f that matches p of the first file: the same key, or both on all threads.
+    auto match = [&](std::size_t f, const LoadedPoint& p) -> const LoadedPoint* {
+        if (auto it = index[f].find(p.key); it != index[f].end()) return it->second;
+        if (!on_all_threads(first, p.key)) return nullptr;
+        auto it = all_index[f].find(all_threads_key(p.key));
+        return it == all_index[f].end() ? nullptr : it->second;
+    };
 
     std::string out = markdown ? "## suite compare\n\n" : "";
     std::vector<const ResultFile*> ptrs;
@@ -62,15 +110,25 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     const auto diffs = context_differences(ptrs);
     out += markdown ? "\n### Context differences\n\n" : "\nContext differences that matter:\n";
     if (diffs.empty()) {
-        out += "none: the same CPU, sockets, NUMA nodes, caches, memory, compiler and flags, instruction set, THP and governor\n";
+        out += "none: the same CPU, sockets, NUMA nodes, caches, memory, compiler and flags, build type, instruction set, THP, huge pages "
+               "asked and governor\n";
     } else {
-        TextTable t{{"field"}, {}, {}};
+        TextTable t{{"field", "kind"}, {}, {}};
         for (std::size_t f = 0; f < files.size(); ++f) t.header.push_back(file_tag(f));
+        std::string machine, setting;
         for (const auto& [field, values] : diffs) {
-            std::vector<std::string> row{field};
+            const FieldKind kind = context_field_kind(field);
+            std::vector<std::string> row{field, kind == FieldKind::machine ? "machine" : kind == FieldKind::setting ? "build/setting" : "info"};
             row.insert(row.end(), values.begin(), values.end());
             t.rows.push_back(row);
+            if (kind == FieldKind::machine) machine += (machine.empty() ? "" : ", ") + field;
+            if (kind == FieldKind::setting) setting += (setting.empty() ? "" : ", ") + field;
         }
+        // One comparison answers one question: these machines, or these settings on one machine.
+        // When both changed, a ratio mixes two causes that nothing here can separate.
+        if (!machine.empty() && !setting.empty() && !force)
+            throw InputError("the files differ both as machines (" + machine + ") and in how they were built or set up (" + setting +
+                             "), so a ratio cannot say which made the difference; compare like with like, or pass --force");
         out += markdown ? t.render_markdown() : t.render_text();
     }
 
@@ -93,9 +151,11 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
         if (p.measures.empty()) continue;
         const Measure& head = p.measures.front();
         bool anywhere = false;
+        std::string all_counts;  // "2 | 16" when matched as all threads on machines of other counts
         for (std::size_t f = 1; f < files.size(); ++f) {
-            auto it = index[f].find(p.key);
-            anywhere = anywhere || (it != index[f].end() && find_measure(*it->second, head.name));
+            const LoadedPoint* q = match(f, p);
+            anywhere = anywhere || (q && find_measure(*q, head.name));
+            if (q && q->key.threads != p.key.threads) all_counts = " (all threads)";
         }
         if (!anywhere) continue;
         ++common;
@@ -104,22 +164,31 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
             kernel_order.push_back(kernel);
             logs[kernel].resize(files.size());
         }
-        std::vector<std::string> row{p.key.label(), head.name + " " + head.unit};
+        std::string label = p.key.label();
+        if (!all_counts.empty()) {
+            all_counts.clear();
+            for (std::size_t f = 0; f < files.size(); ++f) {
+                const LoadedPoint* q = f ? match(f, p) : &p;
+                all_counts += (f ? " | " : "") + (q ? std::to_string(q->key.threads) : std::string("-"));
+            }
+            label += " (all threads: " + all_counts + ")";
+        }
+        std::vector<std::string> row{label, head.name + " " + head.unit};
         for (std::size_t f = 0; f < files.size(); ++f) {
-            auto it = index[f].find(p.key);
-            const Measure* m = it == index[f].end() ? nullptr : find_measure(*it->second, head.name);
+            const LoadedPoint* q = f ? match(f, p) : &p;
+            const Measure* m = q ? find_measure(*q, head.name) : nullptr;
             if (!m) {
                 row.insert(row.end(), f ? 3 : 2, "-");
                 continue;
             }
-            const std::string mark = it->second->verified ? "" : " !";
-            unverified = unverified || !it->second->verified;
+            const std::string mark = q->verified ? "" : " !";
+            unverified = unverified || !q->verified;
             row.push_back(fmt_value(m->best) + mark);
             row.push_back(fmt_value(m->median) + mark);
             if (f > 0) {
-                const double r = performance_ratio(head, *m);
-                row.push_back(std::isnan(r) ? "-" : fmt_ratio(r));
-                if (!std::isnan(r)) logs[kernel][f].push_back(std::log(r));
+                const Ratio r = performance_ratio(head, *m);
+                row.push_back(ratio_text(r));
+                if (!std::isnan(r.value)) logs[kernel][f].push_back(std::log(r.value));
             }
         }
         table.rows.push_back(row);
@@ -134,10 +203,11 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     for (std::size_t f = 1; f < files.size(); ++f) {
         std::size_t extra = 0;
         for (const auto& p : files[f].points)
-            if (!index[0].count(p.key)) ++extra;
+            if (!index[0].count(p.key) && !(on_all_threads(files[f], p.key) && all_index[0].count(all_threads_key(p.key)))) ++extra;
         if (extra) out += " " + std::to_string(extra) + " point(s) of " + file_tag(f) + " are not in [1].";
     }
-    out += " \"vs [1]\": performance relative to [1] from the best figures, above 1 is better.\n";
+    out += " \"vs [1]\": performance relative to [1] from the medians, above 1 is better, with a 95 % bootstrap interval"
+           " [low, high] of that ratio where both files kept their repetitions.\n";
     if (!markdown) out += "\n";
     out += markdown ? "\n" + table.render_markdown() : table.render_text();
     if (unverified) out += "! failed verification in that file: not a valid result\n";

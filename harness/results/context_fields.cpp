@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <functional>
+#include <set>
 
 #include "harness/common/units.hpp"
 
@@ -59,7 +60,8 @@ std::string context_text(const json& c, const std::string& field) {
 const std::vector<std::string>& context_fields_that_matter() {
     static const std::vector<std::string> fields = {"cpu_model",      "sockets",         "numa_node_count",       "cores",
                                                     "pus",            "caches",          "memory_bytes",          "compiler",
-                                                    "compiler_flags", "instruction_set", "transparent_hugepages", "frequency_governor"};
+                                                    "compiler_flags", "build_type",      "instruction_set",       "transparent_hugepages",
+                                                    "frequency_governor"};
     return fields;
 }
 
@@ -70,7 +72,25 @@ std::vector<std::pair<std::string, std::vector<std::string>>> context_difference
         for (const auto* f : files) values.push_back(context_text(f->context, field));
         if (std::adjacent_find(values.begin(), values.end(), std::not_equal_to<>()) != values.end()) out.push_back({field, values});
     }
+    std::vector<std::string> huge;
+    for (const auto* f : files) {
+        std::set<std::string> asked;
+        for (const auto& p : f->points) asked.insert(p.hugepages.empty() ? "not recorded" : p.hugepages);
+        std::string text;
+        for (const auto& a : asked) text += (text.empty() ? "" : ", ") + a;
+        huge.push_back(text.empty() ? "no points" : text);
+    }
+    if (std::adjacent_find(huge.begin(), huge.end(), std::not_equal_to<>()) != huge.end()) out.push_back({"hugepages", huge});
     return out;
+}
+
+FieldKind context_field_kind(const std::string& field) {
+    static const std::set<std::string> machine = {"cpu_model", "sockets", "numa_node_count", "cores", "pus", "memory_bytes"};
+    static const std::set<std::string> setting = {"compiler",        "compiler_flags", "build_type",
+                                                  "instruction_set", "transparent_hugepages", "hugepages"};
+    if (machine.count(field)) return FieldKind::machine;
+    if (setting.count(field)) return FieldKind::setting;
+    return FieldKind::informational;
 }
 
 }  // namespace suite

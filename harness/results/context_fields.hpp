@@ -19,7 +19,16 @@ std::string context_text(const nlohmann::json& context, const std::string& field
 const std::vector<std::string>& context_fields_that_matter();
 
 // For each field of context_fields_that_matter() on which the files disagree: the field and
-// each file's value, in the order of `files`.
+// each file's value, in the order of `files`; then "hugepages" (what the records asked of huge
+// pages, e.g. "none" against "thp") where the files' records disagree on it.
 std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(const std::vector<const ResultFile*>& files);
+
+// What a context field says: what the machine is (its CPU, cores, memory: compare's subject,
+// and a gate's baseline must share them), how the run was built and set up (compiler, flags,
+// the instruction set -march resolved to, huge pages: a difference changes every result), or a fact worth listing that varies without
+// changing what a point means (the reported caches on a VM that moves between hosts, the
+// frequency governor).
+enum class FieldKind { machine, setting, informational };
+FieldKind context_field_kind(const std::string& field);
 
 }  // namespace suite

@@ -100,12 +100,13 @@ void read_counters(const Reader& r, const json& block, const std::string& where,
         if (!r.boolean(events[e], "available", at)) continue;
         const json& per_element = r.field(events[e], "per_element", at);
         if (per_element.is_null()) continue;
-        Measure m{"counter " + name, "per element", Direction::lower_is_better, 0, r.number(per_element, at + ".per_element"), 0};
+        Measure m{"counter " + name, "per element", Direction::lower_is_better, 0, r.number(per_element, at + ".per_element"), 0, {}, NAN};
         m.best = m.median;
         const json& per_call = r.field(events[e], "per_call", at);
         if (!per_call.is_null()) {
             m.noise = range_spread(r, per_call, at + ".per_call");
             const double med = r.number(per_call, "median", at + ".per_call");
+            m.count_per_call = med;
             if (med > 0) m.best = m.median * r.number(per_call, "min", at + ".per_call") / med;
         }
         p.measures.push_back(m);
@@ -125,7 +126,7 @@ void read_energy(const Reader& r, const json& block, const std::string& where, L
         const json& j = r.field(domains[d], "joules_per_call", at);
         const std::string jat = at + ".joules_per_call";
         Measure m{"energy " + name, "J/call", Direction::lower_is_better, r.number(j, "min", jat), r.number(j, "median", jat),
-                  range_spread(r, j, jat)};
+                  range_spread(r, j, jat), {}, NAN};
         p.measures.push_back(m);
     }
 }
@@ -134,7 +135,11 @@ void read_energy(const Reader& r, const json& block, const std::string& where, L
 void read_callgrind(const Reader& r, const json& block, const std::string& where, LoadedPoint& p) {
     const json& per_call = r.field(block, "per_call", where);
     const std::string at = where + ".per_call";
-    auto add = [&](const char* name, double v) { p.measures.push_back({name, "per call", Direction::lower_is_better, v, v, 0}); };
+    auto add = [&](const char* name, double v) {
+        Measure m{name, "per call", Direction::lower_is_better, v, v, 0, {}, NAN};
+        m.count_per_call = v;
+        p.measures.push_back(m);
+    };
     add("callgrind instructions", r.number(per_call, "Ir", at));
     add("callgrind D1 misses", r.number(per_call, "D1mr", at) + r.number(per_call, "D1mw", at));
     add("callgrind LL misses", r.number(per_call, "DLmr", at) + r.number(per_call, "DLmw", at));
@@ -186,11 +191,19 @@ LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
         const json& best = r.field(rates, "best", rat);
         const json& median = r.field(rates, "median", rat);
         // null: the rate could not be derived (a best time of 0); the point then has no headline.
-        if (!best.is_null() && !median.is_null())
-            p.measures.push_back({bw ? "bandwidth" : "latency", bw ? "GB/s" : "ns/load",
-                                  bw ? Direction::higher_is_better : Direction::lower_is_better, r.number(best, rat + ".best"),
-                                  r.number(median, rat + ".median"), noise});
+        if (!best.is_null() && !median.is_null()) {
+            Measure m{bw ? "bandwidth" : "latency", bw ? "GB/s" : "ns/load", bw ? Direction::higher_is_better : Direction::lower_is_better,
+                      r.number(best, rat + ".best"), r.number(median, rat + ".median"), noise, {}, NAN};
+            // Each repetition's figure: the rate goes as 1/time and the latency as time, scaled
+            // so that the median time gives the recorded median.
+            const double median_time = median_of(s);
+            if (median_time > 0)
+                for (double t : s)
+                    if (t > 0) m.samples.push_back(bw ? m.median * median_time / t : m.median * t / median_time);
+            p.measures.push_back(m);
+        }
     }
+    if (auto it = rec.find("hugepages"); it != rec.end() && it->is_object()) p.hugepages = r.string(*it, "requested", where + ".hugepages");
     // The noise flag; optional, absent in older files.
     if (auto it = rec.find("stability"); it != rec.end() && !it->is_null()) {
         const std::string at = where + ".stability";

@@ -3,6 +3,7 @@
 // older one) for `suite compare` and `suite check`. Every field the tools use is checked as it
 // is read: a truncated, hand-edited or foreign file is an InputError that names the file and
 // the field, never a crash and never a figure made up from a missing one.
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -35,6 +36,13 @@ struct Measure {
     // Relative spread of the repetitions (robust standard deviation / median); 0 for a
     // deterministic count, and 0 when the file says nothing about the spread.
     double noise = 0;
+    // The repetitions in the figure's own units, where the file has them (the timed headline);
+    // empty for counters, energy and callgrind counts. `check` tests them against each other.
+    std::vector<double> samples;
+    // For a count (counters, callgrind): how many events one repetition counted, which says
+    // whether a ratio can mean anything (3 -> 5 context switches is not a regression). NAN: not
+    // a count, or not known.
+    double count_per_call = NAN;
 };
 
 // What identifies a point across files: the same kernel, variant, access, size, threads,
@@ -64,6 +72,7 @@ struct LoadedPoint {
     // timings are not to be trusted, so `check` calls it inconclusive. False in older files.
     bool unstable = false;
     std::string unstable_why;  // the reasons, joined
+    std::string hugepages;     // what the record asked of huge pages ("none", "thp"); "" in older files
 };
 
 struct ResultFile {

@@ -83,7 +83,7 @@ TEST(FuzzResults, TheLoaderAcceptsOrRefusesCleanly) {
                 // What was accepted can be compared and gated without surprises.
                 try {
                     (void)render_comparison({good, f}, i % 2 == 0);
-                    (void)render_check_text(check_run(good, f, 0.1));
+                    (void)render_check_text(check_run(good, f, GateRule{0.1}));
                 } catch (const InputError&) {
                 }
             } catch (const InputError& e) {

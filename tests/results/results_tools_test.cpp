@@ -73,7 +73,7 @@ TEST(Compare, AFileAgainstItselfIsOneEverywhere) {
     EXPECT_NE(r.out.find("### Geometric mean per kernel"), std::string::npos);
     EXPECT_NE(r.out.find("none: the same CPU"), std::string::npos);
     std::size_t ones = 0;
-    for (std::size_t at = 0; (at = r.out.find("| 1.000x |", at)) != std::string::npos; ++at) ++ones;
+    for (std::size_t at = 0; (at = r.out.find("| 1.000x", at)) != std::string::npos; ++at) ++ones;
     EXPECT_EQ(ones, 126u + 3u) << "every point and every kernel's mean is 1.000x";
 }
 
@@ -105,7 +105,7 @@ TEST(Compare, BadInputIsOneLineAndExitTwo) {
 }
 
 TEST(Check, JudgeAllowsTheToleranceAndTheNoiseOfBothRuns) {
-    const Measure base{"latency", "ns/load", Direction::lower_is_better, 100, 100, 0.03};
+    const Measure base{"latency", "ns/load", Direction::lower_is_better, 100, 100, 0.03, {}, NAN};
     Measure run = base;
     run.median = 115;  // 15 % worse; allowed 10 % + sqrt(0.03^2 + 0.03^2) = 14.2 %
     EXPECT_EQ(judge(base, run, 0.10).verdict, Verdict::regressed);
@@ -116,7 +116,7 @@ TEST(Check, JudgeAllowsTheToleranceAndTheNoiseOfBothRuns) {
     run.median = 125;
     EXPECT_EQ(judge(base, run, 0.10).verdict, Verdict::unchanged);
     // Higher is better: half the bandwidth is 100 % worse; twice is an improvement.
-    const Measure bw{"bandwidth", "GB/s", Direction::higher_is_better, 10, 10, 0};
+    const Measure bw{"bandwidth", "GB/s", Direction::higher_is_better, 10, 10, 0, {}, NAN};
     Measure half = bw, twice = bw;
     half.median = 5;
     twice.median = 20;
@@ -124,7 +124,7 @@ TEST(Check, JudgeAllowsTheToleranceAndTheNoiseOfBothRuns) {
     EXPECT_NEAR(judge(bw, half, 0.10).worse_by, 1.0, 1e-12);
     EXPECT_EQ(judge(bw, twice, 0.10).verdict, Verdict::improved);
     // A count that was 0 and is no longer 0 is worse, whatever the tolerance.
-    const Measure zero{"callgrind LL misses", "per call", Direction::lower_is_better, 0, 0, 0};
+    const Measure zero{"callgrind LL misses", "per call", Direction::lower_is_better, 0, 0, 0, {}, NAN};
     Measure some = zero;
     some.median = 3;
     EXPECT_EQ(judge(zero, some, 10.0).verdict, Verdict::regressed);
@@ -200,7 +200,7 @@ TEST(Check, AnUnstablePointIsInconclusiveNeitherARegressionNorAPass) {
     EXPECT_NE(r.out.find("inconclusive: copy sequential 16MiB t=2 compact/local: unstable in the baseline: the repetitions spread"),
               std::string::npos) << r.out;
     EXPECT_NE(r.out.find("0 regressed, 0 improved, 124 within the threshold, 2 inconclusive"), std::string::npos) << r.out;
-    EXPECT_NE(slurp(dir.file("gate.md")).find("no regression, 2 inconclusive (unstable points)"), std::string::npos);
+    EXPECT_NE(slurp(dir.file("gate.md")).find("no regression, 2 inconclusive"), std::string::npos);
     // A stable slow point beside them still fails the gate.
     slow_down(record(run, "triad", "sequential", 16ULL << 10, 1), 2.0);
     save(run, dir.file("run.json"));
