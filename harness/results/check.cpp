@@ -91,14 +91,21 @@ Finding judge(const Measure& b, const Measure& r, const GateRule& rule) {
         f.note = "fewer than " + num(rule.min_count) + " events a repetition in both runs: not gated by ratio";
         return f;
     }
-    const bool beyond_worse = factor > 1 + rule.tolerance, beyond_better = factor < 1 / (1 + rule.tolerance);
+    // The minimum effect applies to the change as printed (the figure's own, signed), so that
+    // "-9.3%" is never a regression at a tolerance of 10 %: for a rate a fall is worse, for a
+    // time or a count a rise.
+    double change;
+    if (b.median > 0) change = r.median / b.median - 1;
+    else change = r.median > 0 ? INFINITY : 0.0;
+    const double worse_change = lower_better ? change : -change;  // above 0: worse
+    const bool beyond_worse = worse_change > rule.tolerance, beyond_better = worse_change < -rule.tolerance;
     if (b.samples.size() >= 2 && r.samples.size() >= 2) {
         f.allowed = rule.tolerance;
         f.tested = true;
         const RankTest t = mann_whitney(r.samples, b.samples);
         // "run smaller" is worse for a rate, better for a time or a count.
         const double p_worse = lower_better ? t.p_x_larger : t.p_x_smaller, p_better = lower_better ? t.p_x_smaller : t.p_x_larger;
-        f.p = factor >= 1 ? p_worse : p_better;
+        f.p = worse_change >= 0 ? p_worse : p_better;
         if (b.median > 0) {
             const Interval iv = median_ratio_interval(b.samples, r.samples);
             f.ratio_low = iv.low;
@@ -116,8 +123,8 @@ Finding judge(const Measure& b, const Measure& r, const GateRule& rule) {
         return f;
     }
     f.allowed = rule.tolerance + std::sqrt(b.noise * b.noise + r.noise * r.noise);
-    if (factor > 1 + f.allowed) f.verdict = Verdict::regressed;
-    else if (factor < 1 / (1 + f.allowed)) f.verdict = Verdict::improved;
+    if (worse_change > f.allowed) f.verdict = Verdict::regressed;
+    else if (worse_change < -f.allowed) f.verdict = Verdict::improved;
     return f;
 }
 
