@@ -18,6 +18,8 @@ int cmd_info(const std::vector<std::string>& args);
 int cmd_compare(const std::vector<std::string>& args);
 // `suite check --baseline BASE.json RUN.json`: 0, 1 regressed (check.cpp).
 int cmd_check(const std::vector<std::string>& args);
+// `suite history add|list|steps|check|html`: runs across commits in SQLite (history.cpp); check: 0, 1 regressed.
+int cmd_history(const std::vector<std::string>& args);
 // `suite deterministic [run options]`: the run under valgrind's callgrind (deterministic.cpp);
 // 0, 1 a kernel failed verification, 128+signal.
 int cmd_deterministic(const std::vector<std::string>& args, const std::vector<std::string>& full_argv);

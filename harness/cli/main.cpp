@@ -31,12 +31,13 @@ int main(int argc, char** argv) {
         if (command == "info") return cmd_info(args);
         if (command == "compare") return cmd_compare(args);
         if (command == "check") return cmd_check(args);
+        if (command == "history") return cmd_history(args);
         if (command == "deterministic") return cmd_deterministic(args, all);
         if (command == "traverse") return cmd_traverse(args);
         if (command == "matrix") return cmd_matrix(args);
-        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "deterministic", "traverse", "matrix"});
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "history", "deterministic", "traverse", "matrix"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info, compare, check, deterministic, traverse, matrix (see ./suite --help)");
+                         "; commands: run, list, info, compare, check, history, deterministic, traverse, matrix (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();

@@ -32,6 +32,7 @@ Commands:
   info            topology, caches, NUMA nodes: ./suite info [--json] [--probe]
   compare         result files side by side: ./suite compare A.json B.json [--format=markdown]
   check           CI regression gate: ./suite check --baseline BASE.json RUN.json (exit 1: regressed)
+  history         runs across commits in SQLite: ./suite history add|list|steps|check|html (see ./suite history --help)
   deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
   traverse        how a loop walks a mesh, per ordering: ./suite traverse --mesh=... --out=DIR (see ./suite traverse --help)
   matrix          the fem matrix per vertex ordering (bandwidth, Cholesky fill, SpMV): ./suite matrix --mesh=... --out=DIR
