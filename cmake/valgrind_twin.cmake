@@ -24,10 +24,12 @@ if(SUITE_VALGRIND_TWIN)
   add_dependencies(suite-x86-64-v3 git_revision)
   target_include_directories(suite-x86-64-v3 PRIVATE ${CMAKE_SOURCE_DIR})
   target_compile_options(suite-x86-64-v3 PRIVATE -march=x86-64-v3 -Wall -Wextra)
-  # The same libraries and definitions as suite_core (keep in step with CMakeLists.txt).
+  # The same libraries and definitions as suite_core and suite_front (keep in step with
+  # CMakeLists.txt); one -O level for all of it, as it only counts instructions.
   target_link_libraries(suite-x86-64-v3 PRIVATE OpenMP::OpenMP_CXX CLI11::CLI11 nlohmann_json::nlohmann_json PkgConfig::HWLOC suite::numa suite::pfm
                         Boost::headers SQLite::SQLite3 suite_sparse)
-  target_compile_definitions(suite-x86-64-v3 PRIVATE $<TARGET_PROPERTY:suite_core,COMPILE_DEFINITIONS>)
+  target_compile_definitions(suite-x86-64-v3 PRIVATE $<TARGET_PROPERTY:suite_core,COMPILE_DEFINITIONS>
+                             $<TARGET_PROPERTY:suite_front,COMPILE_DEFINITIONS>)
   # The harness's files compile one unit a folder here too (their UNITY_GROUP, CMakeLists.txt).
   set_target_properties(suite-x86-64-v3 PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
 endif()
