@@ -247,15 +247,25 @@ std::string render_check_markdown(const CheckReport& rep) {
     return out;
 }
 
-double parse_alpha(const std::string& text) {
+namespace {
+
+// The whole of `text` as a finite number, or NAN.
+double whole_number_text(const std::string& text) {
     std::size_t used = 0;
-    double v = -1;
+    double v = NAN;
     try {
         v = std::stod(text, &used);
     } catch (const std::exception&) {
-        used = 0;
+        return NAN;
     }
-    if (text.empty() || used != text.size() || !(v > 0 && v <= 0.5))
+    return used == text.size() && std::isfinite(v) ? v : NAN;
+}
+
+}  // namespace
+
+double parse_alpha(const std::string& text) {
+    const double v = whole_number_text(text);
+    if (!(v > 0 && v <= 0.5))
         throw UsageError("--alpha='" + text + "': give the test's significance level, a probability in (0, 0.5], e.g. --alpha=0.01");
     return v;
 }
@@ -263,14 +273,8 @@ double parse_alpha(const std::string& text) {
 double parse_tolerance(const std::string& text) {
     std::string t = text;
     if (!t.empty() && t.back() == '%') t.pop_back();
-    std::size_t used = 0;
-    double v = -1;
-    try {
-        v = std::stod(t, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (t.empty() || used != t.size() || !std::isfinite(v) || v < 0 || v > 1000)
+    const double v = whole_number_text(t);
+    if (!(v >= 0 && v <= 1000))
         throw UsageError("--tolerance='" + text + "': give a percentage from 0 to 1000, e.g. --tolerance=10% or --tolerance=2.5");
     return v / 100;
 }

@@ -13,6 +13,7 @@
 #include "harness/results/check.hpp"
 #include "harness/results/result_file.hpp"
 #include "tests/process.hpp"
+#include "tests/results/result_fixtures.hpp"
 
 using namespace suite;
 using namespace suite::test;
@@ -20,9 +21,6 @@ using nlohmann::json;
 
 namespace {
 
-std::string fixture(const std::string& name) { return std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/" + name; }
-json load(const std::string& path) { return json::parse(slurp(path)); }
-void save(const json& doc, const std::string& path) { std::ofstream(path) << doc.dump(1); }
 
 Measure bandwidth(std::vector<double> samples) {
     Measure m{"bandwidth", "GB/s", Direction::higher_is_better, 0, 0, 0, std::move(samples), NAN};

@@ -13,6 +13,7 @@
 #include "harness/results/context_fields.hpp"
 #include "harness/results/result_file.hpp"
 #include "tests/process.hpp"
+#include "tests/results/result_fixtures.hpp"
 
 using namespace suite;
 using namespace suite::test;
@@ -20,11 +21,6 @@ using nlohmann::json;
 
 namespace {
 
-std::string fixture(const std::string& name) { return std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/" + name; }
-
-json load(const std::string& path) { return json::parse(slurp(path)); }
-
-void save(const json& doc, const std::string& path) { std::ofstream(path) << doc.dump(1); }
 
 // The record of `doc` for kernel/pattern/size/threads.
 json& record(json& doc, const std::string& kernel, const std::string& pattern, std::uint64_t size, int threads) {
