@@ -150,7 +150,8 @@ std::string params_text(const std::map<std::string, double>& params) {
 std::string csv_header(const Record* first) {
     std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,threads,pin,placement,repetitions,batch,"
                     "time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,stream_gbps_best,stream_gbps_median,"
-                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified,parameters,unstable";
+                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified,parameters,unstable,hugepages,host,cpu_model,date,"
+                    "git_revision";
     if (first) {
         for (const auto& e : first->counters.events) h += ",counter_" + e.name + "_per_call";
         for (const auto& d : first->energy.domains) h += ",energy_" + domain_label(d) + "_j_per_call";
@@ -158,7 +159,16 @@ std::string csv_header(const Record* first) {
     return h + "\n";
 }
 
-std::string to_csv_row(const Record& r) {
+std::string to_csv_row(const Record& r, const nlohmann::json& context) {
+    // The run's identity on every row, so that CSVs of several machines or runs concatenated
+    // (or loaded into one table) can still be told apart.
+    auto ctx = [&](const char* key) {
+        const auto it = context.is_object() ? context.find(key) : context.end();
+        std::string v = it != context.end() && it->is_string() ? it->get<std::string>() : "";
+        for (char& c : v)
+            if (c == '"') c = '\'';
+        return "\"" + v + "\"";
+    };
     std::ostringstream o;
     o << r.kernel << ',' << r.variant << ',' << r.name << ',' << axis_name(r.axis) << ',' << r.access << ',' << r.size_requested << ','
       << r.work.footprint_bytes << ',' << fmt("%.0f", r.work.units) << ',' << r.threads << ",\"" << r.pin << "\"," << r.placement
@@ -167,7 +177,8 @@ std::string to_csv_row(const Record& r) {
       << csv_opt(r.rates.stream_gbps_best) << ',' << csv_opt(r.rates.stream_gbps_median) << ','
       << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.ns_per_load_best) << ','
       << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params)
-      << ',' << (r.stability.unstable ? "true" : "false");
+      << ',' << (r.stability.unstable ? "true" : "false") << ',' << r.hugepages << ',' << ctx("host") << ',' << ctx("cpu_model") << ','
+      << ctx("date") << ',' << ctx("git_revision");
     for (const auto& e : r.counters.events) o << ',' << (e.available ? fmt("%.9g", e.per_call.median) : "");
     for (const auto& d : r.energy.domains) o << ',' << (d.available ? fmt("%.9g", d.joules_per_call.median) : "");
     o << '\n';
@@ -231,7 +242,7 @@ std::string table_row(std::size_t index, std::size_t total, const Record& r) {
 std::string ResultDocument::render(FileFormat format, bool complete) const {
     if (format == FileFormat::csv) {
         std::string out = csv_header(records.empty() ? nullptr : &records.front());
-        for (const auto& r : records) out += to_csv_row(r);
+        for (const auto& r : records) out += to_csv_row(r, context);
         return out;
     }
     if (format == FileFormat::gbench) return render_gbench(context, records, complete);

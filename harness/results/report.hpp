@@ -20,7 +20,8 @@ nlohmann::json to_json(const Stability& s);
 // "" when none was.
 std::string stability_summary(const std::vector<Record>& records);
 std::string csv_header(const Record* first = nullptr);  // first: where counter and energy columns come from
-std::string to_csv_row(const Record& r);
+// `context`: the run's context, whose host, CPU model, date and git revision each row repeats.
+std::string to_csv_row(const Record& r, const nlohmann::json& context = {});
 // A record's parameters as the CSV column holds them: "delta=0.05;tol=1e-08" ("" for none).
 std::string params_text(const std::map<std::string, double>& params);
 

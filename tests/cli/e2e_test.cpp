@@ -1,5 +1,7 @@
 // End-to-end tests of the real binary: non-temporal stores in the machine code, nothing lost
 // on SIGINT/SIGTERM, random slower than sequential at DRAM size, what a result records.
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -187,10 +189,16 @@ TEST(E2E, CsvOutputHasAHeaderAndOneRowPerPoint) {
     std::string header, line;
     std::getline(in, header);
     EXPECT_EQ(header.rfind("kernel,variant,name,", 0), 0u);
+    // Each row says which run it came from, so that concatenated CSVs can be told apart.
+    EXPECT_NE(header.find(",unstable,hugepages,host,cpu_model,date,git_revision"), std::string::npos) << header;
+    char host[256] = {};
+    gethostname(host, sizeof host - 1);
     int rows = 0;
     while (std::getline(in, line)) {
         ++rows;
         EXPECT_NE(line.find(",true"), std::string::npos) << line;
+        EXPECT_NE(line.find(std::string(",\"") + host + "\","), std::string::npos) << line;
+        EXPECT_NE(line.find(",\"20"), std::string::npos) << "the run's date\n" << line;
     }
     EXPECT_EQ(rows, 2);
     std::system(("rm -rf " + dir).c_str());
