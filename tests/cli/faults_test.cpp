@@ -104,7 +104,10 @@ TEST(Faults, EnergyFileVanishingMidRunLosesThatPointOnlyAndTheRunGoesOn) {
         }
     });
     setenv("SUITE_SYSFS_ROOT", root.c_str(), 1);
-    const Outcome r = run_suite({"--kernel=triad", "--sizes=1MiB,2MiB,3MiB,4MiB,5MiB", "--threads=1", "--reps=5", "--energy=sysfs",
+    // Points of 0.1 s each (not 5 repetitions of a few ms): the fake counter's thread advances
+    // it every 50 us when it gets a CPU, and under a loaded CI it once got none during a whole
+    // short point, which then read a counter that never moved.
+    const Outcome r = run_suite({"--kernel=triad", "--sizes=1MiB,2MiB,3MiB,4MiB,5MiB", "--threads=1", "--min-time=0.1", "--energy=sysfs",
                                  "--counters=none", "--quiet", "--out=" + out},
                                 120);
     unsetenv("SUITE_SYSFS_ROOT");
