@@ -151,11 +151,11 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
         if (p.measures.empty()) continue;
         const Measure& head = p.measures.front();
         bool anywhere = false;
-        std::string all_counts;  // "2 | 16" when matched as all threads on machines of other counts
+        bool other_counts = false;  // matched as "all threads" on a machine of another core count
         for (std::size_t f = 1; f < files.size(); ++f) {
             const LoadedPoint* q = match(f, p);
             anywhere = anywhere || (q && find_measure(*q, head.name));
-            if (q && q->key.threads != p.key.threads) all_counts = " (all threads)";
+            other_counts = other_counts || (q && q->key.threads != p.key.threads);
         }
         if (!anywhere) continue;
         ++common;
@@ -165,8 +165,8 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
             logs[kernel].resize(files.size());
         }
         std::string label = p.key.label();
-        if (!all_counts.empty()) {
-            all_counts.clear();
+        if (other_counts) {
+            std::string all_counts;  // "2 | 16"
             for (std::size_t f = 0; f < files.size(); ++f) {
                 const LoadedPoint* q = f ? match(f, p) : &p;
                 all_counts += (f ? " | " : "") + (q ? std::to_string(q->key.threads) : std::string("-"));
