@@ -1,0 +1,95 @@
+// Reordering during a simulation: the particles sorted along the curve, and the grid renumbered
+// so that the elements holding particles (and their nodes) come first, in curve order.
+#include <algorithm>
+#include <numeric>
+
+#include "kernels/mpm/mpm.hpp"
+#include "kernels/sfc/pipeline.hpp"
+
+namespace suite::mpm {
+
+namespace {
+
+template <class T>
+void gather(std::vector<T>& v, const std::vector<std::uint32_t>& order, std::size_t width, std::vector<T>& scratch) {
+    scratch.resize(v.size());
+    const std::int64_t n = static_cast<std::int64_t>(order.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i)
+        for (std::size_t k = 0; k < width; ++k) scratch[width * static_cast<std::size_t>(i) + k] = v[width * order[i] + k];
+    v.swap(scratch);
+}
+
+}  // namespace
+
+void sort_particles(State& st) {
+    Particles& pt = st.particles;
+    const std::size_t np = pt.size(), ne = st.grid.elements();
+    // Counting sort by the elements' curve positions: stable, O(particles + elements).
+    std::vector<std::uint32_t> start(ne + 1, 0), order(np);
+    for (std::size_t p = 0; p < np; ++p) ++start[st.grid.curve[pt.elem[p]] + 1];
+    for (std::size_t r = 0; r < ne; ++r) start[r + 1] += start[r];
+    for (std::size_t p = 0; p < np; ++p) order[start[st.grid.curve[pt.elem[p]]]++] = static_cast<std::uint32_t>(p);
+    std::vector<double> scratch;
+    for (auto* v : {&pt.x, &pt.y, &pt.z, &pt.vx, &pt.vy, &pt.vz, &pt.mass, &pt.volume}) gather(*v, order, 1, scratch);
+    for (auto& s : pt.stress) gather(s, order, 1, scratch);
+    gather(pt.w, order, 4, scratch);
+    std::vector<std::uint32_t> iscratch;
+    gather(pt.elem, order, 1, iscratch);
+    gather(pt.id, order, 1, iscratch);
+    locate(st);  // the bins, in the new order
+}
+
+void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vector<std::uint32_t>& new_id) {
+    Grid& g = st.grid;
+    const std::size_t ne = g.elements(), nv = g.nodes();
+    std::vector<std::uint32_t> new_elem(ne);
+    for (std::size_t i = 0; i < ne; ++i) new_elem[perm[i]] = static_cast<std::uint32_t>(i);
+    g.mesh = sfc::permuted(g.mesh, perm, new_id);
+    std::vector<double> shape;
+    gather(g.shape, perm, 16, shape);
+    std::vector<std::int32_t> nb(4 * ne);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < ne; ++i)
+        for (int k = 0; k < 4; ++k) {
+            const std::int32_t old = g.neighbour[4 * static_cast<std::size_t>(perm[i]) + k];
+            nb[4 * i + k] = old < 0 ? -1 : static_cast<std::int32_t>(new_elem[static_cast<std::size_t>(old)]);
+        }
+    g.neighbour.swap(nb);
+    std::vector<std::uint32_t> curve;
+    gather(g.curve, perm, 1, curve);
+    std::vector<std::uint8_t> wall(nv);
+    for (std::size_t v = 0; v < nv; ++v) wall[new_id[v]] = g.wall[v];
+    g.wall.swap(wall);
+    for (auto& e : st.particles.elem) e = new_elem[e];
+    st.plan = plan_scatter(g, st.plan.strategy, st.plan.threads);
+    locate(st);
+}
+
+void renumber_active(State& st) {
+    const Grid& g = st.grid;
+    const std::size_t ne = g.elements(), nv = g.nodes();
+    std::vector<char> active(ne, 0);
+    for (std::uint32_t e : st.particles.elem) active[e] = 1;
+    std::vector<std::uint32_t> perm;
+    perm.reserve(ne);
+    for (std::size_t e = 0; e < ne; ++e)
+        if (active[e]) perm.push_back(static_cast<std::uint32_t>(e));
+    std::sort(perm.begin(), perm.end(), [&](std::uint32_t a, std::uint32_t b) { return g.curve[a] < g.curve[b]; });
+    for (std::size_t e = 0; e < ne; ++e)
+        if (!active[e]) perm.push_back(static_cast<std::uint32_t>(e));
+    // Nodes by first touch along the new element order.
+    constexpr std::uint32_t none = ~0u;
+    std::vector<std::uint32_t> new_id(nv, none);
+    std::uint32_t next = 0;
+    for (std::uint32_t e : perm)
+        for (int k = 0; k < 4; ++k) {
+            std::uint32_t& id = new_id[g.mesh.conn[4 * static_cast<std::size_t>(e) + k]];
+            if (id == none) id = next++;
+        }
+    for (auto& id : new_id)
+        if (id == none) id = next++;
+    permute(st, perm, new_id);
+}
+
+}  // namespace suite::mpm

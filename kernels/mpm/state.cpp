@@ -1,0 +1,172 @@
+// A simulation's state at time 0 (the checks of its settings, the particles seeded in the
+// material's region), the strategies' names, and the sums the checks read.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "harness/common/units.hpp"
+#include "kernels/mpm/mpm.hpp"
+
+namespace suite::mpm {
+
+void Particles::resize(std::size_t n) {
+    for (auto* v : {&x, &y, &z, &vx, &vy, &vz, &mass, &volume}) v->resize(n);
+    for (auto& s : stress) s.resize(n);
+    w.resize(4 * n);
+    elem.resize(n);
+    id.resize(n);
+}
+
+Strategy parse_strategy(const std::string& name) {
+    if (name == "serial") return Strategy::serial;
+    if (name == "atomic") return Strategy::atomic;
+    if (name == "colour") return Strategy::colour;
+    if (name == "partition") return Strategy::partition;
+    throw UsageError("unknown MPM strategy '" + name + "'; strategies: serial, atomic, colour, partition");
+}
+
+const char* strategy_name(Strategy s) {
+    switch (s) {
+        case Strategy::serial: return "serial";
+        case Strategy::atomic: return "atomic";
+        case Strategy::colour: return "colour";
+        case Strategy::partition: return "partition";
+    }
+    return "?";
+}
+
+ScatterPlan plan_scatter(const Grid& g, Strategy s, int threads) {
+    ScatterPlan plan;
+    plan.strategy = s;
+    plan.threads = s == Strategy::serial ? 1 : threads;
+    if (s == Strategy::colour) plan_colours(g, plan);
+    if (s == Strategy::partition) plan_partition(g, plan);
+    return plan;
+}
+
+namespace {
+
+// Barycentric coordinates of the seeding points of one element: the centroid for 1, the
+// 4-point Gauss rule for 4, otherwise the first n points of the R3 low-discrepancy sequence
+// folded from the unit cube into the tetrahedron (Rocchini and Cignoni's folds).
+std::vector<std::array<double, 4>> seed_points(int n) {
+    std::vector<std::array<double, 4>> out;
+    if (n == 1) return {{0.25, 0.25, 0.25, 0.25}};
+    if (n == 4) {
+        const double a = 0.5854101966249685, b = 0.1381966011250105;
+        return {{a, b, b, b}, {b, a, b, b}, {b, b, a, b}, {b, b, b, a}};
+    }
+    const double alpha[3] = {0.8191725133961645, 0.6710436067037893, 0.5497004779019703};
+    for (int k = 0; k < n; ++k) {
+        double s = std::fmod(0.5 + alpha[0] * (k + 1), 1.0), t = std::fmod(0.5 + alpha[1] * (k + 1), 1.0),
+               u = std::fmod(0.5 + alpha[2] * (k + 1), 1.0);
+        if (s + t > 1) {
+            s = 1 - s;
+            t = 1 - t;
+        }
+        if (t + u > 1) {
+            const double tmp = u;
+            u = 1 - s - t;
+            t = 1 - tmp;
+        } else if (s + t + u > 1) {
+            const double tmp = u;
+            u = s + t + u - 1;
+            s = 1 - t - tmp;
+        }
+        out.push_back({1 - s - t - u, s, t, u});
+    }
+    return out;
+}
+
+std::string triple(const double* v) { return format_number(v[0]) + "," + format_number(v[1]) + "," + format_number(v[2]); }
+
+void check_settings(const Grid& g, const Settings& s, bool force) {
+    const Material& m = s.material;
+    if (s.per_element < 1) throw UsageError("--ppe=" + std::to_string(s.per_element) + ": particles per element must be a whole number >= 1");
+    if (!(m.young > 0) || !std::isfinite(m.young)) throw UsageError("--young=" + format_number(m.young) + ": Young's modulus E must be > 0 (Pa)");
+    if (!(m.poisson > -1 && m.poisson < 0.5))
+        throw UsageError("--poisson=" + format_number(m.poisson) + ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+    if (!(m.density > 0) || !std::isfinite(m.density)) throw UsageError("--density=" + format_number(m.density) + ": the density must be > 0 (kg/m³)");
+    const Region& r = s.region;
+    for (int a = 0; a < 3; ++a)
+        if (!(r.lo[a] < r.hi[a]) || r.lo[a] < g.lo[a] - 1e-12 || r.hi[a] > g.hi[a] + 1e-12)
+            throw UsageError("the material's region [" + triple(r.lo) + "] to [" + triple(r.hi) + "] is not a box inside the grid's box [" +
+                             triple(g.lo) + "] to [" + triple(g.hi) + "]");
+    if (!(s.courant > 0) || (s.courant > 1 && !force))
+        throw UsageError("--courant=" + format_number(s.courant) + ": the Courant number must lie in (0, 1] (above 1 the step is unstable; --force runs it anyway)");
+    const double critical = critical_step(g, m);
+    if (s.dt < 0 || (s.dt > critical && !force))
+        throw UsageError("--dt=" + format_number(s.dt) + ": above the stable time step " + format_number(critical) +
+                         " s (smallest element altitude / elastic wave speed); give a smaller one, or --force to run it anyway");
+}
+
+}  // namespace
+
+State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force) {
+    check_settings(grid, s, force);
+    State st;
+    st.settings = s;
+    st.dt = s.dt > 0 ? s.dt : s.courant * critical_step(grid, s.material);
+    const mesh::Mesh& m = grid.mesh;
+    const std::size_t ne = grid.elements();
+    std::vector<std::uint32_t> chosen;
+    for (std::size_t e = 0; e < ne; ++e) {
+        const std::uint32_t* c = &m.conn[4 * e];
+        const double centre[3] = {(m.x[c[0]] + m.x[c[1]] + m.x[c[2]] + m.x[c[3]]) / 4, (m.y[c[0]] + m.y[c[1]] + m.y[c[2]] + m.y[c[3]]) / 4,
+                                  (m.z[c[0]] + m.z[c[1]] + m.z[c[2]] + m.z[c[3]]) / 4};
+        bool in = true;
+        for (int a = 0; a < 3; ++a) in = in && centre[a] >= s.region.lo[a] && centre[a] <= s.region.hi[a];
+        if (in) chosen.push_back(static_cast<std::uint32_t>(e));
+    }
+    if (chosen.empty())
+        throw UsageError("the material's region holds no element's centroid on this grid; make it larger or the grid finer");
+    const auto points = seed_points(s.per_element);
+    const std::size_t per = points.size();
+    Particles& pt = st.particles;
+    pt.resize(chosen.size() * per);
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < chosen.size(); ++k) {
+        const std::size_t e = chosen[k];
+        const std::uint32_t* c = &m.conn[4 * e];
+        const double volume = std::fabs(mesh::signed_measure(m.view(), e)) / 6 / static_cast<double>(per);
+        for (std::size_t j = 0; j < per; ++j) {
+            const std::size_t p = k * per + j;
+            const auto& l = points[j];
+            pt.x[p] = pt.y[p] = pt.z[p] = 0;
+            for (int i = 0; i < 4; ++i) {
+                pt.x[p] += l[i] * m.x[c[i]];
+                pt.y[p] += l[i] * m.y[c[i]];
+                pt.z[p] += l[i] * m.z[c[i]];
+                pt.w[4 * p + i] = l[i];
+            }
+            pt.vx[p] = pt.vy[p] = pt.vz[p] = 0;
+            pt.volume[p] = volume;
+            pt.mass[p] = volume * s.material.density;
+            for (auto& sg : pt.stress) sg[p] = 0;
+            pt.elem[p] = static_cast<std::uint32_t>(e);
+            pt.id[p] = static_cast<std::uint32_t>(p);
+        }
+    }
+    st.plan = plan_scatter(grid, strategy, threads);
+    st.grid = std::move(grid);
+    st.nodes.assign(st.grid.nodes(), NodeState{});
+    locate(st);
+    return st;
+}
+
+Totals totals(const Particles& p) {
+    Totals t;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double m = p.mass[i];
+        t.mass += m;
+        t.momentum[0] += m * p.vx[i];
+        t.momentum[1] += m * p.vy[i];
+        t.momentum[2] += m * p.vz[i];
+        t.kinetic += 0.5 * m * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
+    }
+    return t;
+}
+
+double front(const Particles& p) { return p.x.empty() ? 0 : *std::max_element(p.x.begin(), p.x.end()); }
+
+}  // namespace suite::mpm
