@@ -66,7 +66,7 @@ struct Particles {
     std::array<std::vector<double>, 6> stress;
     std::vector<double> w;              // 4 per particle: N_i at x_p in its element
     std::vector<std::uint32_t> elem;    // containing element
-    std::vector<std::uint32_t> id;      // the particle's number at creation, kept through sorting
+    std::vector<std::uint32_t> id;      // rank of its position at creation (any grid order gives the same ids); kept through sorting
     std::size_t size() const { return x.size(); }
     void resize(std::size_t n);
 };

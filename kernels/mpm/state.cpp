@@ -144,9 +144,19 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
             pt.mass[p] = volume * s.material.density;
             for (auto& sg : pt.stress) sg[p] = 0;
             pt.elem[p] = static_cast<std::uint32_t>(e);
-            pt.id[p] = static_cast<std::uint32_t>(p);
         }
     }
+    // Ids by position (x, then y, then z): the same particle gets the same id whatever the
+    // grid's ordering, since the seeding points are computed the same way in every ordering
+    // (corners keep their order within an element), so runs in different orders compare by id.
+    std::vector<std::uint32_t> rank(pt.size());
+    for (std::size_t p = 0; p < rank.size(); ++p) rank[p] = static_cast<std::uint32_t>(p);
+    std::sort(rank.begin(), rank.end(), [&](std::uint32_t a, std::uint32_t b) {
+        if (pt.x[a] != pt.x[b]) return pt.x[a] < pt.x[b];
+        if (pt.y[a] != pt.y[b]) return pt.y[a] < pt.y[b];
+        return pt.z[a] < pt.z[b];
+    });
+    for (std::size_t r = 0; r < rank.size(); ++r) pt.id[rank[r]] = static_cast<std::uint32_t>(r);
     st.plan = plan_scatter(grid, strategy, threads);
     st.grid = std::move(grid);
     st.nodes.assign(st.grid.nodes(), NodeState{});
