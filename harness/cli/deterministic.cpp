@@ -124,6 +124,7 @@ std::vector<std::string> inner_args(const RunOptions& o) {
     add("--mesh", o.mesh);
     add("--phase", o.phases);
     add("--strategy", o.strategies);
+    add("--particles", o.particles);
     add("--stores", o.stores);
     add("--size", o.size);
     add("--sizes", o.sizes);

@@ -49,8 +49,11 @@ std::vector<int> planned_cpus(const Topology& topo, const PinSpec& pin, int thre
     return order;
 }
 
-// "phases", "strategies".
-std::string plural(const std::string& noun) { return noun.back() == 'y' ? noun.substr(0, noun.size() - 1) + "ies" : noun + "s"; }
+// "phases", "strategies"; "particles" is its own plural ("kernels with particles").
+std::string plural(const std::string& noun) {
+    if (noun == "particles") return "particle orders";
+    return noun.back() == 'y' ? noun.substr(0, noun.size() - 1) + "ies" : noun + "s";
+}
 
 // The names a kernel's variant option (KernelInfo::variant_option) takes, each with the variant it
 // stands for: the variants other than "" and "nt", and for phases "all", the plain kernel.
@@ -97,7 +100,7 @@ Variants plan_variants(const KernelInfo& info, const std::string& stores_variant
             auto it = std::find_if(choices.begin(), choices.end(), [&](const auto& c) { return c.first == name; });
             if (it == choices.end()) {
                 std::string hint = nearest(name, first_of(choices));
-                throw UsageError("kernel '" + info.name + "' has no " + option + " '" + name + "'" +
+                throw UsageError("kernel '" + info.name + "' has no " + (option == "particles" ? "particle order" : option) + " '" + name + "'" +
                                  (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + plural(option) + ": " +
                                  join(first_of(choices), ", "));
             }
@@ -282,7 +285,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
             throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt, ", "));
         // --phase and --strategy pick variants of the kernels that have them; without, the
         // kernel's default variants run.
-        const Variants vs = plan_variants(info, variant, {{"phase", o.phases}, {"strategy", o.strategies}});
+        const Variants vs = plan_variants(info, variant, {{"phase", o.phases}, {"strategy", o.strategies}, {"particles", o.particles}});
         // A variant on one thread: refused when named with more threads asked for by --threads,
         // else planned for one thread only.
         if (vs.named && !o.threads.empty() && most_threads > 1)

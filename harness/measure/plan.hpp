@@ -23,6 +23,7 @@ struct RunOptions {
     std::string mesh;    // --mesh: the mesh of kernels on a mesh
     std::string phases;  // --phase: the phases of kernels that have them (their variants)
     std::string strategies;  // --strategy: the strategies of kernels that have them (their variants)
+    std::string particles;   // --particles: the particle orders of the MPM kernels (their variants)
     // --NAME=X for a parameter a kernel declares (KernelInfo::params): NAME -> X as typed.
     std::map<std::string, std::string> params;
     std::string stores = "default";

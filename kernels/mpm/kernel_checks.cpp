@@ -1,0 +1,161 @@
+#include "kernels/mpm/kernel_checks.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
+#include "harness/kernel/blocks.hpp"
+#include "kernels/mesh/mesh_spec.hpp"
+
+namespace suite::mpm {
+
+void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec) {
+    for (const char* name : {"ppe", "sort-every"}) {
+        if (!cfg.params.count(name)) continue;
+        const double v = cfg.param(name);
+        if (!(v >= 1) || v != std::floor(v) || v > 1e6)
+            throw UsageError("--" + std::string(name) + "=" + format_number(v) + " for " + kernel + ": a whole number from 1 to 1000000");
+    }
+    if (cfg.variant == "serial" && cfg.threads > 1)
+        throw UsageError(kernel + "'s serial strategy runs on one thread, not " + std::to_string(cfg.threads) + "; the parallel ones: atomic, colour, partition");
+    const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
+    if (c.dim != 3) throw UsageError("--mesh=" + spec + " for " + kernel + ": the MPM grid must be tetrahedral, e.g. box:24,24,24");
+    // The grid (shape, neighbours, keys while built), the particles at most per_element per
+    // element, twice over (verify's copies), and the mesh while it is loaded and ordered.
+    const std::uint64_t ne = c.elements, nv = c.vertices, np = ne * static_cast<std::uint64_t>(cfg.param("ppe"));
+    const std::uint64_t need = 2 * (ne * (128 + 16 + 16 + 4 + 16) + nv * (64 + 25) + np * 160) + ne * 40 + nv * 24 * 3;
+    const std::uint64_t have = available_memory_bytes(MemoryPolicy{});
+    if (need > have)
+        throw UsageError(kernel + " on --mesh=" + spec + " needs about " + format_bytes(need) + ", more than the " + format_bytes(have) +
+                         " of memory available; use a smaller grid");
+}
+
+namespace {
+
+std::string position_mismatch(const Particles& a, const Particles& b, double tol) {
+    if (a.size() != b.size()) return std::to_string(a.size()) + " particles against " + std::to_string(b.size());
+    std::vector<std::uint32_t> where(b.size());
+    for (std::size_t p = 0; p < b.size(); ++p) where[b.id[p]] = static_cast<std::uint32_t>(p);
+    double worst = 0;
+    std::uint32_t who = 0;
+    for (std::size_t p = 0; p < a.size(); ++p) {
+        const std::size_t q = where[a.id[p]];
+        const double d = std::max({std::fabs(a.x[p] - b.x[q]), std::fabs(a.y[p] - b.y[q]), std::fabs(a.z[p] - b.z[q])});
+        if (!(d <= worst)) worst = d, who = a.id[p];
+    }
+    if (worst <= tol) return "";
+    return "particle " + std::to_string(who) + " is " + format_number(worst) + " away from its reference position (more than " + format_number(tol) + ")";
+}
+
+}  // namespace
+
+std::string check_equivalence(const Setup& point) {
+    Setup mine = point, ref = point;
+    mine.sort_every = std::min(point.sort_every, 2);
+    ref.ordering = "natural";
+    ref.particles = "unsorted";
+    ref.strategy = Strategy::serial;
+    State a = build(mine), b = build(ref);
+    for (int k = 0; k < equivalence_steps; ++k) {
+        advance(a, mine);
+        advance(b, ref);
+    }
+    const std::string m = position_mismatch(a.particles, b.particles, 1e-10);
+    return m.empty() ? "" : "after " + std::to_string(equivalence_steps) + " steps, " + m;
+}
+
+std::string check_p2g_against_serial(State& st) {
+    std::vector<NodeState> mine = st.nodes;
+    const ScatterPlan plan = st.plan;
+    st.plan = plan_scatter(st.grid, Strategy::serial, 1);
+    p2g(st);
+    st.plan = plan;
+    std::swap(mine, st.nodes);  // st.nodes: the strategy's again; mine: the serial reference
+    double scale[3] = {0, 0, 0}, worst[3] = {0, 0, 0}, sum_m = 0;
+    for (std::uint32_t n = 0; n < st.node_hi; ++n) {
+        const double* r = &mine[n].m;
+        const double* s = &st.nodes[n].m;
+        for (int k = 0; k < 7; ++k) {
+            const int g = k == 0 ? 0 : k < 4 ? 1 : 2;
+            scale[g] = std::max(scale[g], std::fabs(r[k]));
+            worst[g] = std::max(worst[g], std::fabs(r[k] - s[k]));
+            if (!std::isfinite(s[k])) return "node " + std::to_string(n) + " holds a value that is not finite";
+        }
+        sum_m += s[0];
+    }
+    const char* names[3] = {"mass", "momentum", "force"};
+    for (int g = 0; g < 3; ++g)
+        if (worst[g] > 1e-12 * scale[g])
+            return std::string("nodal ") + names[g] + " differs from the serial P2G by " + format_number(worst[g]) + " (largest " + format_number(scale[g]) + ")";
+    const double m = totals(st.particles).mass;
+    if (std::fabs(sum_m - m) > 1e-12 * m) return "Σ m_n = " + format_number(sum_m) + " but Σ m_p = " + format_number(m);
+    return "";
+}
+
+std::string check_g2p_replay(const State& start, const State& now, long calls) {
+    State r = start;
+    for (long c = 0; c < calls; ++c) g2p(r);
+    const Particles& a = r.particles;
+    const Particles& b = now.particles;
+    for (std::size_t p = 0; p < a.size(); ++p)
+        if (a.x[p] != b.x[p] || a.y[p] != b.y[p] || a.z[p] != b.z[p] || a.vx[p] != b.vx[p] || a.vy[p] != b.vy[p] || a.vz[p] != b.vz[p])
+            return "particle " + std::to_string(p) + " differs from the serial replay";
+    return "";
+}
+
+double mass_by_id(const Particles& p) {
+    std::vector<double> m(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) m[p.id[i]] = p.mass[i];
+    double s = 0;
+    for (double v : m) s += v;
+    return s;
+}
+
+std::string check_state(State& st, double mass) {
+    const Particles& p = st.particles;
+    const Grid& g = st.grid;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double pos[3] = {p.x[i], p.y[i], p.z[i]};
+        for (int a = 0; a < 3; ++a)
+            if (!(pos[a] >= g.lo[a] && pos[a] <= g.hi[a])) return "particle " + std::to_string(p.id[i]) + " is outside the box (or not finite)";
+        if (!std::isfinite(p.vx[i] + p.vy[i] + p.vz[i])) return "particle " + std::to_string(p.id[i]) + " has a velocity that is not finite";
+        double ws = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!(p.w[4 * i + k] >= 0)) return "particle " + std::to_string(p.id[i]) + " has a negative shape function value";
+            ws += p.w[4 * i + k];
+        }
+        if (std::fabs(ws - 1) > 1e-12) return "particle " + std::to_string(p.id[i]) + "'s shape functions sum to " + format_number(ws);
+    }
+    const double now = mass_by_id(p);
+    if (now != mass) return "the particles' mass is " + format_number(now) + ", not the " + format_number(mass) + " they started with";
+    p2g(st);
+    double sum_m = 0;
+    for (std::uint32_t n = 0; n < st.node_hi; ++n) sum_m += st.nodes[n].m;
+    if (std::fabs(sum_m - mass) > 1e-12 * mass) return "Σ m_n = " + format_number(sum_m) + " but Σ m_p = " + format_number(mass);
+    return "";
+}
+
+std::uint64_t atomic_conflicts(const State& st) {
+    const int nt = st.plan.threads;
+    const std::int64_t np = static_cast<std::int64_t>(st.particles.size());
+    std::vector<std::uint64_t> mask(st.grid.nodes(), 0);
+    auto corners = [&](std::int64_t p) { return &st.grid.mesh.conn[4 * static_cast<std::size_t>(st.particles.elem[p])]; };
+    for (int t = 0; t < nt; ++t) {
+        const Block b = static_block(np, t, nt);
+        for (std::int64_t p = b.lo; p < b.hi; ++p)
+            for (int i = 0; i < 4; ++i) mask[corners(p)[i]] |= 1ULL << (t % 64);
+    }
+    std::uint64_t n = 0;
+    for (std::int64_t p = 0; p < np; ++p)
+        for (int i = 0; i < 4; ++i) n += std::popcount(mask[corners(p)[i]]) > 1 ? 1 : 0;
+    return n;
+}
+
+std::uint64_t footprint(const State& st) {
+    const std::uint64_t ne = st.grid.elements(), nv = st.grid.nodes(), np = st.particles.size();
+    return np * (8 * 18 + 8) + ne * (16 * 8 + 16 + 16 + 4) + nv * (sizeof(NodeState) + 24 + 1);
+}
+
+}  // namespace suite::mpm

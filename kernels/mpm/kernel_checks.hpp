@@ -1,0 +1,42 @@
+#pragma once
+// What the MPM kernels check about their points (validate), their results (verify) and report
+// (facts, footprint); apart from the kernels so that mpm_kernels.cpp stays the measured loops.
+#include <cstdint>
+#include <string>
+
+#include "harness/kernel/kernel.hpp"
+#include "kernels/mpm/mpm.hpp"
+
+namespace suite::mpm {
+
+// Throws UsageError for a grid spec that is not tetrahedral, --ppe or --sort-every that is not a
+// whole number >= 1, the serial strategy on more than one thread, or more memory than there is.
+void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec);
+
+// The steps check_equivalence runs: the point's setup (reordering every 2 steps) and the
+// reference (natural grid, unsorted particles, serial scatters), each from the start.
+constexpr int equivalence_steps = 5;
+// "" when every particle's position agrees to 1e-10 (the box is 1 long), else the worst one.
+std::string check_equivalence(const Setup& point);
+
+// "" when a serial P2G of the state's particles gives the nodes the state's strategy gave
+// (1e-12 of each quantity's largest magnitude) and Σ m_n = Σ m_p (1e-12 relative).
+std::string check_p2g_against_serial(State& st);
+
+// "" when `calls` g2p calls from `start` give exactly the velocities and positions of `now`.
+std::string check_g2p_replay(const State& start, const State& now, long calls);
+
+// "" when every particle is finite, inside the box and located (w >= 0, Σ w = 1), the mass
+// (summed in id order) equals `mass`, and a fresh P2G's nodal masses sum to it (1e-12).
+std::string check_state(State& st, double mass);
+
+// Σ m_p in the order of the particles' ids (the same sum whatever order they are stored in).
+double mass_by_id(const Particles& p);
+
+// Node updates of a P2G whose node another thread's block of particles also updates (what the
+// atomic strategy synchronises for nothing when that count is 0).
+std::uint64_t atomic_conflicts(const State& st);
+
+std::uint64_t footprint(const State& st);
+
+}  // namespace suite::mpm

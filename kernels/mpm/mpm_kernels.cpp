@@ -1,0 +1,206 @@
+// mpm-p2g, mpm-g2p, mpm-step: the explicit MPM of mpm.hpp on the dam collapse (a column of
+// 0.4 x 0.4 x 0.8 in the corner of the unit box, E = 1e5 Pa, ν = 0.3, ρ = 1000 kg/m³, --ppe
+// particles per element), the grid in the point's --ordering, after a few untimed steps.
+// One repetition:
+//   mpm-p2g   nodes zeroed; for p, corner i of elem[p]:
+//               m_n += w_i m_p;  p_n += w_i m_p v_p;  f_n += w_i m_p g - V_p σ_p ∇N_i
+//             --strategy: serial, atomic, colour, partition (particles sorted along the curve)
+//   mpm-g2p   for p: v_p += dt Σ_i w_i f_n / m_n;  x_p += dt Σ_i w_i p_n / m_n
+//             --particles: unsorted, sorted, dynamic
+//   mpm-step  K = --sort-every whole steps (locate, P2G, grid, G2P, velocity scatter, stress),
+//             then the reordering that falls due; --particles: unsorted, sorted, dynamic; the
+//             scatters serial on one thread, partition on more
+// Rates count particles (particle-steps for mpm-step). Bytes follow the STREAM convention for
+// the particle arrays only: what the nodes cost depends on the order, which is the question.
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "harness/common/units.hpp"
+#include "harness/kernel/kernel.hpp"
+#include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mpm/kernel_checks.hpp"
+#include "kernels/mpm/mpm.hpp"
+
+namespace suite::mpm {
+
+namespace {
+
+enum class Phase { p2g, g2p, step };
+
+// Bytes of particle arrays per particle, by pass (mpm.hpp's loops; w is 32 B, stress 48 B).
+constexpr double p2g_bytes = 32 + 4 + 8 + 8 + 24 + 48;                  // w, elem, m, V, v, σ
+constexpr double g2p_bytes = 4 + 32 + 24 + 24 + 24 + 24;                // elem, w, v, x read; v, x written
+constexpr double step_bytes = p2g_bytes + g2p_bytes + (32 + 8 + 24 + 4)  // the velocity scatter
+                              + (4 + 56 + 56)                           // stress and volume, read and written
+                              + (24 + 4 + 32 + 4);                      // locate: x, elem read; w, elem written
+constexpr int warm_steps = 5;  // untimed steps before the first repetition: velocities and stresses not zero
+
+std::string box_spec_for(std::uint64_t elements) {
+    const auto n = static_cast<std::uint64_t>(std::ceil(std::cbrt(static_cast<double>(elements) / 6.0)));
+    const std::string k = std::to_string(std::max<std::uint64_t>(n, 2));
+    return "box:" + k + "," + k + "," + k;
+}
+
+class MpmKernel final : public Kernel {
+public:
+    MpmKernel(const KernelConfig& cfg, Phase phase) : cfg_(cfg), phase_(phase) {
+        setup_.mesh = cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh;
+        setup_.ordering = cfg.access.name;
+        setup_.particles = phase == Phase::p2g ? "sorted" : cfg.variant;
+        setup_.sort_every = phase == Phase::step ? static_cast<int>(cfg.param("sort-every")) : 0;
+        setup_.settings.per_element = static_cast<int>(cfg.param("ppe"));
+        setup_.strategy = phase == Phase::p2g ? parse_strategy(cfg.variant) : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
+        setup_.threads = cfg.threads;
+        setup_.seed = cfg.seed;
+    }
+
+    void setup(Arena&) override {
+        st_ = std::make_unique<State>(build(setup_));
+        // The reordering schedule runs from the start; the untimed steps reach a state
+        // with motion and stress, and leave it as the point's particle order has it.
+        for (int k = 0; k < warm_steps; ++k) step(*st_);
+        if (setup_.particles != "unsorted") sort_particles(*st_);
+        if (phase_ == Phase::step) equivalence_ = check_equivalence(setup_);
+        if (phase_ == Phase::g2p) {
+            p2g(*st_);
+            update_grid(*st_);
+            start_ = std::make_unique<State>(*st_);
+        }
+        mass_ = mass_by_id(st_->particles);
+        calls_ = 0;
+    }
+
+    void run(int calls) override {
+        State& st = *st_;
+        for (int c = 0; c < calls; ++c) {
+            switch (phase_) {
+                case Phase::p2g: p2g(st); break;
+                case Phase::g2p: g2p(st); break;
+                case Phase::step:
+                    for (int k = 0; k < steps_per_call(); ++k) advance(st, setup_);
+                    break;
+            }
+        }
+        calls_ += calls;
+    }
+
+    Verification verify() override {
+        std::string failed, what;
+        switch (phase_) {
+            case Phase::p2g:
+                what = "nodal m, p, f equal a serial P2G of the same particles (1e-12 of the largest), Σ m_n = Σ m_p";
+                failed = check_p2g_against_serial(*st_);
+                break;
+            case Phase::g2p:
+                what = "velocities and positions equal a serial replay of the " + std::to_string(calls_) + " calls exactly";
+                failed = check_g2p_replay(*start_, *st_, calls_);
+                break;
+            case Phase::step:
+                what = "the first " + std::to_string(equivalence_steps) + " steps equal natural order, serial, unsorted (1e-10); after " +
+                       std::to_string(st_->steps) + " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
+                failed = equivalence_;
+                if (failed.empty()) failed = check_state(*st_, mass_);
+                break;
+        }
+        Verification v;
+        v.passed = failed.empty();
+        v.detail = describe() + (failed.empty() ? what : "FAILED: " + failed);
+        return v;
+    }
+
+    std::vector<Fact> facts() const override {
+        std::vector<Fact> f{{"particles", static_cast<double>(st_->particles.size()), ""}, {"dt", st_->dt, "s"}};
+        if (phase_ == Phase::step) {
+            f.push_back({"simulated", st_->time, "s"});
+            f.push_back({"clamped", static_cast<double>(st_->clamped), "particle positions"});
+        }
+        if (phase_ == Phase::p2g) {
+            const Strategy s = st_->plan.strategy;
+            f.push_back({"synchronised", static_cast<double>(s == Strategy::atomic ? atomic_conflicts(*st_) : st_->plan.synchronised), "node updates"});
+            if (s == Strategy::colour) f.push_back({"colours", static_cast<double>(st_->plan.colours()), "barriers"});
+            if (s == Strategy::partition) f.push_back({"shared-nodes", static_cast<double>(st_->plan.shared_nodes), "nodes"});
+        }
+        return f;
+    }
+
+    Work work() const override {
+        const double np = static_cast<double>(st_->particles.size());
+        Work w;
+        switch (phase_) {
+            case Phase::p2g: w.units = np, w.stream_bytes = np * p2g_bytes; break;
+            case Phase::g2p: w.units = np, w.stream_bytes = np * g2p_bytes; break;
+            case Phase::step: w.units = np * steps_per_call(), w.stream_bytes = np * steps_per_call() * step_bytes; break;
+        }
+        w.hardware_bytes = w.stream_bytes;
+        w.footprint_bytes = footprint(*st_);
+        return w;
+    }
+
+private:
+    int steps_per_call() const { return std::max(setup_.sort_every, 1); }
+    std::string describe() const {
+        return "box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " + std::to_string(st_->particles.size()) +
+               " particles), " + setup_.ordering + ", particles " + setup_.particles + ", " + strategy_name(st_->plan.strategy) + ": ";
+    }
+
+    KernelConfig cfg_;
+    Phase phase_;
+    Setup setup_;
+    std::unique_ptr<State> st_, start_;
+    std::string equivalence_;
+    double mass_ = 0;
+    long calls_ = 0;
+};
+
+std::uint64_t mesh_elements(const std::string& spec) {
+    const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
+    if (c.dim != 3) throw UsageError("--mesh=" + spec + ": the MPM kernels need a tetrahedral grid, e.g. box:24,24,24");
+    return c.elements;
+}
+
+void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
+    KernelEntry e;
+    e.info.name = name;
+    e.info.group = "mpm";
+    e.info.formula = formula;
+    e.info.unit = phase == Phase::step ? "particle-step" : "particle";
+    e.info.axis = AccessAxis::ordering;
+    e.info.accesses = {"natural", "random", "morton", "hilbert"};
+    if (phase == Phase::p2g) {
+        e.info.variants = {"serial", "atomic", "colour", "partition"};
+        e.info.variant_option = "strategy";
+        e.info.default_variants = e.info.variants;
+        e.info.single_thread_variants = {"serial"};
+    } else {
+        e.info.variants = {"unsorted", "sorted", "dynamic"};
+        e.info.variant_option = "particles";
+        e.info.default_variants = {"unsorted", "sorted", "dynamic"};
+    }
+    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"}};
+    if (phase == Phase::step)
+        e.info.params.push_back({"sort-every", 20, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
+    e.info.size_kind = SizeKind::count;
+    e.info.read_bytes_per_unit = phase == Phase::p2g ? p2g_bytes : phase == Phase::g2p ? 4 + 32 + 24 + 24 : step_bytes;
+    e.info.notes = notes;
+    e.mesh_elements = mesh_elements;
+    e.default_meshes = {"box:24,24,24"};
+    e.test_size = 6 * 5 * 5 * 5;
+    e.make = [phase](const KernelConfig& cfg) { return std::make_unique<MpmKernel>(cfg, phase); };
+    e.validate = [name](const KernelConfig& cfg) { validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh); };
+    register_kernel(std::move(e));
+}
+
+const bool registered = [] {
+    add("mpm-p2g", Phase::p2g, "m_n += w m_p; p_n += w m_p v_p; f_n += w m_p g - V_p σ_p ∇N_i",
+        "MPM particle-to-grid scatter; --strategy=serial,atomic,colour,partition (default all; serial on one thread)");
+    add("mpm-g2p", Phase::g2p, "v_p += dt Σ w f_n / m_n; x_p += dt Σ w p_n / m_n",
+        "MPM grid-to-particle update; --particles=unsorted,sorted,dynamic (default all)");
+    add("mpm-step", Phase::step, "K whole USL steps (locate, P2G, grid, G2P, velocity, stress), then the reordering due",
+        "explicit MPM dam collapse, --sort-every=K steps a repetition; --particles=unsorted,sorted,dynamic (default all)");
+    return true;
+}();
+
+}  // namespace
+
+}  // namespace suite::mpm
