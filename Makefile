@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem
+.PHONY: all deps run-deps test-deps configure build run plots test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -88,6 +88,10 @@ bench-spmv: bench-deps build
 # file's order, simulated misses; to results/bench/fem_orderings.{json,md}. BENCH_FLAGS=--quick.
 bench-fem: build
 	/usr/bin/python3 bench/fem_orderings.py --out results/bench $(BENCH_FLAGS)
+
+# The MPM kernels by particle and grid order (about 15 minutes): results/bench/mpm_orders.{json,md}.
+bench-mpm: build
+	/usr/bin/python3 bench/mpm_orders.py --out results/bench $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(BUILD) build-sanitize suite
