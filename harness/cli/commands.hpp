@@ -27,5 +27,7 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
 int cmd_traverse(const std::vector<std::string>& args);
 // `suite matrix --mesh=... [--out=DIR]`: the fem matrix's structure, fill and SpMV per vertex ordering (matrix.cpp).
 int cmd_matrix(const std::vector<std::string>& args);
+// `suite mpm --case=dam-collapse --out=DIR`: the MPM dam collapse, particle snapshots and the front (mpm.cpp); 0, 1 a check failed.
+int cmd_mpm(const std::vector<std::string>& args);
 
 }  // namespace suite

@@ -35,9 +35,10 @@ int main(int argc, char** argv) {
         if (command == "deterministic") return cmd_deterministic(args, all);
         if (command == "traverse") return cmd_traverse(args);
         if (command == "matrix") return cmd_matrix(args);
-        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "history", "deterministic", "traverse", "matrix"});
+        if (command == "mpm") return cmd_mpm(args);
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "history", "deterministic", "traverse", "matrix", "mpm"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info, compare, check, history, deterministic, traverse, matrix (see ./suite --help)");
+                         "; commands: run, list, info, compare, check, history, deterministic, traverse, matrix, mpm (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();

@@ -1,0 +1,258 @@
+// `suite mpm`: the explicit Material Point Method of kernels/mpm run as a simulation, the dam
+// collapse: a column of elastic material in the corner of the unit box falls and spreads under
+// gravity. Every option is checked (and the state built, which checks the library's own limits)
+// before anything is written; then the steps, with their checks (mpm_simulate.cpp), and into
+// --out=DIR the particle snapshots (.vtu and a .pvd), front.csv, mpm.json and front.png
+// (plots/mpm_front.py; mpm_report.cpp renders the numbers).
+#include <omp.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "harness/cli/commands.hpp"
+#include "harness/cli/mpm_report.hpp"
+#include "harness/cli/mpm_simulate.hpp"
+#include "harness/cli/parse.hpp"
+#include "harness/cli/plotter.hpp"
+#include "harness/common/output_file.hpp"
+#include "harness/common/units.hpp"
+#include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mpm/mpm.hpp"
+#include "kernels/mpm/vtk.hpp"
+
+namespace suite {
+
+// Names in this file carry an mpm_ prefix: harness/cli compiles as one unit (CMakeLists.txt).
+namespace {
+
+const char* const mpm_footer = R"(
+The dam collapse: the material fills [0,X]x[0,Y]x[0,Z] (--column) in the corner at the origin
+of the grid's box (box:NX,NY,NZ is the unit cube), at rest and unstressed, and falls under gravity (9.81 m/s² down z); the box's faces
+are slip walls. Explicit MPM, update stress last, linear tetrahedra, linear elasticity with the
+Jaumann rate (kernels/mpm/mpm.hpp). dt is --courant times the stable step (the smallest element
+altitude over the elastic wave speed) unless --dt gives one; a dt above the stable step is
+refused without --force. The front is the largest x of any particle.
+
+After every step each particle's position and velocity must be finite and inside the box; at
+the end each particle's mass must be its initial one exactly, and a P2G of the final particles
+must put their total mass on the nodes to 1e-12. The first check that fails stops the run.
+
+Examples:
+  ./suite mpm --case=dam-collapse --steps=1000 --vtk-every=50 --out=dam
+  ./suite mpm --mesh=box:8,8,8 --steps=200 --vtk-every=20 --out=small        # a quick look
+  ./suite mpm --mesh=box:24,24,24 --ordering=hilbert --particles=dynamic --threads=2 --out=dam24
+  ./suite mpm --young=2e5 --poisson=0.25 --column=0.3,1,0.6 --steps=2000 --vtk-every=100 --out=wall
+  ./suite mpm --mesh=box:16,16,16 --steps=500 --dry-run                       # the counts and dt, nothing written
+
+In DIR: particles_SSSSSS.vtu (the particles after SSSSSS steps: at 0, every --vtk-every steps
+and after the last; point data id, velocity, stress xx yy zz xy yz zx, volume, mass; base64
+binary) and particles.pvd (them with their times, for ParaView), front.csv (step, time, front,
+kinetic energy), mpm.json (settings, counts, checks, timing), front.png (front against time).
+A progress line goes to stderr (rewritten in place on a terminal, else a line every 10 %).
+
+Exit status: 0 ok; 1 a check failed (a NaN or infinite position or velocity, a particle outside
+the box, mass not conserved) or a file could not be written; 2 bad usage (one line on stderr,
+nothing written); 130/143 interrupted (the files of the steps done are written, mpm.json says
+"complete": false).
+)";
+
+struct MpmOptions {
+    std::string case_name = "dam-collapse";
+    std::string mesh = "box:16,16,16";
+    std::string ordering = "natural";
+    std::string particles = "unsorted";
+    int sort_every = 20;
+    std::string strategy;  // "": serial for 1 thread, partition for more
+    int threads = 1;
+    int ppe = 4;
+    std::string young = "1e5", poisson = "0.3", density = "1000";
+    std::string column = "0.4,0.4,0.8";
+    std::string courant = "0.8", dt = "0";
+    bool force = false;
+    std::uint64_t seed = 1;
+    std::uint64_t steps = 1000, vtk_every = 50;
+    std::string out;
+    bool no_png = false, dry_run = false, quiet = false;
+};
+
+// --column=X,Y,Z: three finite numbers > 0.
+void mpm_parse_column(const std::string& text, double* hi) {
+    const std::vector<std::string> parts = split(text, ',');
+    bool ok = parts.size() == 3;
+    for (std::size_t a = 0; ok && a < 3; ++a) {
+        try {
+            hi[a] = parse_finite(parts[a], "--column");
+            ok = hi[a] > 0;
+        } catch (const UsageError&) {
+            ok = false;
+        }
+    }
+    if (!ok)
+        throw UsageError("--column=" + text + ": the material's region [0,X]x[0,Y]x[0,Z] is three finite numbers X,Y,Z > 0 in metres, e.g. 0.4,0.4,0.8 (the default)");
+}
+
+// The setup the options ask for, every number checked.
+mpm::Setup mpm_setup(const MpmOptions& o) {
+    if (o.case_name != "dam-collapse") throw UsageError("--case=" + o.case_name + ": the one case is dam-collapse");
+    require_known({o.ordering}, {"natural", "random", "morton", "hilbert"}, "grid ordering");
+    require_known({o.particles}, {"unsorted", "sorted", "dynamic"}, "particle order");
+    mpm::Setup s;
+    s.mesh = o.mesh;
+    s.ordering = o.ordering;
+    s.particles = o.particles;
+    s.sort_every = o.sort_every;
+    s.threads = o.threads;
+    s.seed = o.seed;
+    s.force = o.force;
+    const std::string strategy = o.strategy.empty() ? (o.threads == 1 ? "serial" : "partition") : o.strategy;
+    require_known({strategy}, {"serial", "atomic", "colour", "partition"}, "strategy");
+    s.strategy = mpm::parse_strategy(strategy);
+    if (s.strategy == mpm::Strategy::partition && o.threads > 64)
+        throw UsageError("--threads=" + std::to_string(o.threads) + ": the partition strategy" + (o.strategy.empty() ? " (the default for more than one thread)" : "") +
+                         " takes at most 64 threads (one bit each per node); give --strategy=atomic or colour, or fewer threads");
+    mpm::Settings& m = s.settings;
+    m.per_element = o.ppe;
+    m.material.young = parse_finite(o.young, "--young");
+    m.material.poisson = parse_finite(o.poisson, "--poisson");
+    m.material.density = parse_finite(o.density, "--density");
+    mpm_parse_column(o.column, m.region.hi);
+    m.courant = parse_finite(o.courant, "--courant");
+    m.dt = parse_finite(o.dt, "--dt");
+    if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
+    return s;
+}
+
+// build(), with the region's messages named after the option that sets it.
+mpm::State mpm_build(const mpm::Setup& s, const MpmOptions& o) {
+    try {
+        return mpm::build(s);
+    } catch (const UsageError& e) {
+        const std::string what = e.what();
+        if (what.rfind("the material's region", 0) == 0) throw UsageError("--column=" + o.column + ": " + what);
+        throw;
+    }
+}
+
+nlohmann::json mpm_options_json(const MpmOptions& o, const mpm::Setup& s) {
+    const mpm::Settings& m = s.settings;
+    return {{"case", o.case_name},
+            {"mesh", s.mesh},
+            {"ordering", s.ordering},
+            {"particles", s.particles},
+            {"sort_every", s.sort_every},
+            {"strategy", mpm::strategy_name(s.strategy)},
+            {"threads", s.threads},
+            {"ppe", m.per_element},
+            {"young", m.material.young},
+            {"poisson", m.material.poisson},
+            {"density", m.material.density},
+            {"column", {m.region.hi[0], m.region.hi[1], m.region.hi[2]}},
+            {"gravity", {m.gravity[0], m.gravity[1], m.gravity[2]}},
+            {"courant", m.courant},
+            {"dt_given", m.dt},
+            {"force", s.force},
+            {"seed", s.seed},
+            {"steps", o.steps},
+            {"vtk_every", o.vtk_every}};
+}
+
+// How many snapshots a run of `steps` writes: step 0, every `every`, and the last.
+std::uint64_t mpm_snapshot_count(std::uint64_t steps, std::uint64_t every) {
+    if (every == 0) return 0;
+    return 1 + steps / every + (steps % every != 0 ? 1 : 0);
+}
+
+}  // namespace
+
+int cmd_mpm(const std::vector<std::string>& args) {
+    CLI::App app{"suite mpm: the Material Point Method's dam collapse, with particle snapshots for ParaView and the front against time"};
+    app.footer(mpm_footer);
+    app.get_formatter()->column_width(30);
+    MpmOptions o;
+    app.add_option("--case", o.case_name, "the simulation: dam-collapse (the one case)");
+    app.add_option("--mesh", o.mesh, "the background grid, tetrahedra: box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default box:16,16,16)");
+    app.add_option("--ordering", o.ordering, "the grid's element and node order, applied once: natural, random, morton, hilbert (default natural)");
+    app.add_option("--particles", o.particles,
+                   "the particles' order: unsorted (shuffled once), sorted (along the curve every --sort-every steps), dynamic (sorted, "
+                   "and the grid renumbered active elements first) (default unsorted)");
+    add_whole_option(app, "--sort-every", o.sort_every, 0, 1000000000, "steps between reorderings; 0: at the start only (default 20)");
+    app.add_option("--strategy", o.strategy,
+                   "how threads share the scatters to nodes: serial, atomic, colour, partition (default serial for 1 thread, partition for more)");
+    add_whole_option(app, "--threads,-t", o.threads, 1, 1024, "OpenMP threads, 1 to 1024 (default 1)");
+    add_whole_option(app, "--ppe", o.ppe, 1, 1000, "particles seeded in each element of the column, 1 to 1000 (default 4)");
+    app.add_option("--young", o.young, "Young's modulus E in Pa, > 0 (default 1e5)");
+    app.add_option("--poisson", o.poisson, "Poisson's ratio ν, in (-1, 0.5) (default 0.3)");
+    app.add_option("--density", o.density, "density ρ in kg/m³, > 0 (default 1000)");
+    app.add_option("--column", o.column, "X,Y,Z: the material fills [0,X]x[0,Y]x[0,Z], inside the box (default 0.4,0.4,0.8)");
+    app.add_option("--courant", o.courant, "dt as a fraction of the stable step, in (0, 1] (default 0.8)");
+    app.add_option("--dt", o.dt, "the time step in s, at most the stable one; 0: from --courant (default 0)");
+    app.add_flag("--force", o.force, "run a dt or Courant number above the stable step anyway");
+    add_seed_option(app, o.seed, "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
+    add_whole_option(app, "--steps", o.steps, 0, 1000000000, "time steps, 0 to 10^9 (default 1000)");
+    add_whole_option(app, "--vtk-every", o.vtk_every, 0, 1000000000, "steps between particle snapshots; 0: none (default 50)");
+    app.add_option("--out,-o", o.out, "directory for the snapshots, front.csv, mpm.json and front.png (created if missing; required unless --dry-run)");
+    app.add_flag("--no-png", o.no_png, "do not draw front.png");
+    app.add_flag("--dry-run", o.dry_run, "check everything (the grid and particles are built), say what would run, write nothing");
+    app.add_flag("--quiet,-q", o.quiet, "no progress line and no summary on the console");
+    if (!parse_command_line(app, "suite mpm", args)) return 0;
+
+    // Everything is checked, and the state built, before any file or directory is made.
+    const mpm::Setup setup = mpm_setup(o);
+    if (o.out.empty() && !o.dry_run) throw UsageError("suite mpm needs --out=DIR, the directory for its snapshots, front.csv, mpm.json and front.png (or --dry-run)");
+    if (!o.out.empty()) OutputDir::check(o.out, "--out");
+    const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
+    const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
+    omp_set_num_threads(o.threads);
+    mpm::State st = mpm_build(setup, o);
+    const double stable = mpm::critical_step(st.grid, st.settings.material);
+    const std::uint64_t snapshots = mpm_snapshot_count(o.steps, o.vtk_every);
+    if (o.dry_run) {
+        std::printf("dam-collapse on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t = %.4g s; "
+                    "%s grid, %s particles, %s scatter, %d thread(s)\n",
+                    o.mesh.c_str(), st.particles.size(), st.grid.elements(), st.grid.nodes(), st.dt, st.dt / stable, stable,
+                    static_cast<unsigned long long>(o.steps), st.dt * static_cast<double>(o.steps), setup.ordering.c_str(), setup.particles.c_str(),
+                    mpm::strategy_name(setup.strategy), setup.threads);
+        if (o.out.empty()) std::printf("no --out: nothing would be written\n");
+        else
+            std::printf("into %s: %llu snapshot(s) particles_SSSSSS.vtu%s, front.csv, mpm.json%s\n", o.out.c_str(), static_cast<unsigned long long>(snapshots),
+                        snapshots ? " and particles.pvd" : "", o.no_png ? "" : ", front.png");
+        return 0;
+    }
+    const OutputDir out = OutputDir::claim(o.out, "--out", inputs);
+
+    MpmRunSettings run;
+    run.steps = o.steps;
+    run.vtk_every = o.vtk_every;
+    run.quiet = o.quiet;
+    const MpmOutcome r = mpm_simulate(st, setup, run, out);
+    out.write("front.csv", mpm_front_csv(r));
+    if (!r.snapshots.empty()) out.write("particles.pvd", mpm::collection_pvd(r.snapshots));
+    MpmReportInput report{st, setup, run, r, mpm_options_json(o, setup), stable, "--no-png"};
+    out.write("mpm.json", mpm_summary_json(report).dump(1) + "\n");
+    if (!o.no_png) {
+        const Plotter p = find_plotter("mpm_front.py");
+        report.png = p.reason.empty() ? draw(p, o.out) : p.reason;
+        if (!report.png.empty()) std::cerr << "suite: note: no front.png: " << report.png << "\n";
+        out.write("mpm.json", mpm_summary_json(report).dump(1) + "\n");
+    }
+    if (!o.quiet) {
+        std::printf("%s", mpm_summary_text(report).c_str());
+        std::printf("wrote %s (%zu snapshot(s)%s, front.csv, mpm.json%s)\n", o.out.c_str(), r.snapshots.size(), r.snapshots.empty() ? "" : " and particles.pvd",
+                    report.png.empty() ? ", front.png" : "");
+    }
+    std::fflush(stdout);
+    if (!r.passed()) {
+        std::cerr << "suite: error: mpm check failed: " << r.failure << "\n";
+        return 1;
+    }
+    if (r.signal) {
+        std::cerr << "suite: interrupted by signal " << r.signal << " after " << r.steps_done << " of " << o.steps << " step(s)\n";
+        return 128 + r.signal;
+    }
+    return 0;
+}
+
+}  // namespace suite

@@ -1,0 +1,115 @@
+#include "harness/cli/mpm_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "harness/common/units.hpp"
+
+namespace suite {
+
+namespace {
+
+std::string mpm_fmt(const char* f, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+double mpm_rate(const MpmReportInput& in) {
+    const MpmOutcome& r = in.outcome;
+    return r.stepping_s > 0 ? static_cast<double>(in.st.particles.size()) * static_cast<double>(r.steps_done) / r.stepping_s : 0;
+}
+
+}  // namespace
+
+std::string mpm_front_csv(const MpmOutcome& r) {
+    std::string out = "step,time,front,kinetic_energy\n";
+    char line[128];
+    for (const auto& row : r.rows) {
+        std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(row.step), row.time, row.front, row.kinetic);
+        out += line;
+    }
+    return out;
+}
+
+nlohmann::json mpm_summary_json(const MpmReportInput& in) {
+    const MpmOutcome& r = in.outcome;
+    const mpm::State& st = in.st;
+    const double rate = mpm_rate(in);
+    nlohmann::json checks = nlohmann::json::array();
+    for (const auto& c : r.checks) checks.push_back({{"check", c.name}, {"passed", c.passed}, {"detail", c.detail}});
+    nlohmann::json snapshots = nlohmann::json::array();
+    for (std::size_t i = 0; i < r.snapshots.size(); ++i)
+        snapshots.push_back({{"file", r.snapshots[i].file}, {"step", r.snapshot_steps[i]}, {"time", r.snapshots[i].time}});
+    nlohmann::json doc = {
+        {"command", "suite mpm"},
+        {"settings", in.options},
+        {"complete", r.signal == 0 && r.passed() && r.steps_done == in.run.steps},
+        {"counts", {{"particles", st.particles.size()}, {"elements", st.grid.elements()}, {"nodes", st.grid.nodes()}}},
+        {"dt", st.dt},
+        {"stable_dt", in.stable_dt},
+        {"wave_speed", st.settings.material.wave_speed()},
+        {"steps", r.steps_done},
+        {"steps_asked", in.run.steps},
+        {"simulated_time", st.time},
+        {"timing",
+         {{"wall_seconds", r.wall_s},
+          {"stepping_seconds", r.stepping_s},
+          {"particle_steps_per_second", rate},
+          {"particle_steps_per_second_per_thread", rate / in.setup.threads},
+          {"threads", in.setup.threads},
+          {"detail", "stepping: mpm::advance alone (the steps and the reorderings due); wall: the loop with the checks, snapshots and progress"}}},
+        {"front",
+         {{"initial", r.rows.empty() ? 0.0 : r.rows.front().front},
+          {"final", r.rows.empty() ? 0.0 : r.rows.back().front},
+          {"column_width", in.setup.settings.region.hi[0]}}},
+        {"mass",
+         {{"initial", r.mass_initial},
+          {"final", r.mass_final},
+          {"drift_relative", (r.mass_final - r.mass_initial) / r.mass_initial},
+          {"nodal", r.nodal_mass},
+          {"nodal_error_relative", r.nodal_error}}},
+        {"clamped", st.clamped},
+        {"verification", {{"passed", r.passed()}, {"checks", checks}}},
+        {"snapshots", snapshots},
+        {"files", {{"front_csv", "front.csv"}, {"collection", r.snapshots.empty() ? nlohmann::json(nullptr) : nlohmann::json("particles.pvd")}}},
+    };
+    if (!r.passed()) doc["verification"]["failure"] = r.failure;
+    if (r.signal) doc["interrupted_by_signal"] = r.signal;
+    if (in.png.empty()) doc["files"]["png"] = "front.png";
+    else doc["files"]["png"] = {{"available", false}, {"reason", in.png}};
+    return doc;
+}
+
+std::string mpm_summary_text(const MpmReportInput& in) {
+    const MpmOutcome& r = in.outcome;
+    const mpm::State& st = in.st;
+    const mpm::Setup& s = in.setup;
+    const double rate = mpm_rate(in);
+    const double front0 = r.rows.empty() ? 0 : r.rows.front().front, front1 = r.rows.empty() ? 0 : r.rows.back().front;
+    std::string t;
+    const auto line = [&t](const std::string& label, const std::string& text) {
+        char b[32];
+        std::snprintf(b, sizeof b, "  %-14s ", label.c_str());
+        t += b + text + "\n";
+    };
+    t += "suite mpm: dam-collapse on " + s.mesh + " (" + s.ordering + " grid, " + s.particles + " particles, " + mpm::strategy_name(s.strategy) +
+         " scatter, " + std::to_string(s.threads) + " thread" + (s.threads == 1 ? "" : "s") + ")\n";
+    line("particles", std::to_string(st.particles.size()) + " (" + std::to_string(s.settings.per_element) + " per element of the column)");
+    line("grid", std::to_string(st.grid.elements()) + " elements, " + std::to_string(st.grid.nodes()) + " nodes");
+    line("dt", mpm_fmt("%.4g s", st.dt) + " (" + mpm_fmt("%.3g", st.dt / in.stable_dt) + " of the stable " + mpm_fmt("%.4g s", in.stable_dt) + ")");
+    line("steps", std::to_string(r.steps_done) + (r.steps_done == in.run.steps ? "" : " of " + std::to_string(in.run.steps)) + ", simulated " +
+                      mpm_fmt("%.4g s", st.time));
+    line("wall", mpm_fmt("%.3f s", r.wall_s) + " (stepping " + mpm_fmt("%.3f s", r.stepping_s) + ")");
+    line("rate", mpm_fmt("%.4g particle-steps/s", rate) + mpm_fmt(" (%.4g per thread)", rate / s.threads));
+    line("front", mpm_fmt("%.6g m", front0) + " -> " + mpm_fmt("%.6g m", front1) + mpm_fmt(" (column width %g m)", s.settings.region.hi[0]));
+    if (std::isnan(r.mass_final)) line("mass drift", "not checked (the run stopped at a failed check)");
+    else
+        line("mass drift", mpm_fmt("%.3g", (r.mass_final - r.mass_initial) / r.mass_initial) + " relative" +
+                               mpm_fmt("; nodal mass of a final P2G within %.3g", r.nodal_error));
+    line("clamped", std::to_string(st.clamped) + " particle position(s) pulled back onto a wall, in all");
+    for (const auto& c : r.checks) line(c.name == "finite and inside the box" ? "NaN check" : c.name, (c.passed ? "passed: " : "FAILED: ") + c.detail);
+    return t;
+}
+
+}  // namespace suite

@@ -1,0 +1,29 @@
+#pragma once
+// What `suite mpm` reports of a run (mpm_report.cpp): front.csv, the summary document mpm.json,
+// and the summary printed at the end. They only render; mpm.cpp writes and prints them.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/cli/mpm_simulate.hpp"
+#include "kernels/mpm/mpm.hpp"
+
+namespace suite {
+
+// The run as mpm.cpp resolved it, beside the state and the outcome.
+struct MpmReportInput {
+    const mpm::State& st;            // after the run
+    const mpm::Setup& setup;
+    const MpmRunSettings& run;
+    const MpmOutcome& outcome;
+    nlohmann::json options;          // every option's value as used (the settings of mpm.json)
+    double stable_dt = 0;            // the grid's and material's stable step (Courant number 1)
+    std::string png;                 // "" when front.png was drawn, else why not
+};
+
+// step,time,front,kinetic_energy: one row a step from step 0, every number to 17 digits.
+std::string mpm_front_csv(const MpmOutcome& r);
+nlohmann::json mpm_summary_json(const MpmReportInput& in);
+std::string mpm_summary_text(const MpmReportInput& in);
+
+}  // namespace suite
