@@ -21,6 +21,8 @@ if [ "${1:-build}" = test ]; then
   want+=(qemu-system-x86 busybox-static cpio)
   # The history page drawn in a real browser (tests/dashboard_browser_test.py), with its Chart.js.
   want+=(chromium libjs-chart.js)
+  # suite mpm's particle snapshots read back by meshio (tests/check_mpm_vtu.py).
+  want+=(python3-meshio)
 fi
 if [ "${1:-build}" = bench ]; then
   # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by

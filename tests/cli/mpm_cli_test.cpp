@@ -1,0 +1,232 @@
+// `suite mpm` end to end on small grids (box:6,6,6 and box:8,8,8, well under a second a run): the
+// files of a run, read back by meshio (tests/check_mpm_vtu.py); the same particles in the same
+// places whatever the grid's and the particles' order; every bad input one line, exit 2 and no
+// directory; --dry-run writes nothing; a run that blows up (a NaN) exits 1; an interrupted run
+// keeps its files and exits 128+signal.
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/process.hpp"
+
+namespace fs = std::filesystem;
+using namespace suite::test;
+
+namespace {
+
+const std::string checker = std::string(SUITE_SOURCE_DIR) + "/tests/check_mpm_vtu.py";
+
+nlohmann::json read_json(const std::string& path) { return nlohmann::json::parse(std::ifstream(path)); }
+
+std::size_t count_lines(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
+
+// A small run into `dir`, checked to succeed.
+void small_run(const std::string& dir, const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"mpm", "--mesh=box:6,6,6", "--steps=40", "--vtk-every=20", "--out=" + dir};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const Outcome r = run_suite(args, 120);
+    ASSERT_EQ(r.status, 0) << join(args) << "\n" << describe(r);
+}
+
+}  // namespace
+
+TEST(MpmCli, SmallRunWritesSnapshotsCsvJsonAndPngThatMeshioReadsBack) {
+    TempDir tmp;
+    const std::string dir = tmp.file("dam");
+    const Outcome r = run_suite({"mpm", "--case=dam-collapse", "--mesh=box:6,6,6", "--steps=40", "--vtk-every=20", "--out=" + dir}, 120);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    for (const char* name : {"particles_000000.vtu", "particles_000020.vtu", "particles_000040.vtu", "particles.pvd", "front.csv", "mpm.json"})
+        EXPECT_TRUE(fs::is_regular_file(dir + "/" + name)) << name;
+    EXPECT_FALSE(fs::exists(dir + "/particles_000010.vtu"));
+    // front.csv: a header and one row a step from step 0.
+    const std::string csv = slurp(dir + "/front.csv");
+    EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy\n", 0), 0u) << csv;
+    EXPECT_EQ(count_lines(csv), 1u + 41u);
+    // The PNG: there, a PNG, not empty.
+    const std::string png = slurp(dir + "/front.png");
+    ASSERT_GT(png.size(), 1000u);
+    EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+    // mpm.json: the counts, the checks passed, complete.
+    const nlohmann::json doc = read_json(dir + "/mpm.json");
+    EXPECT_EQ(doc["complete"], true);
+    EXPECT_EQ(doc["steps"], 40);
+    EXPECT_EQ(doc["verification"]["passed"], true);
+    EXPECT_EQ(doc["verification"]["checks"].size(), 3u);
+    EXPECT_GT(doc["counts"]["particles"].get<std::size_t>(), 0u);
+    EXPECT_EQ(doc["counts"]["elements"], 6 * 6 * 6 * 6);
+    EXPECT_EQ(doc["counts"]["nodes"], 7 * 7 * 7);
+    EXPECT_EQ(doc["mass"]["drift_relative"], 0.0);
+    EXPECT_LE(doc["mass"]["nodal_error_relative"].get<double>(), 1e-12);
+    EXPECT_EQ(doc["files"]["png"], "front.png");
+    EXPECT_EQ(doc["snapshots"].size(), 3u);
+    // The summary on stdout names what the brief asks for; the progress lines (stderr is a
+    // pipe here) come every tenth of the run.
+    for (const char* word : {"particles", "grid", "dt", "steps", "wall", "per thread", "front", "mass drift", "clamped", "NaN check"})
+        EXPECT_NE(r.out.find(word), std::string::npos) << word << "\n" << r.out;
+    EXPECT_NE(r.out.find(std::to_string(doc["counts"]["particles"].get<std::size_t>())), std::string::npos) << r.out;
+    EXPECT_EQ(count_lines(r.err), 10u) << r.err;
+    EXPECT_NE(r.err.find("step 40/40"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/.suite.lock")) << "the directory's lock is released at the end";
+    // Every .vtu read back by meshio: the particle count of mpm.json, ids a permutation.
+    const Outcome py = run_program({SUITE_PYTHON, checker, dir}, 120);
+    if (py.status == 3) GTEST_SKIP() << py.out;
+    EXPECT_EQ(py.status, 0) << describe(py);
+}
+
+TEST(MpmCli, HilbertGridAndSortedParticlesEndWhereNaturalAndUnsortedDo) {
+    TempDir tmp;
+    const std::string a = tmp.file("natural"), b = tmp.file("hilbert"), c = tmp.file("dynamic");
+    small_run(a, {"--no-png", "--quiet"});
+    small_run(b, {"--ordering=hilbert", "--particles=sorted", "--sort-every=7", "--no-png", "--quiet"});
+    small_run(c, {"--ordering=morton", "--particles=dynamic", "--sort-every=5", "--threads=2", "--no-png", "--quiet"});
+    for (const auto& other : {b, c}) {
+        const Outcome py = run_program({SUITE_PYTHON, checker, a, other}, 120);
+        if (py.status == 3) GTEST_SKIP() << py.out;
+        EXPECT_EQ(py.status, 0) << other << "\n" << describe(py);
+    }
+}
+
+TEST(MpmCli, QuietPrintsNothingAndNoSnapshotsWithVtkEveryZero) {
+    TempDir tmp;
+    const std::string dir = tmp.file("q");
+    const Outcome r = run_suite({"mpm", "--mesh=box:6,6,6", "--steps=5", "--vtk-every=0", "--no-png", "--quiet", "--out=" + dir}, 60);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(r.err, "");
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"front.csv", "mpm.json"}));
+    EXPECT_TRUE(read_json(dir + "/mpm.json")["files"]["collection"].is_null());
+}
+
+TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
+    TempDir tmp;
+    const std::string dir = tmp.file("dam");
+    const auto refused = [&](const std::vector<std::string>& extra, const std::string& expected, bool with_out = true) {
+        // A small grid and run, unless the case gives its own --mesh or --steps.
+        std::vector<std::string> args = {"mpm"};
+        for (const std::string base : {"--mesh=box:6,6,6", "--steps=10"}) {
+            const std::string name = base.substr(0, base.find('=') + 1);
+            if (std::none_of(extra.begin(), extra.end(), [&](const std::string& e) { return e.rfind(name, 0) == 0; })) args.push_back(base);
+        }
+        if (with_out) args.push_back("--out=" + dir);
+        args.insert(args.end(), extra.begin(), extra.end());
+        const Outcome r = run_suite(args, 60);
+        EXPECT_EQ(r.status, 2) << join(args) << "\n" << describe(r);
+        EXPECT_EQ(count_lines(r.err), 1u) << describe(r);
+        EXPECT_EQ(r.err.rfind("suite: error: ", 0), 0u) << describe(r);
+        EXPECT_NE(r.err.find(expected), std::string::npos) << "stderr lacks \"" << expected << "\"\n" << describe(r);
+        EXPECT_TRUE(r.out.empty()) << describe(r);
+        EXPECT_FALSE(fs::exists(dir)) << join(args);
+    };
+    refused({"--case=dam-break"}, "--case=dam-break: the one case is dam-collapse");
+    refused({"--poisson=0.5"}, "--poisson=0.5: Poisson's ratio must lie in (-1, 0.5)");
+    refused({"--young=0"}, "--young=0: Young's modulus E must be > 0");
+    refused({"--young=1e5x"}, "--young=1e5x: expected a finite number");
+    refused({"--density=nan"}, "--density=nan: expected a finite number");
+    refused({"--ppe=0"}, "--ppe=0: expected a whole number from 1 to 1000");
+    refused({"--column=0.4,0.4,1.5"}, "--column=0.4,0.4,1.5: the material's region [0,0,0] to [0.4,0.4,1.5] is not a box inside the grid's box");
+    refused({"--column=0.4,0.4"}, "--column=0.4,0.4: the material's region [0,X]x[0,Y]x[0,Z] is three finite numbers");
+    refused({"--column=0.01,0.01,0.01"}, "--column=0.01,0.01,0.01: the material's region holds no element's centroid");
+    refused({"--mesh=disk:refine=2"}, "--mesh=disk:refine=2: the MPM background grid must be made of tetrahedra");
+    refused({"--dt=1"}, "--dt=1: above the stable time step");
+    refused({"--dt=-0.001"}, "--dt=-0.001: the time step is a number of seconds >= 0");
+    refused({"--courant=1.5"}, "--courant=1.5: the Courant number must lie in (0, 1]");
+    refused({"--steps=-1"}, "--steps=-1: expected a whole number from 0 to 1000000000");
+    refused({"--vtk-every=2.5"}, "--vtk-every=2.5: expected a whole number");
+    refused({"--sort-every=x"}, "--sort-every=x: expected a whole number");
+    refused({"--threads=0"}, "--threads=0: expected a whole number from 1 to 1024");
+    refused({"--threads=65"}, "--threads=65: the partition strategy (the default for more than one thread) takes at most 64 threads");
+    refused({"--ordering=hilbrt"}, "unknown grid ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert");
+    refused({"--particles=sortd"}, "unknown particle order 'sortd' (did you mean 'sorted'?); accepted: unsorted, sorted, dynamic");
+    refused({"--strategy=locks"}, "unknown strategy 'locks'; accepted: serial, atomic, colour, partition");
+    refused({"--seed=-3"}, "--seed=-3: expected a whole number");
+    refused({"--young="}, "--young= has an empty value");
+    refused({"--vtk-evry=5"}, "unknown option '--vtk-evry' (did you mean '--vtk-every'?)");
+    refused({}, "suite mpm needs --out=DIR", false);
+    refused({"--out=" + tmp.file("no/such/parent")}, "does not exist", false);
+}
+
+TEST(MpmCli, DryRunChecksEverythingAndWritesNothing) {
+    TempDir tmp;
+    const std::string dir = tmp.file("dam");
+    const Outcome r = run_suite({"mpm", "--mesh=box:8,8,8", "--steps=100", "--vtk-every=30", "--dry-run", "--out=" + dir}, 60);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_NE(r.out.find("elements"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("5 snapshot(s)"), std::string::npos) << r.out;  // 0, 30, 60, 90 and the last, 100
+    EXPECT_TRUE(r.err.empty()) << r.err;
+    EXPECT_TRUE(tmp.entries().empty()) << join(tmp.entries());
+    // A dry run still refuses what the run would refuse, the library's checks included.
+    const Outcome bad = run_suite({"mpm", "--mesh=box:8,8,8", "--poisson=0.49999999", "--dt=0.01", "--dry-run", "--out=" + dir}, 60);
+    EXPECT_EQ(bad.status, 2) << describe(bad);
+    EXPECT_TRUE(tmp.entries().empty()) << join(tmp.entries());
+    const Outcome no_out = run_suite({"mpm", "--mesh=box:6,6,6", "--dry-run"}, 60);
+    EXPECT_EQ(no_out.status, 0) << describe(no_out);
+    EXPECT_NE(no_out.out.find("nothing would be written"), std::string::npos) << no_out.out;
+}
+
+TEST(MpmCli, TheExamplesOfHelpAreAcceptedAsWritten) {
+    const Outcome help = run_suite({"mpm", "--help"}, 60);
+    ASSERT_EQ(help.status, 0) << describe(help);
+    std::istringstream in(help.out);
+    int examples = 0;
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("  ./suite mpm ", 0) != 0) continue;
+        std::vector<std::string> args;
+        std::istringstream words(line.substr(line.find("mpm")));
+        for (std::string w; words >> w && w[0] != '#';) args.push_back(w);
+        args.push_back("--dry-run");
+        const Outcome r = run_suite(args, 60);
+        EXPECT_EQ(r.status, 0) << line << "\n" << describe(r);
+        ++examples;
+    }
+    EXPECT_GE(examples, 4) << help.out;
+}
+
+TEST(MpmCli, ARunThatBlowsUpExitsOneNamingTheParticle) {
+    // Half as much again as the stable step, forced: the elastic waves grow until a value
+    // overflows to inf and NaN (here within a few hundred steps of 40 µs).
+    TempDir tmp;
+    const std::string dir = tmp.file("blow");
+    const Outcome r = run_suite({"mpm", "--mesh=box:6,6,6", "--steps=3000", "--vtk-every=0", "--force", "--courant=1.5", "--no-png", "--out=" + dir}, 120);
+    ASSERT_EQ(r.status, 1) << describe(r);
+    EXPECT_NE(r.err.find("suite: error: mpm check failed: "), std::string::npos) << r.err;
+    const nlohmann::json doc = read_json(dir + "/mpm.json");
+    EXPECT_EQ(doc["complete"], false);
+    EXPECT_EQ(doc["verification"]["passed"], false);
+    EXPECT_TRUE(doc["mass"]["final"].is_null()) << "not measured is not zero";
+    EXPECT_LT(doc["steps"].get<int>(), 3000);
+    EXPECT_EQ(count_lines(slurp(dir + "/front.csv")), 1u + 1u + doc["steps"].get<std::size_t>());
+}
+
+TEST(MpmCli, AnInterruptedRunKeepsItsFilesAndExits128PlusTheSignal) {
+    TempDir tmp;
+    const std::string dir = tmp.file("long");
+    int out_fd = -1, err_fd = -1;
+    const pid_t pid = spawn({SUITE_BINARY, "mpm", "--mesh=box:6,6,6", "--steps=100000000", "--vtk-every=1000", "--no-png", "--out=" + dir}, out_fd, err_fd);
+    // Stopped once it has printed a progress line (a tenth of 10^8 steps is hours: none comes)
+    // or, more to the point, once its first snapshot is there: it is stepping.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!fs::exists(dir + "/particles_001000.vtu") && std::chrono::steady_clock::now() < deadline) usleep(20000);
+    kill(pid, SIGTERM);
+    const Outcome r = finish(pid, out_fd, err_fd, 60);
+    ASSERT_EQ(r.status, 128 + SIGTERM) << describe(r);
+    EXPECT_NE(r.err.find("interrupted by signal 15"), std::string::npos) << r.err;
+    const nlohmann::json doc = read_json(dir + "/mpm.json");
+    EXPECT_EQ(doc["complete"], false);
+    EXPECT_EQ(doc["interrupted_by_signal"], SIGTERM);
+    EXPECT_EQ(doc["verification"]["passed"], true) << doc.dump(1);
+    EXPECT_TRUE(fs::exists(dir + "/particles.pvd"));
+    EXPECT_EQ(doc["snapshots"].back()["step"], doc["steps"]) << "the last state is kept";
+}
