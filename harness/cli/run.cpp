@@ -36,6 +36,7 @@ Commands:
   deterministic   exact instruction and simulated miss counts under valgrind (x86-64-v3 build)
   traverse        how a loop walks a mesh, per ordering: ./suite traverse --mesh=... --out=DIR (see ./suite traverse --help)
   matrix          the fem matrix per vertex ordering (bandwidth, Cholesky fill, SpMV): ./suite matrix --mesh=... --out=DIR
+  mpm             the MPM dam collapse as a simulation, snapshots for ParaView: ./suite mpm --out=DIR (see ./suite mpm --help)
 
 Examples:
   ./suite --kernel=add --pattern=random                   # the thesis's kernel 3, default sizes
