@@ -36,9 +36,11 @@ Jaumann rate (kernels/mpm/mpm.hpp). dt is --courant times the stable step (the s
 altitude over the elastic wave speed) unless --dt gives one; a dt above the stable step is
 refused without --force. The front is the largest x of any particle.
 
-After every step each particle's position and velocity must be finite and inside the box; at
-the end each particle's mass must be its initial one exactly, and a P2G of the final particles
-must put their total mass on the nodes to 1e-12. The first check that fails stops the run.
+After every step each particle's position and velocity must be finite and inside the box, and
+the kinetic energy at most 1.5 times what gravity can release from the start (more was made by
+an unstable step, which the walls can keep finite); at the end each particle's mass must be its
+initial one exactly, and a P2G of the final particles must put their total mass on the nodes to
+1e-12. The first check that fails stops the run.
 
 Examples:
   ./suite mpm --case=dam-collapse --steps=1000 --vtk-every=50 --out=dam
@@ -54,7 +56,7 @@ kinetic energy), mpm.json (settings, counts, checks, timing), front.png (front a
 A progress line goes to stderr (rewritten in place on a terminal, else a line every 10 %).
 
 Exit status: 0 ok; 1 a check failed (a NaN or infinite position or velocity, a particle outside
-the box, mass not conserved) or a file could not be written; 2 bad usage (one line on stderr,
+the box, kinetic energy beyond the bound, mass not conserved) or a file could not be written; 2 bad usage (one line on stderr,
 nothing written); 130/143 interrupted (the files of the steps done are written, mpm.json says
 "complete": false).
 )";

@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -47,6 +48,24 @@ std::string mpm_first_bad_particle(const mpm::State& st) {
     }
     return "";
 }
+
+// The most energy gravity can give the particles from where they are: Σ m (-g) · (x - the wall
+// gravity pulls towards). The material starts at rest and unstressed and the walls do no work,
+// so a kinetic energy above it (with a margin for the scheme's error) was made by the time
+// stepping: an unstable step, which the walls' clamping can keep finite for a long time.
+double mpm_releasable_energy(const mpm::State& st) {
+    const mpm::Particles& p = st.particles;
+    const double* g = st.settings.gravity;
+    const std::vector<double>* axes[3] = {&p.x, &p.y, &p.z};
+    double e = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (int a = 0; a < 3; ++a) {
+            const double wall = g[a] < 0 ? st.grid.lo[a] : st.grid.hi[a];
+            e += p.mass[i] * -g[a] * ((*axes[a])[i] - wall);
+        }
+    return e;
+}
+constexpr double mpm_energy_margin = 1.5;
 
 // Each particle's mass indexed by its id, after checking that the ids are a permutation of
 // 0..n-1; `why` says what is wrong when they are not.
@@ -168,6 +187,10 @@ MpmOutcome mpm_simulate(mpm::State& st, const mpm::Setup& setup, const MpmRunSet
     };
     MpmProgress progress(settings.quiet, settings.steps, st.particles.size());
     MpmCheck finite{"finite and inside the box", true, ""};
+    MpmCheck energy{"energy bound", true, ""};
+    const double releasable = mpm_releasable_energy(st);
+    double peak = 0;
+    std::uint64_t energy_steps = 0;
     const auto t0 = MpmClock::now();
     row();
     if (settings.vtk_every > 0) snapshot();
@@ -191,6 +214,16 @@ MpmOutcome mpm_simulate(mpm::State& st, const mpm::Setup& setup, const MpmRunSet
             finite = {finite.name, false, "after step " + std::to_string(k) + " (t = " + mpm_g(st.time) + " s): " + bad};
             break;
         }
+        const double kinetic = r.rows.back().kinetic;
+        peak = std::max(peak, kinetic);
+        energy_steps = k;
+        if (kinetic > mpm_energy_margin * releasable) {
+            energy = {energy.name, false,
+                      "after step " + std::to_string(k) + " (t = " + mpm_g(st.time) + " s): the kinetic energy " + mpm_g(kinetic) + " J is more than " +
+                          mpm_g(mpm_energy_margin) + " times the " + mpm_g(releasable) +
+                          " J gravity can release from the start: the time stepping is unstable (give a smaller --dt or --courant)"};
+            break;
+        }
         if (settings.vtk_every > 0 && (k % settings.vtk_every == 0 || k == settings.steps)) snapshot();
         progress.update(st, r.rows.back().front, r.stepping_s);
     }
@@ -201,10 +234,15 @@ MpmOutcome mpm_simulate(mpm::State& st, const mpm::Setup& setup, const MpmRunSet
     if (finite.passed)
         finite.detail = "every particle's position and velocity finite and inside the box after each of " + std::to_string(r.steps_done) + " step(s)";
     r.checks.push_back(finite);
-    if (!finite.passed) {
-        r.failure = finite.detail;
-        return r;
-    }
+    if (energy.passed)
+        energy.detail = "the kinetic energy peaked at " + mpm_g(peak) + " J, at most " + mpm_g(mpm_energy_margin) + " times the " + mpm_g(releasable) +
+                        " J gravity can release (checked after each of " + std::to_string(energy_steps) + " step(s))";
+    r.checks.push_back(energy);
+    for (const auto& c : r.checks)
+        if (!c.passed) {
+            r.failure = c.name + ": " + c.detail;
+            return r;
+        }
 
     // Masses never change: each particle's must be its starting one exactly, whatever the
     // reorderings did to the particles' order (so the sums are taken in id order).

@@ -1,6 +1,7 @@
 #pragma once
 // `suite mpm`'s run once every option is checked and the state built: the steps, with the checks
-// after each (every particle's position and velocity finite, every particle inside the box), the
+// after each (every particle's position and velocity finite, every particle inside the box, the
+// kinetic energy within what gravity can release: an unstable step shows there first), the
 // progress line, the particle snapshots, and the checks at the end (each particle's mass what it
 // was at the start, bit for bit; a P2G of the final particles puts on the nodes the particles'
 // total mass to 1e-12). mpm.cpp parses, checks and wires; mpm_report.cpp renders the outcome.
@@ -45,7 +46,7 @@ struct MpmOutcome {
     // whose checks passed.
     double mass_initial = NAN, mass_final = NAN;  // Σ mass over particles in id order
     double nodal_mass = NAN, nodal_error = NAN;   // Σ m_n of the final P2G; |Σ m_n - Σ m_p| / Σ m_p
-    std::vector<MpmCheck> checks;                // "finite and inside the box", "mass", "nodal mass"
+    std::vector<MpmCheck> checks;                // "finite and inside the box", "energy bound", "mass", "nodal mass"
     std::string failure;     // the first failed check, as one line; "" when all passed
     int signal = 0;          // SIGINT/SIGTERM that stopped the run, else 0
     bool passed() const { return failure.empty(); }
