@@ -58,9 +58,13 @@ void update_grid(State& st) {
     for (std::int64_t n = 0; n < nn; ++n) {
         NodeState& s = nodes[n];
         if (!(s.m > 0)) continue;
-        clear_walls(wall[n], s.f);
+        const double before[3] = {s.p[0], s.p[1], s.p[2]};
         for (int k = 0; k < 3; ++k) s.p[k] += dt * s.f[k];
         clear_walls(wall[n], s.p);
+        // The force G2P gives the particles is the whole change of the nodal momentum, the walls'
+        // reaction included: zeroing only p's normal part left the particles moving into the
+        // wall while the grid did not, and the kinetic energy grew step after step.
+        for (int k = 0; k < 3; ++k) s.f[k] = (s.p[k] - before[k]) / dt;
     }
 }
 
