@@ -95,7 +95,9 @@ void check_settings(const Grid& g, const Settings& s, bool force) {
     if (!(s.courant > 0) || (s.courant > 1 && !force))
         throw UsageError("--courant=" + format_number(s.courant) + ": the Courant number must lie in (0, 1] (above 1 the step is unstable; --force runs it anyway)");
     const double critical = critical_step(g, m);
-    if (s.dt < 0 || (s.dt > critical && !force))
+    if (!(s.dt >= 0) || !std::isfinite(s.dt))
+        throw UsageError("--dt=" + format_number(s.dt) + ": the time step must be a finite number of seconds > 0 (or 0: from the Courant number)");
+    if (s.dt > critical && !force)
         throw UsageError("--dt=" + format_number(s.dt) + ": above the stable time step " + format_number(critical) +
                          " s (smallest element altitude / elastic wave speed); give a smaller one, or --force to run it anyway");
 }
