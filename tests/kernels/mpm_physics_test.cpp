@@ -20,8 +20,9 @@ using testing::Team;
 
 // step() phase by phase, with a look at the nodes between P2G and the grid update: returns
 // the sum over the nodes of the raw forces (gravity plus internal forces), and writes the
-// walls' reaction, i.e. minus the force components update_grid is about to zero on wall
-// nodes. Must stay step()'s sequence; MpmMomentum.MeasuredStepIsStep holds it to that.
+// walls' reaction: the force that stops, within the step, the normal momentum each wall node
+// would otherwise have, -(p + dt f)_normal / dt. Must stay step()'s sequence;
+// MpmMomentum.MeasuredStepIsStep holds it to that.
 std::array<double, 3> step_measuring_walls(State& st, std::array<double, 3>& reaction) {
     p2g(st);
     std::array<double, 3> total{0, 0, 0};
@@ -31,7 +32,7 @@ std::array<double, 3> step_measuring_walls(State& st, std::array<double, 3>& rea
         if (!(s.m > 0)) continue;
         for (int k = 0; k < 3; ++k) {
             total[k] += s.f[k];
-            if (st.grid.wall[n] & (1u << k)) reaction[k] -= s.f[k];
+            if (st.grid.wall[n] & (1u << k)) reaction[k] -= s.p[k] / st.dt + s.f[k];
         }
     }
     update_grid(st);
@@ -95,9 +96,10 @@ TEST(MpmMomentum, MeasuredStepIsStep) {
 
 TEST(MpmMomentum, ChangesOnlyByGravityAndTheFloorsReaction) {
     // A block resting on the floor, away from the side walls. Per step, G2P changes the
-    // particles' momentum by dt Σ_n f_n (each node's force shared out in proportion to the
-    // mass it got), and Σ_n f_n = M g + the walls' reaction: the internal forces cancel since
-    // Σ_i ∇N_i = 0 in every element. So x and y change by rounding only, z by dt (M g + R).
+    // particles' momentum by the grid's change of momentum (each node's shared out in
+    // proportion to the mass it got): dt Σ_n f_n, where Σ_n f_n = M g since the internal forces
+    // cancel (Σ_i ∇N_i = 0 in every element), plus what the floor takes away from its nodes,
+    // dt R. So x and y change by rounding only, z by dt (M g + R).
     // The floor is a two-sided constraint (it zeroes the normal velocity either way), so R is
     // not forced >= 0 at every step; but the block stays on the floor and its momentum is
     // bounded, so over a long window R averages to -M g (upward): what a floor must do.
@@ -129,6 +131,7 @@ TEST(MpmMomentum, ChangesOnlyByGravityAndTheFloorsReaction) {
     }
     const double mean = reaction_sum / (steps - settled);
     EXPECT_GT(mean, 0);
+    // Measured: 0.991 M|g|, never below 0.47 M|g| after step 100.
     EXPECT_NEAR(mean, -mass * g, 0.05 * mass * std::fabs(g)) << "lowest reaction " << lowest_reaction;
     EXPECT_EQ(st.clamped, 0u);
 }
@@ -238,7 +241,7 @@ TEST(MpmConfinedColumn, SettlesLikeTheOneDimensionalBar) {
         if (d > deepest) deepest = d, deepest_at = n;
         if (n > 0.75 * period) shallowest_after = std::min(shallowest_after, d);
     }
-    EXPECT_NEAR(deepest, 2 * sag, 0.05 * 2 * sag);  // measured 1.6 % under
+    EXPECT_NEAR(deepest, 2 * sag, 0.05 * 2 * sag);  // measured 0.7 % under, at step 14
     EXPECT_NEAR(deepest_at, period / 2, 0.1 * period);
     EXPECT_LT(shallowest_after, 0.1 * sag);  // measured 0.04 of it
     EXPECT_GT(shallowest_after, -0.1 * sag);
@@ -251,9 +254,9 @@ TEST(MpmDamCollapse, ThousandStepsSettleAboutTheStaticShape) {
     // elastic and nothing damps it, so the column does not come to rest: it sags and bulges
     // within the first ~40 steps and then oscillates about that shape with the bar's period
     // 4 L / sqrt(E / ρ) (0.32 s, ~80 steps), the front (largest x) swinging by about ±0.01.
-    // Measured: the front's mean over windows of 200-300 steps creeps up by ~0.001 a window
-    // while the swing grows: the scheme gains energy (553 J to 576 J in 1000 steps, of which
-    // ~50 J is the oscillation's; the confined column, without free sides, does not). So
+    // Measured: the front's mean over steps 301-500 is 0.4154 and over 701-1000 0.4167, while
+    // the swing grows a little: from step ~500 the scheme gains energy (553 J to 569 J by step
+    // 1000, of which ~50 J is the oscillation's; at Courant 0.4 it does not, docs/mpm.md). So
     // "levels off" is asserted of window means: over steps 301-500 the front is out by about
     // the static bulge, and over the last 300 steps its mean has moved by much less than that.
     //   The static estimate for a column of height L on a frictionless floor (the walls at
@@ -286,18 +289,18 @@ TEST(MpmDamCollapse, ThousandStepsSettleAboutTheStaticShape) {
     }
     EXPECT_EQ(mass_in_id_order(st.particles), mass);
     // The walls held every particle: none had to be put back into the box (g2p's clamp), and
-    // the lowest stayed above the floor (seeded at 0.012, down to 0.005 in the run).
+    // the lowest stayed above the floor (seeded at 0.012, down to 0.007 in the run).
     EXPECT_EQ(st.clamped, 0u);
     EXPECT_GT(lowest_z, 0.002);
-    // Measured: sag 1.11 of the estimate; advance 1.1 (steps 301-500); late drift 0.28 of the
-    // advance; highest front f0 + 2.6 bulges; energy +4 %.
+    // Measured: sag 1.12 of the estimate; advance 1.06 (steps 301-500); late drift 0.13 of the
+    // advance; highest front f0 + 2.3 bulges; energy +2.9 %.
     EXPECT_GT(sunk, 0.8 * sag);
     EXPECT_LT(sunk, 1.4 * sag);
     EXPECT_GT(early - f0, 0.5 * bulge);
     EXPECT_LT(early - f0, 2.0 * bulge);
     EXPECT_LT(std::fabs(late - early), 0.5 * (early - f0));
     EXPECT_LT(highest, f0 + 4 * bulge);
-    EXPECT_NEAR(energy(st), e0, 0.1 * e0);
+    EXPECT_NEAR(energy(st), e0, 0.05 * e0);
 }
 
 TEST(MpmBadInput, MakeStateRefusesWhatCannotRun) {
