@@ -84,8 +84,12 @@ TEST(MpmOrderEquivalence, EveryGridOrderingAndParticleOrderGivesTheSamePositions
             State st = build(s);
             // The setups really differ from the reference: another element numbering, or
             // the particles stored in another order.
-            if (ordering != "natural") EXPECT_NE(st.grid.mesh.conn, ref.grid.mesh.conn);
-            if (std::string(po.name) != "unsorted") EXPECT_NE(st.particles.id, shuffled);
+            if (ordering != "natural") {
+                EXPECT_NE(st.grid.mesh.conn, ref.grid.mesh.conn);
+            }
+            if (std::string(po.name) != "unsorted") {
+                EXPECT_NE(st.particles.id, shuffled);
+            }
             for (int n = 0; n < steps; ++n) advance(st, s);
             ASSERT_EQ(st.particles.size(), ref.particles.size());
             EXPECT_LE(max_position_difference(st.particles, ref.particles), tolerance);
@@ -113,8 +117,12 @@ TEST(MpmOrderEquivalence, EveryScatterStrategyOnTwoThreadsGivesTheSamePositions)
             // The scatters did share work: several colours, or nodes the two runs share. (A
             // renumbering after the last step left a fresh plan: one more P2G fills it in.)
             p2g(st);
-            if (strategy == Strategy::colour) EXPECT_GT(st.plan.colours(), 1);
-            if (strategy == Strategy::partition) EXPECT_GT(st.plan.shared_nodes, 0u);
+            if (strategy == Strategy::colour) {
+                EXPECT_GT(st.plan.colours(), 1);
+            }
+            if (strategy == Strategy::partition) {
+                EXPECT_GT(st.plan.shared_nodes, 0u);
+            }
         }
 }
 
