@@ -66,7 +66,7 @@ struct MpmOptions {
     std::string mesh = "box:16,16,16";
     std::string ordering = "natural";
     std::string particles = "unsorted";
-    int sort_every = 20;
+    int sort_every = 5;
     std::string strategy;  // "": serial for 1 thread, partition for more
     int threads = 1;
     int ppe = 4;
@@ -180,7 +180,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
     app.add_option("--particles", o.particles,
                    "the particles' order: unsorted (shuffled once), sorted (along the curve every --sort-every steps), dynamic (sorted, "
                    "and the grid renumbered active elements first) (default unsorted)");
-    add_whole_option(app, "--sort-every", o.sort_every, 0, 1000000000, "steps between reorderings; 0: at the start only (default 20)");
+    add_whole_option(app, "--sort-every", o.sort_every, 0, 1000000000, "steps between reorderings; 0: at the start only (default 5, the fastest measured; see docs/mpm.md)");
     app.add_option("--strategy", o.strategy,
                    "how threads share the scatters to nodes: serial, atomic, colour, partition (default serial for 1 thread, partition for more)");
     add_whole_option(app, "--threads,-t", o.threads, 1, 1024, "OpenMP threads, 1 to 1024 (default 1)");

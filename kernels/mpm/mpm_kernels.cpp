@@ -185,7 +185,7 @@ void add(const std::string& name, Phase phase, const std::string& formula, const
     }
     e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"}};
     if (phase == Phase::step)
-        e.info.params.push_back({"sort-every", 20, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
+        e.info.params.push_back({"sort-every", 5, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
     e.info.size_kind = SizeKind::count;
     e.info.read_bytes_per_unit = phase == Phase::p2g ? p2g_bytes : phase == Phase::g2p ? 4 + 32 + 24 + 24 : step_bytes;
     e.info.notes = notes;

@@ -30,6 +30,11 @@ void sort_particles(State& st) {
     for (std::size_t p = 0; p < np; ++p) ++start[st.grid.curve[pt.elem[p]] + 1];
     for (std::size_t r = 0; r < ne; ++r) start[r + 1] += start[r];
     for (std::size_t p = 0; p < np; ++p) order[start[st.grid.curve[pt.elem[p]]]++] = static_cast<std::uint32_t>(p);
+    reorder_particles(st, order);
+}
+
+void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
+    Particles& pt = st.particles;
     std::vector<double> scratch;
     for (auto* v : {&pt.x, &pt.y, &pt.z, &pt.vx, &pt.vy, &pt.vz, &pt.mass, &pt.volume}) gather(*v, order, 1, scratch);
     for (auto& s : pt.stress) gather(s, order, 1, scratch);

@@ -19,20 +19,7 @@ void shuffle_particles(State& st, std::uint64_t seed) {
     for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
     std::mt19937_64 rng(seed);
     std::shuffle(order.begin(), order.end(), rng);
-    Particles& pt = st.particles;
-    Particles out;
-    out.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t p = order[i];
-        out.x[i] = pt.x[p], out.y[i] = pt.y[p], out.z[i] = pt.z[p];
-        out.vx[i] = pt.vx[p], out.vy[i] = pt.vy[p], out.vz[i] = pt.vz[p];
-        out.mass[i] = pt.mass[p], out.volume[i] = pt.volume[p];
-        for (int k = 0; k < 6; ++k) out.stress[k][i] = pt.stress[k][p];
-        for (int k = 0; k < 4; ++k) out.w[4 * i + k] = pt.w[4 * p + k];
-        out.elem[i] = pt.elem[p], out.id[i] = pt.id[p];
-    }
-    pt = std::move(out);
-    locate(st);
+    reorder_particles(st, order);
 }
 
 }  // namespace
