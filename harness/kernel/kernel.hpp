@@ -125,6 +125,9 @@ struct KernelInfo {
     double write_bytes_per_unit = 0;
     double flops_per_unit = 0;
     std::string notes;
+    // Its arrays are ordinary heap memory, not Arena arrays (the MPM kernels, so far): the harness
+    // cannot place them, so a --placement other than local is refused for it.
+    bool heap_arrays = false;
 };
 
 using KernelFactory = std::function<std::unique_ptr<Kernel>(const KernelConfig&)>;

@@ -181,6 +181,11 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
 
     // Placement, resolved now for every team size, so that "remote" fails before any point runs.
     plan.settings.placement = parse_placement(o.placement, topo);
+    if (plan.settings.placement.kind != PlacementKind::local)
+        for (const auto& [k, defaults] : ks)
+            if (k->info.heap_arrays)
+                throw UsageError("kernel '" + k->info.name + "' keeps its arrays in ordinary heap memory, not in the harness's arena, so --placement=" +
+                                 plan.settings.placement.text + " cannot place them; give --placement=local (the default) for it");
     std::map<int, MemoryPolicy> policies;
     for (int t : threads) policies[t] = resolve_policy(plan.settings.placement, topo, planned_cpus(topo, plan.settings.pin, t));
 
