@@ -82,7 +82,7 @@ if "sort" in parts:
         for key, rec in by.items():
             ratio.setdefault(key, []).append(rate(rec) / base)
             rates.setdefault(key, []).append(rate(rec))
-            facts[key] = {"particles": fact(rec, "particles"), "footprint_bytes": rec["size"]["footprint_bytes"]}
+            facts[key] = {"particles": fact(rec, "particles"), "active_nodes": fact(rec, "active-nodes"), "footprint_bytes": rec["size"]["footprint_bytes"]}
     report["sort"] = {f"{o}/{v}": {"speed_vs_unsorted_natural": statistics.median(ratio[(o, v)]), "per_round": ratio[(o, v)],
                                    "particle_steps_per_s": statistics.median(rates[(o, v)]), **facts[(o, v)]} for (o, v) in ratio}
     any_key = next(iter(facts))
@@ -91,10 +91,12 @@ if "sort" in parts:
     lines += ["## mpm-step, one thread: speed against unsorted particles on the natural grid", "",
               f"{np_:.0f} particles; all arrays {fp / 1e6:.0f} MB" + (f", {fp / llc:.0f}x the measured last level ({llc / 1e6:.1f} MB)" if llc else "")
               + f"; K = {a.sort_every}, sort cost included", "",
-              "| grid | unsorted | sorted | dynamic | sorted: particle-steps/s |", "|---|---|---|---|---|"]
+              "| grid | unsorted | sorted | dynamic | sorted: particle-steps/s | sorted: node-steps/s |", "|---|---|---|---|---|---|"]
     for o in orderings:
         cells = [f"{statistics.median(ratio[(o, v)]):.2f}x" for v in ("unsorted", "sorted", "dynamic")]
-        lines.append(f"| {o} | " + " | ".join(cells) + f" | {statistics.median(rates[(o, 'sorted')]) / 1e6:.2f} M |")
+        r, f = statistics.median(rates[(o, 'sorted')]), facts[(o, 'sorted')]
+        nodes = f"{r * f['active_nodes'] / f['particles'] / 1e6:.2f} M" if f["active_nodes"] else "n/a"
+        lines.append(f"| {o} | " + " | ".join(cells) + f" | {r / 1e6:.2f} M | {nodes} |")
     lines.append("")
 
 if "every" in parts:
