@@ -10,6 +10,7 @@
 #include <exception>
 
 #include "harness/common/units.hpp"
+#include "kernels/mpm/kernel_checks.hpp"
 
 namespace suite {
 
@@ -86,17 +87,6 @@ std::vector<double> mpm_mass_by_id(const mpm::Particles& p, std::string& why) {
     return mass;
 }
 
-// Neumaier's compensated sum: a plain sum of 10^5 masses can drift 1e-12 from the same sum
-// in another order, the size of the tolerance it is compared with.
-double mpm_sum(const std::vector<double>& v) {
-    double s = 0, c = 0;
-    for (double x : v) {
-        const double t = s + x;
-        c += std::fabs(s) >= std::fabs(x) ? (s - t) + x : (x - t) + s;
-        s = t;
-    }
-    return s + c;
-}
 
 // The progress line: rewritten in place on a terminal (at most ten times a second), otherwise a
 // line at every tenth of the run, so that a log shows progress without a line a step.
@@ -175,7 +165,7 @@ MpmOutcome mpm_simulate(mpm::State& st, const mpm::Setup& setup, const MpmRunSet
     std::string why;
     const std::vector<double> mass0 = mpm_mass_by_id(st.particles, why);
     if (!why.empty()) throw std::logic_error("suite mpm: the state as built: " + why);
-    r.mass_initial = mpm_sum(mass0);
+    r.mass_initial = mpm::compensated_sum(mass0);
     const auto snapshot = [&] {
         const std::string name = mpm_snapshot_name(st.steps);
         out.write(name, mpm::particles_vtu(st.particles));
@@ -248,7 +238,7 @@ MpmOutcome mpm_simulate(mpm::State& st, const mpm::Setup& setup, const MpmRunSet
     // reorderings did to the particles' order (so the sums are taken in id order).
     MpmCheck mass{"mass", true, ""};
     const std::vector<double> mass1 = mpm_mass_by_id(st.particles, why);
-    r.mass_final = mass1.empty() ? NAN : mpm_sum(mass1);
+    r.mass_final = mass1.empty() ? NAN : mpm::compensated_sum(mass1);
     std::size_t changed = 0;
     for (std::size_t i = 0; i < mass1.size(); ++i) changed += mass1[i] != mass0[i] ? 1 : 0;
     if (!why.empty()) mass = {mass.name, false, why};
@@ -261,7 +251,7 @@ MpmOutcome mpm_simulate(mpm::State& st, const mpm::Setup& setup, const MpmRunSet
     mpm::p2g(st);
     std::vector<double> node_mass(st.node_hi);
     for (std::uint32_t n = 0; n < st.node_hi; ++n) node_mass[n] = st.nodes[n].m;
-    r.nodal_mass = mpm_sum(node_mass);
+    r.nodal_mass = mpm::compensated_sum(node_mass);
     r.nodal_error = std::fabs(r.nodal_mass - r.mass_initial) / r.mass_initial;
     MpmCheck nodal{"nodal mass", r.nodal_error <= 1e-12, ""};
     nodal.detail = "a P2G of the final particles puts " + format_number(r.nodal_mass) + " kg on the nodes, " + mpm_g(r.nodal_error) +

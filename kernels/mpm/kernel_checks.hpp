@@ -3,6 +3,7 @@
 // (facts, footprint); apart from the kernels so that mpm_kernels.cpp stays the measured loops.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "harness/kernel/kernel.hpp"
 #include "kernels/mpm/mpm.hpp"
@@ -29,6 +30,10 @@ std::string check_g2p_replay(const State& start, const State& now, long calls);
 // "" when every particle is finite, inside the box and located (w >= 0, Σ w = 1), the mass
 // (summed in id order) equals `mass`, and a fresh P2G's nodal masses sum to it (1e-12).
 std::string check_state(State& st, double mass);
+
+// Neumaier's compensated sum: the mass sums compared here have 1e5 to 1e7 terms, whose plain
+// sums drift apart by more than the 1e-12 the checks allow.
+double compensated_sum(const std::vector<double>& v);
 
 // Σ m_p in the order of the particles' ids (the same sum whatever order they are stored in).
 double mass_by_id(const Particles& p);
