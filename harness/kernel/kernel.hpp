@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "harness/kernel/arena.hpp"
+#include "harness/kernel/comm.hpp"
 
 namespace suite {
 
@@ -41,6 +42,10 @@ struct KernelConfig {
     std::string mesh = "";   // kernels on a mesh: the --mesh spec; "" = a generated mesh of about `size` elements
     // The values of the kernel's declared parameters (KernelInfo::params), defaults filled in.
     std::map<std::string, double> params = {};
+    // The ranks of the run (comm.hpp): nullptr in a run of one process. A kernel that
+    // distributes its work takes its share from communicator(); no other kernel looks.
+    const Comm* comm = nullptr;
+    const Comm& communicator() const { return comm ? *comm : single_process(); }
     // One of them; a name the kernel did not declare (or a config built without them) is a
     // std::logic_error, not a silent 0.
     double param(const std::string& name) const;

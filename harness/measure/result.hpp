@@ -27,6 +27,20 @@ struct Rates {
     std::optional<double> gflops_best;
 };
 
+// Where a record of an MPI run (suite-mpi) comes from: one rank's own measurement, or the
+// aggregate of all ranks' (per repetition the slowest rank's time, the work of all together).
+// Scope::none in a run of one process, and then absent from the JSON.
+struct RankScope {
+    enum class Kind { none, rank, aggregate } kind = Kind::none;
+    int ranks = 0;             // in the run
+    int rank = -1;             // Kind::rank
+    std::string host;          // Kind::rank: the rank's host
+    int hosts = 0;             // Kind::aggregate: distinct hosts
+    int slowest_rank = -1;     // Kind::aggregate: the rank with the longest best time
+    std::string slowest_host;
+    double spread = 0;         // Kind::aggregate: slowest rank's best time / fastest rank's (>= 1)
+};
+
 struct Record {
     std::string kernel;
     std::string variant;       // "" or "nt", a phase or a strategy
@@ -63,6 +77,7 @@ struct Record {
     std::string mesh;          // the --mesh spec of a kernel on a mesh; "" otherwise
     std::map<std::string, double> params;  // the kernel's declared parameters, as it ran (KernelConfig::params)
     std::vector<Fact> facts;   // what the kernel reported about its last run (Kernel::facts)
+    RankScope mpi;             // the rank it came from in an MPI run; Kind::none otherwise
 };
 
 // A size as people read it: "64MiB" for a footprint, "1000000" for a count.

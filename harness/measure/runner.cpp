@@ -28,6 +28,17 @@ void check_stop(const RunSettings& s) {
     if (s.stop && s.stop->load() != 0) throw Interrupted();
 }
 
+// In an MPI run, the point where every rank waits for the last one, and stops together if any
+// of them was asked to stop (an allreduce is the barrier): a rank that left alone would leave
+// the others waiting for it for ever. Without ranks, only this process's stop.
+void sync_ranks(const RunSettings& s) {
+    if (!s.comm) return check_stop(s);
+    if (s.comm->max(s.stop && s.stop->load() != 0 ? 1 : 0) != 0) throw Interrupted();
+}
+
+// The most any rank wants of a count (the same on every rank); the count itself in one process.
+int agree(const RunSettings& s, int mine) { return s.comm ? static_cast<int>(s.comm->max(mine)) : mine; }
+
 }  // namespace
 
 std::string callgrind_label(const Record& r) {
@@ -87,6 +98,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     cfg.seed = settings.seed;
     cfg.threads = point.threads;
     cfg.mesh = point.mesh;
+    cfg.comm = settings.comm;
     // Every declared parameter, at its default where the point does not give it.
     cfg.params = default_params(info);
     for (const auto& [name, value] : point.params)
@@ -103,7 +115,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         rec.smallest_array_over_llc = static_cast<double>(smallest) / static_cast<double>(llc);
     }
     rec.work = kernel->work();
-    check_stop(settings);
+    sync_ranks(settings);
 
     // Warm-up: not counted; it also tells how long one call takes.
     rec.warmup = 1;
@@ -114,17 +126,20 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     // sizes the batch: the first runs on cold caches and TLBs, any may lose its CPU to another
     // process for a moment, and a batch sized from a slow one would be so small that the fixed
     // cost of a sample (the region's fork and join, the counter reads) weighs on every call.
-    for (int extra = 0; extra < 2 && first < 50 * settings.min_sample_s; ++extra) {
+    // In an MPI run the ranks decide together, so that each makes the same calls.
+    for (int extra = 0; extra < 2 && agree(settings, first < 50 * settings.min_sample_s) != 0; ++extra) {
         t0 = Clock::now();
         kernel->run(1);
         first = std::max(std::min(first, seconds_since(t0)), 1e-9);
         ++rec.warmup;
     }
     rec.batch = first >= settings.min_sample_s ? 1 : static_cast<int>(std::ceil(settings.min_sample_s / first));
+    rec.batch = agree(settings, rec.batch);
     const double per_sample = first * rec.batch;
     rec.repetitions = settings.reps > 0
                           ? settings.reps
                           : std::clamp(static_cast<int>(std::ceil(settings.min_time_s / per_sample)), settings.min_reps, 1000000);
+    rec.repetitions = agree(settings, rec.repetitions);
 
     // Counters are opened by the team's own threads; energy is read by this one. Both bracket
     // exactly the clock's interval, the counters innermost so that they see little but the kernel.
@@ -141,7 +156,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     const bool judge_load = !callgrind::running_on_valgrind();
     const LoadSnapshot load_before = judge_load ? take_load_snapshot(cpus) : LoadSnapshot{};
     for (int r = 0; r < rec.repetitions; ++r) {
-        check_stop(settings);
+        sync_ranks(settings);
         if (energy) energy->start();
         counters.start();
         t0 = Clock::now();

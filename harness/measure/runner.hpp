@@ -43,6 +43,12 @@ struct RunSettings {
     const std::atomic<int>* stop = nullptr;  // set by a signal handler: abandon the point
     Instruments* instruments = nullptr;      // counters and energy; none: the clock only
     StabilityThresholds stability;           // when a point is flagged unstable
+    // The ranks of an MPI run (suite-mpi), nullptr otherwise. With one, every rank runs the same
+    // point at once: set-ups end together, the warm-up calls, batch and repetitions are the
+    // most any rank wants (so each calls the kernel equally often: a distributed kernel
+    // exchanges in every call), every sample starts when the last rank is ready, and a stop
+    // raised on any rank stops them all at the same sample. The kernel gets it as KernelConfig::comm.
+    const Comm* comm = nullptr;
 };
 
 // Thrown when RunSettings::stop is raised during a point; the point yields no record.

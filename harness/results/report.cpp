@@ -130,6 +130,12 @@ nlohmann::json to_json(const Record& r) {
         for (const auto& f : r.facts) facts[f.name] = {{"value", finite_or_null(f.value)}, {"unit", f.unit}};
         j["facts"] = facts;
     }
+    if (r.mpi.kind == RankScope::Kind::rank)
+        j["mpi"] = {{"scope", "rank"}, {"rank", r.mpi.rank}, {"ranks", r.mpi.ranks}, {"host", r.mpi.host}};
+    else if (r.mpi.kind == RankScope::Kind::aggregate)
+        j["mpi"] = {{"scope", "aggregate"},         {"ranks", r.mpi.ranks},
+                    {"hosts", r.mpi.hosts},         {"slowest_rank", r.mpi.slowest_rank},
+                    {"slowest_host", r.mpi.slowest_host}, {"spread", r.mpi.spread}};
     return j;
 }
 
