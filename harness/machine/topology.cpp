@@ -35,7 +35,8 @@ int ancestor_index(hwloc_topology_t t, hwloc_obj_t obj, hwloc_obj_type_t type) {
 // The process's CPU mask as it was when the program started, before any thread was pinned
 // (pinning the team pins the main thread too, and a later load must not mistake that for the
 // mask the user gave).
-const std::vector<int> startup_mask = [] {
+// suite-mpi replaces it with the rank's share of its host (Topology::adopt_mask).
+std::vector<int> startup_mask = [] {
     std::vector<int> cpus;
     cpu_set_t set;
     CPU_ZERO(&set);
@@ -71,12 +72,14 @@ const char* cache_type_name(hwloc_obj_cache_type_t t) {
 
 }  // namespace
 
-Topology Topology::load() {
+void Topology::adopt_mask(const std::vector<int>& cpus) { startup_mask = cpus; }
+
+Topology Topology::load(bool whole_machine) {
     HwlocTopology h;
     hwloc_topology_t t = h.t;
     Topology topo;
     topo.this_system = hwloc_topology_is_thissystem(t) != 0;
-    if (topo.this_system) restrict_to_mask(t, topo);
+    if (topo.this_system && !whole_machine) restrict_to_mask(t, topo);
     topo.packages = std::max(1, hwloc_get_nbobjs_by_type(t, HWLOC_OBJ_PACKAGE));
     topo.cores = hwloc_get_nbobjs_by_type(t, HWLOC_OBJ_CORE);
     if (hwloc_obj_t pkg = hwloc_get_obj_by_type(t, HWLOC_OBJ_PACKAGE, 0))

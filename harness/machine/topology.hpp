@@ -53,7 +53,12 @@ struct Topology {
     bool mask_restricted() const { return mask_cpus.size() < machine_cpus.size(); }
 
     // hwloc's view of the machine this process runs on (honouring hwloc's environment variables).
-    static Topology load();
+    // whole_machine: not restricted to the process's CPU mask (what suite-mpi records of a host
+    // whose ranks were each given a part of it).
+    static Topology load(bool whole_machine = false);
+    // From now on, load() restricts to `cpus` instead of the mask the process started with:
+    // suite-mpi calls it once it has bound the process to its rank's share of the host.
+    static void adopt_mask(const std::vector<int>& cpus);
 
     int pu_count() const { return static_cast<int>(pus.size()); }
     const Pu* find_pu(int os_index) const;
