@@ -23,6 +23,8 @@ if [ "${1:-build}" = test ]; then
   want+=(chromium libjs-chart.js)
   # suite mpm's particle snapshots read back by meshio (tests/check_mpm_vtu.py).
   want+=(python3-meshio)
+  # suite-mpi, the MPI mode (optional in the build; tests/mpi_test.py runs it with mpirun -np 2).
+  want+=(libopenmpi-dev openmpi-bin)
 fi
 if [ "${1:-build}" = bench ]; then
   # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by

@@ -12,7 +12,7 @@ import re
 import sys
 from pathlib import Path
 
-ORDER = ["common", "kernel", "machine", "instruments", "rapl", "measure", "results", "cli"]
+ORDER = ["common", "kernel", "machine", "instruments", "rapl", "measure", "results", "cli", "mpi"]
 ALLOWED = {
     "harness/common": {"harness/common"},
     "harness/kernel": {"harness/common", "harness/kernel"},
@@ -24,6 +24,9 @@ ALLOWED = {
                         "harness/results"},
     "harness/cli": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "rapl", "harness/measure",
                     "harness/results", "harness/cli", "kernels", "stream"},
+    # suite-mpi's own folder: the only one that includes mpi.h, and nothing includes it.
+    "harness/mpi": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "rapl", "harness/measure",
+                    "harness/results", "harness/cli", "harness/mpi"},
     # Kernels see only their contract.
     "stream": {"harness/common", "harness/kernel", "stream"},
     "kernels": {"harness/common", "harness/kernel", "kernels"},
