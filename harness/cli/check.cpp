@@ -32,12 +32,18 @@ A point that fails verification in the run is a regression. Points only in one f
 not gated. The files must come from the same machine and build: a difference in CPU, cores,
 memory, compiler, flags, instruction set, build type or huge pages is refused (exit 2, naming the fields)
 unless --force.
+MPI runs (suite-mpi): each rank's records and the aggregate of all ranks are points of their own,
+matched rank with rank and aggregate with aggregate, so a slow rank fails the gate even where the
+aggregate (which waits for the slowest rank) hardly moved; its row names the rank and its host.
+A plain baseline gates only the aggregate of a run of one rank; against a run of more ranks
+nothing is in common (exit 2, saying how many processes each ran).
 
 Examples:
   ./suite check --baseline results/baseline/ci.json run.json
   ./suite check --baseline results/baseline/ci.json run.json --tolerance=25% --markdown=gate.md
   ./suite check --baseline base.json run.json --alpha=0.05        # a weaker test, more alarms
   ./suite check --baseline results/baseline/ci-deterministic.json det.json --tolerance=1%
+  ./suite check --baseline mpi-base.json mpi-run.json --tolerance=25%   # every rank and the aggregate
 
 Exit status: 0 nothing regressed; 1 something regressed (listed, with the improvements and the
 inconclusive figures); 2 the input cannot be used (missing, not JSON, not a suite result,

@@ -175,6 +175,10 @@ int history_add(const std::vector<std::string>& args) {
     for (const auto& p : paths) {
         files.push_back(load_result_file(p));
         if (!files.back().complete) throw InputError(p + ": the run was interrupted (\"complete\": false); add only complete runs");
+        // The history's points have no rank: an MPI run's ranks and aggregate would mix in one series.
+        if (files.back().mpi)
+            throw InputError(p + ": a run of " + files.back().processes_label() + "; the history keeps runs of one process (an MPI run's ranks "
+                                 "would mix in one series); gate it with suite check --baseline");
     }
     History h = History::open_for_adding(a.db, history_options(a));
     for (const AddOutcome& o : h.add(files, commit, branch)) {
@@ -259,6 +263,8 @@ int history_check(const std::vector<std::string>& args) {
     rule.alpha = parse_alpha(alpha);
     const ResultFile run = load_result_file(runs[0]);
     if (!run.complete) throw InputError(run.path + ": the run was interrupted (\"complete\": false); gate only complete runs");
+    if (run.mpi)
+        throw InputError(run.path + ": a run of " + run.processes_label() + "; the history keeps runs of one process; gate it with suite check --baseline");
     const History h = History::open_for_reading(a.db, history_options(a));
     const RunIdentity id = identify_run(run, commit);
     SeriesFilter f;

@@ -58,6 +58,17 @@ std::string change_text(const Finding& f) {
 
 std::string p_text(const Finding& f) { return f.tested ? num(f.p) : "-"; }
 
+// The point as the report names it: with its host where it is one rank of an MPI run.
+std::string finding_label(const Finding& f) { return f.key.label() + (f.host.empty() ? "" : " on " + f.host); }
+
+// Why a run shares no point with its baseline when they ran different numbers of processes.
+std::string processes_differ(const ResultFile& base, const ResultFile& run) {
+    const int b = base.mpi ? base.mpi->ranks : 1, r = run.mpi ? run.mpi->ranks : 1;
+    if (b == r) return "";
+    return "; the baseline is a run of " + base.processes_label() + " and the run of " + run.processes_label() +
+           ": MPI ranks and aggregates meet only the same rank or the aggregate of a run of as many ranks";
+}
+
 std::string rule_text(const GateRule& r) {
     return "a change counts beyond " + pct(r.tolerance) + " when the repetitions tell the runs apart at p < " + num(r.alpha) +
            "; without repetitions, beyond " + pct(r.tolerance) + " plus the runs' spread";
@@ -134,8 +145,10 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, const GateR
     rep.run_path = run.path;
     rep.rule = rule;
     std::map<PointKey, const LoadedPoint*> in_base, in_run;
-    for (const auto& p : base.points) in_base[p.key] = &p;
-    for (const auto& p : run.points) in_run[p.key] = &p;
+    // An MPI run's ranks and aggregate are points of their own (a slow rank fails the gate even
+    // where the aggregate hides it); the aggregate of one rank meets a plain run's point.
+    for (const auto& p : base.points) in_base[matching_key(p.key)] = &p;
+    for (const auto& p : run.points) in_run[matching_key(p.key)] = &p;
     // A gate compares one configuration over time: another machine or another build or setting
     // makes every point a different experiment, so that is refused unless asked for.
     std::string refused;
@@ -152,9 +165,9 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, const GateR
         throw InputError("the run is not comparable with the baseline " + base.path + ": " + refused +
                          "; gate against a baseline of the same machine and build, or pass --force to compare anyway");
     for (const auto& p : base.points)
-        if (!in_run.count(p.key)) rep.missing_from_run.push_back(p.key);
+        if (!in_run.count(matching_key(p.key))) rep.missing_from_run.push_back(p.key);
     for (const auto& p : run.points) {
-        auto it = in_base.find(p.key);
+        auto it = in_base.find(matching_key(p.key));
         if (it == in_base.end()) {
             rep.not_in_baseline.push_back(p.key);
             continue;
@@ -168,6 +181,7 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, const GateR
         if (!p.verified) {
             Finding f;
             f.key = p.key;
+            f.host = p.mpi.host;
             f.figure = "verification";
             f.verdict = Verdict::regressed;
             f.note = "failed verification";
@@ -180,6 +194,7 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, const GateR
                 if (bm.name == rm.name && bm.unit == rm.unit) {
                     Finding f = judge(bm, rm, rule);
                     f.key = p.key;
+                    f.host = p.mpi.host;
                     // callgrind's counts are exact: no noise can make them inconclusive.
                     const bool timed = bm.name.rfind("callgrind", 0) != 0;
                     if (timed && (b.unstable || p.unstable)) {
@@ -194,7 +209,8 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, const GateR
     }
     if (rep.points_compared == 0)
         throw InputError("none of the " + std::to_string(run.points.size()) + " point(s) of " + run.path + " is in the baseline " + base.path +
-                         " (points are matched by kernel, variant, pattern, size, threads, pinning, placement and kernel parameters); run the baseline's configuration");
+                         " (points are matched by kernel, variant, pattern, size, threads, pinning, placement, kernel parameters and MPI rank); "
+                         "run the baseline's configuration" + processes_differ(base, run));
     if (rep.findings.empty())
         throw InputError(run.path + " and the baseline " + base.path + " have points in common but no figure to compare in any of them");
     return rep;
@@ -207,12 +223,12 @@ std::string render_check_text(const CheckReport& rep) {
     for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
         for (const auto& f : rep.findings)
             if (f.verdict == v)
-                t.rows.push_back({verdict_word(v), f.key.label(), f.figure, shows_values(f) ? num(f.baseline) : "-", shows_values(f) ? num(f.run) : "-",
+                t.rows.push_back({verdict_word(v), finding_label(f), f.figure, shows_values(f) ? num(f.baseline) : "-", shows_values(f) ? num(f.run) : "-",
                                   change_text(f), p_text(f), shows_values(f) ? pct(f.allowed) : "-"});
     if (!t.rows.empty()) out += t.render_text();
     std::set<PointKey> said;  // a point's reasons once, however many of its figures were inconclusive
     for (const auto& f : rep.findings)
-        if (f.verdict == Verdict::inconclusive && said.insert(f.key).second) out += "inconclusive: " + f.key.label() + ": " + f.note + "\n";
+        if (f.verdict == Verdict::inconclusive && said.insert(f.key).second) out += "inconclusive: " + finding_label(f) + ": " + f.note + "\n";
     out += std::to_string(rep.points_compared) + " point(s) compared, " + std::to_string(rep.findings.size()) + " figure(s): " +
            std::to_string(rep.count(Verdict::regressed)) + " regressed, " + std::to_string(rep.count(Verdict::improved)) + " improved, " +
            std::to_string(rep.count(Verdict::unchanged)) + " within the threshold, " + std::to_string(rep.count(Verdict::inconclusive)) +
@@ -238,7 +254,7 @@ std::string render_check_markdown(const CheckReport& rep) {
     for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
         for (const auto& f : rep.findings)
             if (f.verdict == v)
-                t.rows.push_back({verdict_word(v), "`" + f.key.label() + "`", f.figure, shows_values(f) ? num(f.baseline) : "-",
+                t.rows.push_back({verdict_word(v), "`" + finding_label(f) + "`", f.figure, shows_values(f) ? num(f.baseline) : "-",
                                   shows_values(f) ? num(f.run) : "-", change_text(f), p_text(f), shows_values(f) ? pct(f.allowed) : "-"});
     if (!t.rows.empty()) out += t.render_markdown() + "\n";
     for (const auto& n : rep.notes) out += "- " + n + "\n";

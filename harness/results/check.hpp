@@ -24,6 +24,7 @@ enum class Verdict { regressed, improved, unchanged, inconclusive };
 
 struct Finding {
     PointKey key;
+    std::string host;  // the run's host of a rank record of an MPI run; "" otherwise
     std::string figure;  // "bandwidth GB/s", "callgrind instructions per call", "verification"
     Direction direction = Direction::higher_is_better;
     double baseline = 0, run = 0;  // medians

@@ -1,5 +1,6 @@
 #include "harness/results/compare.hpp"
 #include "harness/common/stats.hpp"
+#include "harness/results/compare_figures.hpp"
 #include "harness/results/context_fields.hpp"
 
 #include <cmath>
@@ -13,35 +14,16 @@ namespace suite {
 
 namespace {
 
-std::string fmt_value(double v) {
-    char buf[32];
-    if (v != 0 && (std::fabs(v) >= 1e6 || std::fabs(v) < 1e-2)) std::snprintf(buf, sizeof buf, "%.3e", v);
-    else std::snprintf(buf, sizeof buf, v >= 100 ? "%.1f" : v >= 1 ? "%.2f" : "%.3g", v);
-    return buf;
-}
-
-std::string fmt_ratio(double r) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3fx", r);
-    return buf;
-}
-
-const Measure* find_measure(const LoadedPoint& p, const std::string& name) {
-    for (const auto& m : p.measures)
-        if (m.name == name) return &m;
-    return nullptr;
-}
-
 // Performance of `other` relative to `first` from the medians: above 1 is better, whichever way
 // the figure goes; with a 95 % bootstrap interval where both have repetitions (NAN otherwise).
 struct Ratio {
     double value = NAN, low = NAN, high = NAN;
 };
-Ratio performance_ratio(const Measure& first, const Measure& other) {
+Ratio median_ratio(const Measure& first, const Measure& other) {
     Ratio r;
     if (first.median <= 0 || other.median <= 0) return r;
     const bool higher = first.direction == Direction::higher_is_better;
-    r.value = higher ? other.median / first.median : first.median / other.median;
+    r.value = performance_ratio(first.median, other.median, first.direction);
     if (first.samples.size() >= 2 && other.samples.size() >= 2) {
         // The interval of other/first; for a time-like figure performance is its inverse.
         const Interval iv = median_ratio_interval(first.samples, other.samples);
@@ -53,7 +35,7 @@ Ratio performance_ratio(const Measure& first, const Measure& other) {
 
 std::string ratio_text(const Ratio& r) {
     if (std::isnan(r.value)) return "-";
-    std::string out = fmt_ratio(r.value);
+    std::string out = compare_ratio_text(r.value);
     if (!std::isnan(r.low)) {
         char buf[48];
         std::snprintf(buf, sizeof buf, " [%.3f, %.3f]", r.low, r.high);
@@ -64,9 +46,16 @@ std::string ratio_text(const Ratio& r) {
 
 // A point run on every CPU the machine has ("--threads=all", or the same count given by
 // number): two machines' "all threads" points are one comparable point whatever their counts.
-bool on_all_threads(const ResultFile& f, const PointKey& k) {
-    const std::string pus = context_text(f.context, "pus");
-    return k.threads > 1 && pus == std::to_string(k.threads);
+// In an MPI run a rank's machine is its host, and the aggregate's is every host together.
+bool on_all_threads(const ResultFile& f, const LoadedPoint& p) {
+    if (p.key.threads <= 1) return false;
+    if (f.mpi && p.mpi.scope != RankOrigin::Scope::none) {
+        long pus = 0;
+        for (const auto& h : f.mpi->hosts)
+            if (p.mpi.scope == RankOrigin::Scope::aggregate || h.host == p.mpi.host) pus += h.pus;
+        return pus == p.key.threads;
+    }
+    return context_text(f.context, "pus") == std::to_string(p.key.threads);
 }
 
 PointKey all_threads_key(PointKey k) {
@@ -75,6 +64,19 @@ PointKey all_threads_key(PointKey k) {
 }
 
 std::string file_tag(std::size_t i) { return "[" + std::to_string(i + 1) + "]"; }
+
+// Why files share no point when they ran different numbers of processes ("" when they did not).
+std::string process_mismatch(const std::vector<ResultFile>& files) {
+    const int first = files.front().mpi ? files.front().mpi->ranks : 0;
+    for (std::size_t f = 1; f < files.size(); ++f) {
+        const int other = files[f].mpi ? files[f].mpi->ranks : 0;
+        if (other == first || (other <= 1 && first <= 1)) continue;
+        return "; [1] is a run of " + files.front().processes_label() + " and " + file_tag(f) + " of " + files[f].processes_label() +
+               ": an MPI run's points are its ranks' and their aggregate, which meet only the same rank or the aggregate of a run "
+               "of as many ranks (a plain run's points meet the aggregate of a run of one rank)";
+    }
+    return "";
+}
 
 }  // namespace
 
@@ -85,14 +87,14 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     std::vector<std::map<PointKey, const LoadedPoint*>> all_index(files.size());
     for (std::size_t f = 0; f < files.size(); ++f)
         for (const auto& p : files[f].points) {
-            index[f][p.key] = &p;
-            if (on_all_threads(files[f], p.key)) all_index[f][all_threads_key(p.key)] = &p;
+            index[f][matching_key(p.key)] = &p;
+            if (on_all_threads(files[f], p)) all_index[f][all_threads_key(matching_key(p.key))] = &p;
         }
     // The point of file f that matches p of the first file: the same key, or both on all threads.
     auto match = [&](std::size_t f, const LoadedPoint& p) -> const LoadedPoint* {
-        if (auto it = index[f].find(p.key); it != index[f].end()) return it->second;
-        if (!on_all_threads(first, p.key)) return nullptr;
-        auto it = all_index[f].find(all_threads_key(p.key));
+        if (auto it = index[f].find(matching_key(p.key)); it != index[f].end()) return it->second;
+        if (!on_all_threads(first, p)) return nullptr;
+        auto it = all_index[f].find(all_threads_key(matching_key(p.key)));
         return it == all_index[f].end() ? nullptr : it->second;
     };
 
@@ -101,10 +103,12 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     for (const auto& f : files) ptrs.push_back(&f);
     {
         TextTable t{{"file", "path", "machine", "date", "git", "points", "complete"}, {}, {}};
-        for (std::size_t f = 0; f < files.size(); ++f)
-            t.rows.push_back({file_tag(f), files[f].path, files[f].machine_label(), context_text(files[f].context, "date"),
+        for (std::size_t f = 0; f < files.size(); ++f) {
+            const std::string machine = files[f].machine_label() + (files[f].mpi ? ", " + files[f].processes_label() : "");
+            t.rows.push_back({file_tag(f), files[f].path, machine, context_text(files[f].context, "date"),
                               context_text(files[f].context, "git_revision"), std::to_string(files[f].points.size()),
                               files[f].complete ? "yes" : "no (interrupted)"});
+        }
         out += markdown ? t.render_markdown() : t.render_text();
     }
     const auto diffs = context_differences(ptrs);
@@ -164,7 +168,7 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
             kernel_order.push_back(kernel);
             logs[kernel].resize(files.size());
         }
-        std::string label = p.key.label();
+        std::string label = p.key.label() + (p.mpi.host.empty() ? "" : " on " + p.mpi.host);
         if (other_counts) {
             std::string all_counts;  // "2 | 16"
             for (std::size_t f = 0; f < files.size(); ++f) {
@@ -183,10 +187,10 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
             }
             const std::string mark = q->verified ? "" : " !";
             unverified = unverified || !q->verified;
-            row.push_back(fmt_value(m->best) + mark);
-            row.push_back(fmt_value(m->median) + mark);
+            row.push_back(compare_value_text(m->best) + mark);
+            row.push_back(compare_value_text(m->median) + mark);
             if (f > 0) {
-                const Ratio r = performance_ratio(head, *m);
+                const Ratio r = median_ratio(head, *m);
                 row.push_back(ratio_text(r));
                 if (!std::isnan(r.value)) logs[kernel][f].push_back(std::log(r.value));
             }
@@ -195,7 +199,8 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     }
     if (common == 0)
         throw InputError("no point of " + first.path + " is in any other file (points are matched by kernel, variant, pattern, size, "
-                         "threads, pinning, placement and kernel parameters); run the same --kernel/--pattern/--sizes/--threads on each machine");
+                         "threads, pinning, placement, kernel parameters and MPI rank); run the same --kernel/--pattern/--sizes/--threads on each machine" +
+                         process_mismatch(files));
     std::size_t only_first = first.points.size() - common;
     out += markdown ? "\n### Points\n\n" : "\n";
     out += std::to_string(common) + " point(s) of [1] found in another file" +
@@ -203,7 +208,8 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     for (std::size_t f = 1; f < files.size(); ++f) {
         std::size_t extra = 0;
         for (const auto& p : files[f].points)
-            if (!index[0].count(p.key) && !(on_all_threads(files[f], p.key) && all_index[0].count(all_threads_key(p.key)))) ++extra;
+            if (!index[0].count(matching_key(p.key)) && !(on_all_threads(files[f], p) && all_index[0].count(all_threads_key(matching_key(p.key)))))
+                ++extra;
         if (extra) out += " " + std::to_string(extra) + " point(s) of " + file_tag(f) + " are not in [1].";
     }
     out += " \"vs [1]\": performance relative to [1] from the medians, above 1 is better, with a 95 % bootstrap interval"
@@ -224,7 +230,7 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
             const auto& v = logs[kernel][f];
             double sum = 0;
             for (double x : v) sum += x;
-            row.push_back(v.empty() ? "-" : fmt_ratio(std::exp(sum / static_cast<double>(v.size()))));
+            row.push_back(v.empty() ? "-" : compare_ratio_text(std::exp(sum / static_cast<double>(v.size()))));
             row.push_back(std::to_string(v.size()));
         }
         geo.rows.push_back(row);

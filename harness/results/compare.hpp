@@ -12,7 +12,9 @@ namespace suite {
 // The comparison as text (markdown = a Markdown document for a review or CI comment).
 // Throws InputError when the files differ in schema_version or have no point in common, and,
 // unless `force`, when they differ both as machines and in their build or settings (naming the
-// fields). Points are matched by their key; points run on all of each machine's CPUs also match
-// each other whatever the counts.
+// fields). Points are matched by their key (matching_key: in MPI runs rank with rank, aggregate
+// with aggregate, and a plain point with the aggregate of a run of one rank); points run on all
+// of each machine's CPUs also match each other whatever the counts. With files of different
+// process counts and nothing in common, the error says so. For one MPI file: compare_hosts.hpp.
 std::string render_comparison(const std::vector<ResultFile>& files, bool markdown, bool force = false);
 }  // namespace suite

@@ -81,6 +81,21 @@ std::vector<std::pair<std::string, std::vector<std::string>>> context_difference
         huge.push_back(text.empty() ? "no points" : text);
     }
     if (std::adjacent_find(huge.begin(), huge.end(), std::not_equal_to<>()) != huge.end()) out.push_back({"hugepages", huge});
+    // The processes of the run: one, or MPI ranks on hosts (which rank ran where).
+    std::vector<std::string> procs;
+    for (const auto* f : files) {
+        std::string text = f->processes_label();
+        if (f->mpi) {
+            text += " (" + f->mpi->layout + "):";
+            for (const auto& h : f->mpi->hosts) {
+                text += " " + h.host + " [";
+                for (std::size_t i = 0; i < h.ranks.size(); ++i) text.append(i ? "," : "").append(std::to_string(h.ranks[i]));
+                text += "]";
+            }
+        }
+        procs.push_back(text);
+    }
+    if (std::adjacent_find(procs.begin(), procs.end(), std::not_equal_to<>()) != procs.end()) out.push_back({"mpi", procs});
     return out;
 }
 

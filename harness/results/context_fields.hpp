@@ -20,7 +20,8 @@ const std::vector<std::string>& context_fields_that_matter();
 
 // For each field of context_fields_that_matter() on which the files disagree: the field and
 // each file's value, in the order of `files`; then "hugepages" (what the records asked of huge
-// pages, e.g. "none" against "thp") where the files' records disagree on it.
+// pages, e.g. "none" against "thp") where the files' records disagree on it, and "mpi" (one
+// process, or MPI ranks and which host each ran on) where the runs' processes differ.
 std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(const std::vector<const ResultFile*>& files);
 
 // What a context field says: what the machine is (its CPU, cores, memory: compare's subject,

@@ -11,55 +11,13 @@
 
 #include "harness/common/stats.hpp"
 #include "harness/results/context_fields.hpp"
+#include "harness/results/result_fields.hpp"
 
 namespace suite {
 
 namespace {
 
 using nlohmann::json;
-
-// Checked access to one file's JSON: every failure names the file and the field.
-struct Reader {
-    std::string file;
-
-    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-        throw InputError(file + ": " + where + ": " + what + " (is it a result file written by suite?)");
-    }
-    const json& field(const json& obj, const char* key, const std::string& where) const {
-        if (!obj.is_object()) fail(where, "expected an object");
-        auto it = obj.find(key);
-        if (it == obj.end()) fail(where + "." + key, "missing");
-        return *it;
-    }
-    std::string string(const json& obj, const char* key, const std::string& where, bool may_be_empty = false) const {
-        const json& v = field(obj, key, where);
-        if (!v.is_string()) fail(where + "." + key, "expected a string");
-        if (!may_be_empty && v.get_ref<const std::string&>().empty()) fail(where + "." + key, "empty");
-        return v.get<std::string>();
-    }
-    double number(const json& v, const std::string& where) const {
-        if (!v.is_number()) fail(where, "expected a number");
-        const double x = v.get<double>();
-        if (!std::isfinite(x) || x < 0) fail(where, "expected a finite non-negative number");
-        return x;
-    }
-    double number(const json& obj, const char* key, const std::string& where) const {
-        return number(field(obj, key, where), where + "." + key);
-    }
-    std::uint64_t count(const json& obj, const char* key, const std::string& where, std::uint64_t least) const {
-        const json& v = field(obj, key, where);
-        if (!v.is_number_integer() || (v.is_number_integer() && !v.is_number_unsigned() && v.get<std::int64_t>() < 0))
-            fail(where + "." + key, "expected a non-negative integer");
-        const std::uint64_t x = v.get<std::uint64_t>();
-        if (x < least) fail(where + "." + key, "expected at least " + std::to_string(least));
-        return x;
-    }
-    bool boolean(const json& obj, const char* key, const std::string& where) const {
-        const json& v = field(obj, key, where);
-        if (!v.is_boolean()) fail(where + "." + key, "expected true or false");
-        return v.get<bool>();
-    }
-};
 
 // The deepest nesting of [ and { outside strings: a hostile file of a million '[' must be
 // refused before a recursive reader goes near it.
@@ -83,14 +41,14 @@ std::size_t nesting_depth(const std::string& text) {
 }
 
 // Spread estimated from a min..max range of a few dozen repetitions (about four standard deviations).
-double range_spread(const Reader& r, const json& stats, const std::string& where) {
+double range_spread(const FieldReader& r, const json& stats, const std::string& where) {
     const double median = r.number(stats, "median", where), lo = r.number(stats, "min", where), hi = r.number(stats, "max", where);
     // A spread from figures out of order would be negative and shrink the gate's threshold.
     if (!(lo <= median && median <= hi)) r.fail(where, "expected min <= median <= max");
     return median > 0 ? (hi - lo) / (4 * median) : 0.0;
 }
 
-void read_counters(const Reader& r, const json& block, const std::string& where, LoadedPoint& p) {
+void read_counters(const FieldReader& r, const json& block, const std::string& where, LoadedPoint& p) {
     if (!r.boolean(block, "available", where)) return;
     const json& events = r.field(block, "events", where);
     if (!events.is_array()) r.fail(where + ".events", "expected an array");
@@ -113,7 +71,7 @@ void read_counters(const Reader& r, const json& block, const std::string& where,
     }
 }
 
-void read_energy(const Reader& r, const json& block, const std::string& where, LoadedPoint& p) {
+void read_energy(const FieldReader& r, const json& block, const std::string& where, LoadedPoint& p) {
     if (!r.boolean(block, "available", where)) return;
     const json& domains = r.field(block, "domains", where);
     if (!domains.is_array()) r.fail(where + ".domains", "expected an array");
@@ -132,7 +90,7 @@ void read_energy(const Reader& r, const json& block, const std::string& where, L
 }
 
 // Counts of a run under valgrind's callgrind (suite deterministic): exact, so no noise.
-void read_callgrind(const Reader& r, const json& block, const std::string& where, LoadedPoint& p) {
+void read_callgrind(const FieldReader& r, const json& block, const std::string& where, LoadedPoint& p) {
     const json& per_call = r.field(block, "per_call", where);
     const std::string at = where + ".per_call";
     auto add = [&](const char* name, double v) {
@@ -145,7 +103,7 @@ void read_callgrind(const Reader& r, const json& block, const std::string& where
     add("callgrind LL misses", r.number(per_call, "DLmr", at) + r.number(per_call, "DLmw", at));
 }
 
-LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
+LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index, const std::optional<LoadedMpiJob>& job) {
     const std::string where = "results[" + std::to_string(index) + "]";
     if (!rec.is_object()) r.fail(where, "expected an object");
     LoadedPoint p;
@@ -171,6 +129,8 @@ LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
             k.params[name] = value.get<double>();
         }
     }
+    p.mpi = read_rank_origin(r, rec, where, job);
+    if (p.mpi.scope != RankOrigin::Scope::none) k.rank_scope = rank_scope_text(p.mpi.scope == RankOrigin::Scope::rank ? p.mpi.rank : -1, p.mpi.ranks);
 
     if (rec.contains("callgrind")) {
         p.under_callgrind = true;
@@ -227,10 +187,13 @@ LoadedPoint read_point(const Reader& r, const json& rec, std::size_t index) {
 
 std::string PointKey::size_label() const { return size_kind == "bytes" ? format_bytes(size) : std::to_string(size); }
 
-std::string PointKey::label() const {
-    std::string out = (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " t=" + std::to_string(threads) +
-                      " " + pin + "/" + placement;
+std::string PointKey::label() const { return label_with_threads("t=" + std::to_string(threads)); }
+
+std::string PointKey::label_with_threads(const std::string& threads_text) const {
+    std::string out = (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " " + threads_text + " " + pin +
+                      "/" + placement;
     for (const auto& [name, value] : params) out += " " + name + "=" + format_number(value);
+    if (!rank_scope.empty()) out += " " + rank_scope;
     return out;
 }
 
@@ -240,7 +203,7 @@ std::string ResultFile::machine_label() const {
 }
 
 ResultFile parse_result_text(const std::string& text, const std::string& path) {
-    Reader r{path};
+    FieldReader r{path};
     if (nesting_depth(text) > 256) throw InputError(path + ": not a suite result file (JSON nested more than 256 levels deep)");
     json doc;
     try {
@@ -267,11 +230,12 @@ ResultFile parse_result_text(const std::string& text, const std::string& path) {
     f.complete = r.boolean(doc, "complete", "$");
     f.context = r.field(doc, "context", "$");
     if (!f.context.is_object()) r.fail("context", "expected an object");
+    f.mpi = read_mpi_job(r, f.context);
     const json& results = r.field(doc, "results", "$");
     if (!results.is_array()) r.fail("results", "expected an array");
     std::set<PointKey> seen;
     for (std::size_t i = 0; i < results.size(); ++i) {
-        LoadedPoint p = read_point(r, results[i], i);
+        LoadedPoint p = read_point(r, results[i], i, f.mpi);
         if (!seen.insert(p.key).second) {
             f.notes.push_back(path + ": results[" + std::to_string(i) + "] repeats " + p.key.label() + "; the first one is used");
             continue;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -46,22 +47,50 @@ struct Measure {
 };
 
 // What identifies a point across files: the same kernel, variant, access, size, threads,
-// pinning, placement and kernel parameters.
+// pinning, placement and kernel parameters, and in an MPI run which rank measured it.
 struct PointKey {
     std::string kernel, variant, access;  // access: the pattern or ordering, e.g. "strided:8"
     std::string size_kind;                // "bytes" or "count"
     std::uint64_t size = 0;               // as requested
-    int threads = 0;
+    int threads = 0;                      // of the process; of all ranks together in an MPI aggregate
     std::string pin, placement;
     std::map<std::string, double> params;  // the record's "parameters"; empty when it has none
-    auto tie() const { return std::tie(kernel, variant, access, size_kind, size, threads, pin, placement, params); }
+    // An MPI run (suite-mpi) writes each point once per rank and once for all ranks together:
+    // "rank 3 of 4", "aggregate of 4 ranks" (rank_scope_text); "" for a run of one process.
+    std::string rank_scope;
+    auto tie() const { return std::tie(kernel, variant, access, size_kind, size, threads, pin, placement, params, rank_scope); }
     bool operator<(const PointKey& o) const { return tie() < o.tie(); }
     bool operator==(const PointKey& o) const { return tie() == o.tie(); }
     // "add random 64KiB t=2 compact/local" (with the variant: "copy-nt ...", with parameters:
-    // "... compact/local tol=1e-08").
+    // "... compact/local tol=1e-08", in an MPI run "... compact/local rank 1 of 2").
     std::string label() const;
+    // The same with `threads_text` in place of "t=N" (the host view's "t=1/rank").
+    std::string label_with_threads(const std::string& threads_text) const;
     std::string size_label() const;
 };
+
+// Where a record of an MPI run comes from (the record's `mpi`); scope none in a run of one process.
+struct RankOrigin {
+    enum class Scope { none, rank, aggregate } scope = Scope::none;
+    int ranks = 0;  // in the run
+    int rank = -1;  // Scope::rank: which
+    std::string host;  // Scope::rank: where it ran
+    // Scope::aggregate: the hosts of the run, and the rank (and its host) with the longest best
+    // time; spread = that time over the shortest rank's (>= 1).
+    int hosts = 0;
+    int slowest_rank = -1;
+    std::string slowest_host;
+    double spread = 1;
+};
+
+// "rank 3 of 4" (rank >= 0), "aggregate of 4 ranks" (rank < 0): PointKey::rank_scope.
+std::string rank_scope_text(int rank, int ranks);
+
+// The key under which points of different files meet: the point's own, except that the
+// aggregate of an MPI run of one rank is the same experiment as a plain run's point (one
+// process, its threads), so it meets that point. Ranks and aggregates of runs of more ranks
+// meet only the same rank, or the aggregate, of a run of as many ranks.
+PointKey matching_key(const PointKey& key);
 
 struct LoadedPoint {
     PointKey key;
@@ -73,6 +102,24 @@ struct LoadedPoint {
     bool unstable = false;
     std::string unstable_why;  // the reasons, joined
     std::string hugepages;     // what the record asked of huge pages ("none", "thp"); "" in older files
+    RankOrigin mpi;            // which rank of an MPI run measured it; Scope::none in a plain run
+};
+
+// One host of an MPI run as its context lists it (context.mpi.hosts).
+struct LoadedHost {
+    std::string host;
+    std::vector<int> ranks;  // the world ranks on it, in order
+    std::string cpu_model;
+    int cores = 0, pus = 0, numa_node_count = 0;
+    std::uint64_t memory_bytes = 0;
+};
+
+// context.mpi of a run of suite-mpi: the job as rank 0 wrote it.
+struct LoadedMpiJob {
+    std::string library, layout;  // "Open MPI v4.1.4, ...", "numa" | "split" | "given"
+    int ranks = 0;
+    std::vector<LoadedHost> hosts;  // each host once, in the order of the file
+    const LoadedHost* host_of(int rank) const;
 };
 
 struct ResultFile {
@@ -82,6 +129,11 @@ struct ResultFile {
     nlohmann::json context;  // as written; read with context_text()
     std::vector<LoadedPoint> points;
     std::vector<std::string> notes;  // e.g. a point that appears twice (the first one is kept)
+    // A run of suite-mpi: its ranks and hosts; every record then has its RankOrigin. Empty for
+    // a run of one process.
+    std::optional<LoadedMpiJob> mpi;
+    // "one process", "4 MPI ranks on 2 hosts": what kind of run it was, for messages.
+    std::string processes_label() const;
     // "vm (AMD EPYC)": the host and CPU model, for labels.
     std::string machine_label() const;
 };
