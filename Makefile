@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm
+.PHONY: all deps run-deps test-deps configure build run plots test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpi
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -92,6 +92,11 @@ bench-fem: build
 # The MPM kernels by particle and grid order (about 15 minutes): results/bench/mpm_orders.{json,md}.
 bench-mpm: build
 	/usr/bin/python3 bench/mpm_orders.py --out results/bench $(BENCH_FLAGS)
+
+# Distributed SpMV (suite-mpi, 1 and 2 ranks) against the threaded one on the same cores, curve and
+# METIS partitions (a few minutes): results/bench/fem_dist.{json,md}.
+bench-mpi: build
+	/usr/bin/python3 bench/fem_dist.py --out results/bench $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(BUILD) build-sanitize suite

@@ -12,6 +12,7 @@ checked on a real job.
   killed     a rank killed with SIGKILL mid-run: the job ends (no hang), mpirun names the rank,
              and the file holds what was finished, valid, with "complete": false
   stopped    SIGINT to mpirun: the ranks stop together; the file says "complete": false
+  reader     suite compare and suite check read the job's file
   fem        a distributed eigenvalue (fem-eigen-dist over 2 ranks, curve and METIS partitions)
              equals the one-process fem-eigen to 1e-7 (skipped, said, if the kernel is absent)
 
@@ -108,6 +109,15 @@ for launcher, layout in (((), None), (("--bind-to", "none"), "split")):
         check(agg["mpi"]["slowest_rank"] == bests.index(max(bests)), name + ": the slowest rank named")
         check(abs(agg["mpi"]["spread"] - max(bests) / min(bests)) < 1e-9, name + ": spread = slowest best / fastest best")
         check(all(x["verification"]["passed"] for x in results[k:k + 3]), name + ": every record verified")
+
+# --- the reader: the job's own file through compare and check ---------------------------------
+real = os.path.join(tmp, "run-bound.json")
+if os.path.exists(real):
+    r = subprocess.run([suite, "compare", real], capture_output=True, text=True)
+    check(r.returncode == 0 and "rank 1" in r.stdout, "suite compare on the job's file lines up its ranks (%d: %s)" %
+          (r.returncode, (r.stderr or r.stdout).strip()[-200:]))
+    r = subprocess.run([suite, "check", "--baseline", real, real], capture_output=True, text=True)
+    check(r.returncode == 0, "suite check of the job's file against itself passes (%d: %s)" % (r.returncode, r.stderr.strip()[-200:]))
 
 # --- refusals --------------------------------------------------------------------------------
 out = os.path.join(tmp, "refused.json")
