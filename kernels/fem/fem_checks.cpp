@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <utility>
 #include <vector>
 
 #include "harness/common/units.hpp"
@@ -103,6 +106,18 @@ std::string check_properties(const MeshArrays& m, const Matrices& got, double de
             return "row " + std::to_string(i) + " of A sums to " + format_number(row) + ", -∫k²φ = " + format_number(-load[static_cast<std::size_t>(i)]);
     }
     return "";
+}
+
+std::string check_same_lambda(const std::string& key, const std::string& who, double lambda) {
+    static std::mutex lock;
+    static std::map<std::string, std::pair<double, std::string>> first;
+    const std::lock_guard<std::mutex> hold(lock);
+    const auto [it, inserted] = first.emplace(key, std::make_pair(lambda, who));
+    if (inserted) return "";
+    const double rel = std::fabs(lambda - it->second.first) / std::fabs(it->second.first);
+    if (rel <= 1e-7) return "";
+    return "λ = " + format_number(lambda) + " differs from the " + it->second.second + " point's " + format_number(it->second.first) + " by " +
+           format_number(rel) + " (relative), more than 1e-7";
 }
 
 }  // namespace suite::fem

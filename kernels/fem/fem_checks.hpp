@@ -22,4 +22,9 @@ std::string check_against(const Matrices& got, AssembledCsr& ref, double rel);
 // Σ_j A_ij = -∫ k² φ_i, that integral by its own loop over the triangles.
 std::string check_properties(const MeshArrays& mesh, const Matrices& got, double delta, double rel);
 
+// λ of one problem (`key`: the mesh and parameters, and whatever else must match) must come out
+// the same whatever the ordering or partition: the first point of this process with that key is
+// remembered, and every later one (`who` names it) must agree with it to 1e-7 relative.
+std::string check_same_lambda(const std::string& key, const std::string& who, double lambda);
+
 }  // namespace suite::fem

@@ -28,6 +28,7 @@
 #include "harness/kernel/kernel.hpp"
 #include "kernels/fem/assembly.hpp"
 #include "kernels/fem/distributed.hpp"
+#include "kernels/fem/fem_checks.hpp"
 #include "kernels/fem/fem_mesh.hpp"
 #include "kernels/fem/fem_point.hpp"
 #include "kernels/fem/partition.hpp"
@@ -37,20 +38,6 @@ namespace suite::fem {
 namespace {
 
 enum class DistSolve { spmv, cg, eigen };
-
-// λ of one mesh, parameters and rank count must not depend on the ordering or the partition:
-// each point is checked against the first of this process (every rank holds the same λ).
-std::string dist_check_lambda(const std::string& key, const std::string& who, double lambda) {
-    static std::mutex lock;
-    static std::map<std::string, std::pair<double, std::string>> first;
-    const std::lock_guard<std::mutex> hold(lock);
-    const auto [it, inserted] = first.emplace(key, std::make_pair(lambda, who));
-    if (inserted) return "";
-    const double rel = std::fabs(lambda - it->second.first) / std::fabs(it->second.first);
-    if (rel <= 1e-7) return "";
-    return "λ = " + format_number(lambda) + " differs from the " + it->second.second + " point's " + format_number(it->second.first) + " by " +
-           format_number(rel) + " (relative), more than 1e-7";
-}
 
 class FemDist final : public Kernel {
 public:
@@ -273,8 +260,8 @@ Verification FemDist::verify() {
         if (!(std::fabs(rq - lambda) <= 1e-9 * std::fabs(rq))) fail("λ = " + format_number(lambda) + ", the Rayleigh quotient of u is " + format_number(rq));
         if (s[4] > 0) fail(format_number(s[4]) + " entries of the eigenvector are not positive (it should have one sign)");
         if (!(rel <= 1e-3)) fail("||A u - λ M u|| / ||λ M u|| = " + format_number(rel));
-        const std::string key = spec_ + " delta=" + format_number(param(cfg_, "delta")) + " tol=" + format_number(tol_) + " ranks=" + std::to_string(comm_.size());
-        const std::string agree = !v.passed ? "" : dist_check_lambda(key, cfg_.access.name + "/" + partition_scheme_name(scheme_), lambda);
+        const std::string key = spec_ + " delta=" + format_number(param(cfg_, "delta")) + " tol=" + format_number(tol_);
+        const std::string agree = !v.passed ? "" : check_same_lambda(key, cfg_.access.name + "/" + partition_scheme_name(scheme_), lambda);
         if (!agree.empty()) fail(agree);
         if (v.passed)
             what = "λ = " + format_number(lambda) + " is the Rayleigh quotient of u (distributed), u > 0, ||A u - λ M u|| / ||λ M u|| = " + format_number(rel) +

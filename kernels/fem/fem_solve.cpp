@@ -20,6 +20,7 @@
 #include "harness/common/units.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/kernel.hpp"
+#include "kernels/fem/fem_checks.hpp"
 #include "kernels/fem/fem_point.hpp"
 #include "kernels/fem/solver.hpp"
 
@@ -34,20 +35,6 @@ enum class Solve { spmv, cg, eigen };
 // p = r + βp: r, p read, p written). Flops: 2 a nonzero, 10 a row.
 double cg_bytes(std::uint64_t nnz, std::int64_t n) { return csr_bytes(nnz, n) + 88.0 * static_cast<double>(n); }
 double cg_flops(std::uint64_t nnz, std::int64_t n) { return 2.0 * static_cast<double>(nnz) + 10.0 * static_cast<double>(n); }
-
-// λ of one mesh and set of parameters must come out the same whatever the ordering (each run
-// checks its points against the first one of this process).
-std::string check_lambda(const std::string& key, const std::string& who, double lambda) {
-    static std::mutex lock;
-    static std::map<std::string, std::pair<double, std::string>> first;
-    const std::lock_guard<std::mutex> hold(lock);
-    const auto [it, inserted] = first.emplace(key, std::make_pair(lambda, who));
-    if (inserted) return "";
-    const double rel = std::fabs(lambda - it->second.first) / std::fabs(it->second.first);
-    if (rel <= 1e-7) return "";
-    return "λ = " + format_number(lambda) + " differs from the " + it->second.second + " point's " + format_number(it->second.first) + " by " +
-           format_number(rel) + " (relative), more than 1e-7";
-}
 
 class FemSolve final : public Kernel {
 public:
@@ -213,7 +200,7 @@ Verification FemSolve::verify() {
             if (!(std::fabs(rq - eigen_.lambda) <= 1e-9 * std::fabs(rq))) fail("λ = " + format_number(eigen_.lambda) + ", the Rayleigh quotient of u is " + format_number(rq));
             if (negative) fail(std::to_string(negative) + " entries of the eigenvector are not positive (it should have one sign)");
             if (!(rel <= 1e-3)) fail("||A u - λ M u|| / ||λ M u|| = " + format_number(rel));
-            const std::string agree = !v.passed ? "" : check_lambda(d_.spec + " delta=" + format_number(d_.delta) + " tol=" + format_number(tol_), cfg_.access.name, eigen_.lambda);
+            const std::string agree = !v.passed ? "" : check_same_lambda(d_.spec + " delta=" + format_number(d_.delta) + " tol=" + format_number(tol_), cfg_.access.name, eigen_.lambda);
             if (!agree.empty()) fail(agree);
             if (v.passed)
                 what = "λ = " + format_number(eigen_.lambda) + " is the Rayleigh quotient of u, u > 0, ||A u - λ M u|| / ||λ M u|| = " + format_number(rel) +
