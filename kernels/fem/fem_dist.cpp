@@ -324,15 +324,7 @@ Work FemDist::work() const {
 
 void dist_validate(const KernelConfig& cfg, const std::string& name, DistSolve s) {
     if (parse_partition_scheme(cfg.variant) == PartitionScheme::metis) require_metis();
-    if (s != DistSolve::spmv) {
-        const double t = param(cfg, "cg-tol"), m = param(cfg, "cg-max");
-        if (!(t > 0 && t < 1)) throw UsageError("--cg-tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
-        if (!(m >= 1 && m <= 2e9 && m == std::floor(m))) throw UsageError("--cg-max=" + format_number(m) + " for " + name + ": accepted: a whole number from 1 to 2000000000");
-    }
-    if (s == DistSolve::eigen) {
-        const double t = param(cfg, "tol");
-        if (!(t > 0 && t < 1)) throw UsageError("--tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
-    }
+    validate_solver_params(cfg, name, s != DistSolve::spmv, s == DistSolve::eigen);
     validate_fem(cfg, name, true);
     const std::string spec = mesh_spec_of(cfg);
     const std::uint64_t vertices = mesh::mesh_counts(mesh::parse_mesh_spec(spec)).vertices, ranks = static_cast<std::uint64_t>(cfg.communicator().size());
@@ -351,10 +343,7 @@ bool dist_register(const char* name, DistSolve s, const char* formula, const cha
     e.info.variant_option = "strategy";
     e.info.default_variants = {"curve"};
     e.info.params = {delta_param()};
-    if (s != DistSolve::spmv)
-        e.info.params.insert(e.info.params.end(), {{"cg-tol", 1e-10, "CG stops when ||r|| <= cg-tol ||f||; in (0, 1) (fem-cg, fem-eigen and their -dist twins)"},
-                                                   {"cg-max", 100000, "most CG iterations of one solve, a whole number >= 1 (fem-cg, fem-eigen and their -dist twins)"}});
-    if (s == DistSolve::eigen) e.info.params.push_back({"tol", 1e-8, "the inverse iteration stops when |λ - λ_old| <= tol |λ_old|; in (0, 1) (fem-eigen, fem-eigen-dist)"});
+    for (ParamInfo& p : solver_params(s != DistSolve::spmv, s == DistSolve::eigen)) e.info.params.push_back(std::move(p));
     e.info.read_bytes_per_unit = s == DistSolve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == DistSolve::spmv ? 2 : 0;
     e.info.notes = notes +

@@ -116,6 +116,28 @@ void validate_fem(const KernelConfig& cfg, const std::string& kernel, bool takes
 
 ParamInfo delta_param() { return {"delta", 0.05, "δ of the waveguide, k² = (100 + δ) exp(-50 (x² + y²)) - 100; finite, >= 0 (fem kernels)"}; }
 
+std::vector<ParamInfo> solver_params(bool cg, bool eigen) {
+    std::vector<ParamInfo> out;
+    if (cg) {
+        out.push_back({"cg-tol", 1e-10, "CG stops when ||r|| <= cg-tol ||f||; in (0, 1) (fem-cg, fem-eigen and their -dist twins)"});
+        out.push_back({"cg-max", 100000, "most CG iterations of one solve, a whole number >= 1 (fem-cg, fem-eigen and their -dist twins)"});
+    }
+    if (eigen) out.push_back({"tol", 1e-8, "the inverse iteration stops when |λ - λ_old| <= tol |λ_old|; in (0, 1) (fem-eigen, fem-eigen-dist)"});
+    return out;
+}
+
+void validate_solver_params(const KernelConfig& cfg, const std::string& name, bool cg, bool eigen) {
+    if (cg) {
+        const double t = param(cfg, "cg-tol"), m = param(cfg, "cg-max");
+        if (!(t > 0 && t < 1)) throw UsageError("--cg-tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
+        if (!(m >= 1 && m <= 2e9 && m == std::floor(m))) throw UsageError("--cg-max=" + format_number(m) + " for " + name + ": accepted: a whole number from 1 to 2000000000");
+    }
+    if (eigen) {
+        const double t = param(cfg, "tol");
+        if (!(t > 0 && t < 1)) throw UsageError("--tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
+    }
+}
+
 void set_mesh_sizing(KernelEntry& e) {
     e.info.axis = AccessAxis::ordering;
     e.info.accesses = {std::begin(fem_orderings), std::end(fem_orderings)};

@@ -6,6 +6,7 @@
 // by row blocks (blocks.hpp), so the harness's placement applies to each of them.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "harness/kernel/kernel.hpp"
 #include "kernels/fem/assembly.hpp"
@@ -50,6 +51,10 @@ void validate_fem(const KernelConfig& cfg, const std::string& kernel, bool takes
 
 // The --delta parameter, and the mesh sizing every finite element kernel shares.
 ParamInfo delta_param();
+// The solver parameters of fem-cg, fem-eigen and their -dist twins: --cg-tol and --cg-max where
+// the kernel runs CG, --tol where it runs the inverse iteration; and their checks (UsageError).
+std::vector<ParamInfo> solver_params(bool cg, bool eigen);
+void validate_solver_params(const KernelConfig& cfg, const std::string& kernel, bool cg, bool eigen);
 void set_mesh_sizing(KernelEntry& e);
 
 }  // namespace suite::fem

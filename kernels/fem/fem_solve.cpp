@@ -249,19 +249,8 @@ Work FemSolve::work() const {
     return w;
 }
 
-ParamInfo cg_tol_param() { return {"cg-tol", 1e-10, "CG stops when ||r|| <= cg-tol ||f||; in (0, 1) (fem-cg, fem-eigen)"}; }
-ParamInfo cg_max_param() { return {"cg-max", 100000, "most CG iterations of one solve, a whole number >= 1 (fem-cg, fem-eigen)"}; }
-
 void validate_solve(const KernelConfig& cfg, const std::string& name, Solve s) {
-    if (s != Solve::spmv) {
-        const double t = param(cfg, "cg-tol"), m = param(cfg, "cg-max");
-        if (!(t > 0 && t < 1)) throw UsageError("--cg-tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
-        if (!(m >= 1 && m <= 2e9 && m == std::floor(m))) throw UsageError("--cg-max=" + format_number(m) + " for " + name + ": accepted: a whole number from 1 to 2000000000");
-    }
-    if (s == Solve::eigen) {
-        const double t = param(cfg, "tol");
-        if (!(t > 0 && t < 1)) throw UsageError("--tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
-    }
+    validate_solver_params(cfg, name, s != Solve::spmv, s == Solve::eigen);
     validate_fem(cfg, name, true);
 }
 
@@ -272,8 +261,7 @@ bool register_solve(const char* name, Solve s, const char* formula, const char* 
     e.info.formula = formula;
     e.info.unit = unit;
     e.info.params = {delta_param()};
-    if (s != Solve::spmv) e.info.params.insert(e.info.params.end(), {cg_tol_param(), cg_max_param()});
-    if (s == Solve::eigen) e.info.params.push_back({"tol", 1e-8, "the inverse iteration stops when |λ - λ_old| <= tol |λ_old|; in (0, 1) (fem-eigen)"});
+    for (ParamInfo& p : solver_params(s != Solve::spmv, s == Solve::eigen)) e.info.params.push_back(std::move(p));
     // Per unit: a nonzero's value and column (SpMV); a CG iteration's per-row bytes (about 7 nonzeros a row).
     e.info.read_bytes_per_unit = s == Solve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == Solve::spmv ? 2 : 0;
