@@ -108,6 +108,21 @@ std::string check_properties(const MeshArrays& m, const Matrices& got, double de
     return "";
 }
 
+void check_solve_outcome(const SolveOutcome& o, bool& solver_failed, const std::function<void(const std::string&)>& fail) {
+    const bool converged = o.cg ? o.cg_result.converged : o.eigen.converged && !o.eigen.cg_failed;
+    if (!o.ran) {
+        fail("no solve ran after setup");
+    } else if (!converged) {
+        solver_failed = true;
+        if (o.cg || o.eigen.cg_failed)
+            fail("conjugate gradients did not reach --cg-tol=" + format_number(o.cg_tol) + " within --cg-max=" + std::to_string(o.max_cg) + " iterations");
+        else
+            fail("the inverse iteration did not reach --tol=" + format_number(o.tol) + " within " + std::to_string(max_outer_iterations) + " steps");
+    }
+    if (o.ran && o.cg_iterations() != o.setup_cg_iterations)
+        fail(std::to_string(o.cg_iterations()) + " CG iterations, where the same solve took " + std::to_string(o.setup_cg_iterations) + " in setup");
+}
+
 std::string check_same_lambda(const std::string& key, const std::string& who, double lambda) {
     static std::mutex lock;
     static std::map<std::string, std::pair<double, std::string>> first;

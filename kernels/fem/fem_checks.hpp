@@ -4,10 +4,12 @@
 // reference assembly, and properties that hold whatever the assembly order (symmetry, the mass
 // matrix's total equal to the mesh's area, A 1 = -(k² mass term) 1 because the stiffness part
 // of A annihilates constants). Each returns "" when the check holds, else what failed.
+#include <functional>
 #include <string>
 
 #include "kernels/fem/assembly.hpp"
 #include "kernels/fem/csr.hpp"
+#include "kernels/fem/solver.hpp"
 
 namespace suite::fem {
 
@@ -25,6 +27,20 @@ std::string check_properties(const MeshArrays& mesh, const Matrices& got, double
 // λ of one problem (`key`: the mesh and parameters, and whatever else must match) must come out
 // the same whatever the ordering or partition: the first point of this process with that key is
 // remembered, and every later one (`who` names it) must agree with it to 1e-7 relative.
+// What verify() says of a CG solve (cg) or an inverse iteration, whoever ran it: that it ran after
+// setup, that it converged (else `solver_failed`, and which limit stopped it), and that it took
+// the CG iterations the untimed solve of setup took. Each failure goes to `fail`.
+struct SolveOutcome {
+    bool ran = false, cg = true;
+    CgResult cg_result;
+    EigenResult eigen;
+    long setup_cg_iterations = 0;
+    double cg_tol = 0, tol = 0;
+    int max_cg = 0;
+    long cg_iterations() const { return cg ? cg_result.iterations : eigen.cg_iterations; }
+};
+void check_solve_outcome(const SolveOutcome& o, bool& solver_failed, const std::function<void(const std::string&)>& fail);
+
 std::string check_same_lambda(const std::string& key, const std::string& who, double lambda);
 
 }  // namespace suite::fem

@@ -161,19 +161,7 @@ Verification FemSolve::verify() {
         std::vector<double> t(static_cast<std::size_t>(n)), t2(static_cast<std::size_t>(n));
         spmv_rows(p, a, sol, t.data(), 0, n);
         const bool cg = solve_ == Solve::cg;
-        const bool converged = cg ? cg_result_.converged : eigen_.converged && !eigen_.cg_failed;
-        const long its = cg ? cg_result_.iterations : eigen_.cg_iterations;
-        if (!ran_) {
-            fail("no solve ran after setup");
-        } else if (!converged) {
-            v.solver_failed = true;
-            if (cg || eigen_.cg_failed)
-                fail("conjugate gradients did not reach --cg-tol=" + format_number(cg_tol_) + " within --cg-max=" + std::to_string(max_cg_) + " iterations");
-            else
-                fail("the inverse iteration did not reach --tol=" + format_number(tol_) + " within " + std::to_string(max_outer_iterations) + " steps");
-        }
-        if (ran_ && its != setup_cg_iterations_)
-            fail(std::to_string(its) + " CG iterations, where the same solve took " + std::to_string(setup_cg_iterations_) + " in setup");
+        check_solve_outcome({ran_, cg, cg_result_, eigen_, setup_cg_iterations_, cg_tol_, tol_, max_cg_}, v.solver_failed, fail);
         if (cg) {
             double rr = 0, ff = 0;
             for (std::int64_t i = 0; i < n; ++i) {
