@@ -32,7 +32,9 @@ cpu_set_t initial_cpuset() {
     return set;
 }
 
-// The calling thread's CPU affinity, as OS CPU numbers.
+
+}  // namespace
+
 std::vector<int> current_cpuset() {
     cpu_set_t got;
     CPU_ZERO(&got);
@@ -42,8 +44,6 @@ std::vector<int> current_cpuset() {
         if (CPU_ISSET(c, &got)) cpus.push_back(c);
     return cpus;
 }
-
-}  // namespace
 
 PinSpec parse_pin(std::string_view text, const Topology& topo) {
     PinSpec spec;

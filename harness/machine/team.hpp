@@ -49,6 +49,9 @@ std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, 
 // pinned threads (and not on threads the OpenMP runtime created afterwards).
 bool team_still_bound(const std::vector<ThreadBinding>& team);
 
+// The calling thread's CPU affinity, as OS CPU numbers.
+std::vector<int> current_cpuset();
+
 nlohmann::json to_json(const ThreadBinding& b);
 
 }  // namespace suite

@@ -10,21 +10,12 @@
 
 #include "harness/common/units.hpp"
 #include "harness/machine/rank_share.hpp"
+#include "harness/machine/team.hpp"
 #include "harness/machine/topology.hpp"
 
 namespace suite {
 
 namespace {
-
-std::vector<int> current_mask() {
-    std::vector<int> cpus;
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) != 0) throw std::runtime_error("sched_getaffinity failed");
-    for (int c = 0; c < CPU_SETSIZE; ++c)
-        if (CPU_ISSET(c, &set)) cpus.push_back(c);
-    return cpus;
-}
 
 void bind_process(const std::vector<int>& cpus) {
     cpu_set_t set;
@@ -103,7 +94,7 @@ Job start_job() {
     int local_rank = 0, local_size = 1;
     MPI_Comm_rank(local, &local_rank);
     MPI_Comm_size(local, &local_size);
-    const std::string my_mask = format_cpu_list(current_mask());
+    const std::string my_mask = format_cpu_list(current_cpuset());
     const std::vector<std::string> masks = allgather_texts(local, my_mask);
     int group = 0, index = 0;  // ranks of this host started with my mask, and my place among them
     for (int r = 0; r < local_size; ++r)
@@ -114,7 +105,7 @@ Job start_job() {
     try {
         const Topology under_mask = Topology::load();
         if (group == 1 && local_size > 1) {
-            job.cpus = under_mask.mask_cpus.empty() ? current_mask() : under_mask.mask_cpus;
+            job.cpus = under_mask.mask_cpus.empty() ? current_cpuset() : under_mask.mask_cpus;
             layout = "given";
         } else {
             RankShare share = share_of(under_mask, group, index);
@@ -127,7 +118,7 @@ Job start_job() {
         problem = job.host + ": " + e.what();
     }
     // The sets as bound, checked for overlap on each host.
-    const std::vector<std::string> bound = allgather_texts(local, problem.empty() ? format_cpu_list(current_mask()) : "");
+    const std::vector<std::string> bound = allgather_texts(local, problem.empty() ? format_cpu_list(current_cpuset()) : "");
     std::vector<int> local_to_world(static_cast<std::size_t>(local_size));
     MPI_Allgather(&job.rank, 1, MPI_INT, local_to_world.data(), 1, MPI_INT, local);
     if (problem.empty()) {
