@@ -10,15 +10,17 @@
 #include <string>
 
 #include "harness/measure/instrument_set.hpp"
+#include "rapl/energy.hpp"
 
 int main(int argc, char** argv) {
     using namespace suite;
     const int threads = argc > 1 ? std::atoi(argv[1]) : 2;
     const std::string root = argc > 2 ? argv[2] : sysfs_root();
     const int n = argc > 3 ? std::atoi(argv[3]) : 20000;
-    Instruments in = make_instruments("default", "sysfs", root);
+    Instruments in = make_instruments("default", "none", {});
+    in.energy = std::make_shared<EnergyMeter>(EnergyMeter::open(EnergyBackend::sysfs, root));
     TeamCounters counters(in.counters.events, threads, in.access);
-    EnergyMeter* energy = in.energy.available() ? &in.energy : nullptr;
+    EnergyInstrument* energy = in.energy->available() ? in.energy.get() : nullptr;
     auto time_it = [&](bool with_counters, bool with_energy) {
         const auto t0 = std::chrono::steady_clock::now();
         for (int i = 0; i < n; ++i) {
@@ -32,7 +34,7 @@ int main(int argc, char** argv) {
         return us;
     };
     std::printf("events: %zu on %d thread(s); energy domains: %zu (%s)\n", in.counters.events.size(), threads,
-                in.energy.sources().size(), energy ? root.c_str() : in.energy.reason().c_str());
+                in.energy->domains().size(), energy ? root.c_str() : in.energy->reason().c_str());
     std::printf("counters: %.2f us per repetition\n", time_it(true, false));
     if (energy) std::printf("energy:   %.2f us per repetition\n", time_it(false, true));
     if (energy) std::printf("both:     %.2f us per repetition\n", time_it(true, true));

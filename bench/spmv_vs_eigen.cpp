@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/cli/parse.hpp"
+#include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/stats.hpp"
 #include "harness/common/units.hpp"

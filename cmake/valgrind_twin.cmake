@@ -19,7 +19,7 @@ if(SUITE_VALGRIND_TWIN)
   string(STRIP "${SUITE_EFFECTIVE_FLAGS}" SUITE_EFFECTIVE_FLAGS)
   configure_file(cmake/build_info.cpp.in ${CMAKE_BINARY_DIR}/generated/build_info_x86-64-v3.cpp @ONLY)
   set(SUITE_EFFECTIVE_FLAGS "${_main_flags}")
-  add_executable(suite-x86-64-v3 harness/cli/main.cpp ${SUITE_HARNESS} ${SUITE_STREAM} ${SUITE_KERNELS} ${SUITE_RAPL}
+  add_executable(suite-x86-64-v3 app/suite/main.cpp ${SUITE_APP} ${SUITE_HARNESS} ${SUITE_STREAM} ${SUITE_KERNELS} ${SUITE_RAPL}
                  ${CMAKE_BINARY_DIR}/generated/build_info_x86-64-v3.cpp ${CMAKE_BINARY_DIR}/generated/git_revision.cpp)
   add_dependencies(suite-x86-64-v3 git_revision)
   target_include_directories(suite-x86-64-v3 PRIVATE ${CMAKE_SOURCE_DIR})
@@ -30,6 +30,6 @@ if(SUITE_VALGRIND_TWIN)
                         Boost::headers SQLite::SQLite3 suite_sparse)
   target_compile_definitions(suite-x86-64-v3 PRIVATE $<TARGET_PROPERTY:suite_core,COMPILE_DEFINITIONS>
                              $<TARGET_PROPERTY:suite_front,COMPILE_DEFINITIONS>)
-  # The harness's files compile one unit a folder here too (their UNITY_GROUP, CMakeLists.txt).
+  # The harness's and app/suite's files compile one unit a folder here too (their UNITY_GROUP, CMakeLists.txt).
   set_target_properties(suite-x86-64-v3 PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
 endif()

@@ -5,10 +5,12 @@
 // with the reason, never as 0 J. The sysfs root is injectable (SUITE_SYSFS_ROOT, default /sys)
 // so that captured trees under tests/fixtures/ stand in for machines with RAPL.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "harness/instruments/energy.hpp"
 #include "harness/instruments/measurements.hpp"
 
 namespace suite {
@@ -42,8 +44,8 @@ bool read_raw(const EnergySource& s, std::uint64_t& raw, std::string& error);
 // Joules between two raw readings, across at most one wrap-around of the counter.
 double joules_between(const EnergySource& s, std::uint64_t begin, std::uint64_t end);
 
-// The energy instrument of a run. Move-only; empty with a reason where nothing can be read.
-class EnergyMeter {
+// The energy instrument of a run, from RAPL. Move-only; empty with a reason where nothing can be read.
+class EnergyMeter final : public EnergyInstrument {
 public:
     EnergyMeter() = default;  // not requested (--energy=none)
     static EnergyMeter open(EnergyBackend backend, const std::string& root);
@@ -51,20 +53,19 @@ public:
     EnergyMeter& operator=(EnergyMeter&&) noexcept;
     EnergyMeter(const EnergyMeter&) = delete;
     EnergyMeter& operator=(const EnergyMeter&) = delete;
-    ~EnergyMeter();
+    ~EnergyMeter() override;
 
-    bool requested() const { return requested_; }
-    bool available() const { return !sources_.empty() && reason_.empty(); }
-    const std::string& reason() const { return reason_; }
-    const std::string& backend() const { return backend_; }
+    bool requested() const override { return requested_; }
+    bool available() const override { return !sources_.empty() && reason_.empty(); }
+    const std::string& reason() const override { return reason_; }
+    const std::string& backend() const override { return backend_; }
+    std::vector<EnergyDomainInfo> domains() const override;
     const std::vector<EnergySource>& sources() const { return sources_; }
 
-    void start();
-    void stop(double seconds);  // adds one repetition that took `seconds`
-    // The point's summary, from its repetitions (then forgotten, ready for the next point).
-    EnergyReadings take(int batch, double units, double stream_bytes, double median_seconds_per_call);
-    // --energy-baseline: sleeps `seconds` and keeps each domain's idle power.
-    void measure_idle(double seconds);
+    void start() override;
+    void stop(double seconds) override;  // adds one repetition that took `seconds`
+    EnergyReadings take(int batch, double units, double stream_bytes, double median_seconds_per_call) override;
+    void measure_idle(double seconds) override;
 
 private:
     bool requested_ = false;
@@ -78,5 +79,8 @@ private:
     std::vector<std::string> lost_;             // [source]: a read failed during the point
     std::vector<std::optional<double>> idle_watts_;
 };
+
+// The program's EnergyOpener: --energy's text (parse_energy_backend) opened under sysfs_root().
+std::unique_ptr<EnergyInstrument> open_energy(const std::string& option);
 
 }  // namespace suite

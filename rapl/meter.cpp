@@ -83,6 +83,17 @@ EnergyMeter& EnergyMeter::operator=(EnergyMeter&& o) noexcept {
     return *this;
 }
 
+std::vector<EnergyDomainInfo> EnergyMeter::domains() const {
+    std::vector<EnergyDomainInfo> out;
+    for (const auto& s : sources_) out.push_back({s.domain, s.socket, s.where, s.reason});
+    return out;
+}
+
+std::unique_ptr<EnergyInstrument> open_energy(const std::string& option) {
+    const EnergyBackend backend = parse_energy_backend(option);
+    return std::make_unique<EnergyMeter>(EnergyMeter::open(backend, sysfs_root()));
+}
+
 EnergyMeter::~EnergyMeter() {
     for (auto& s : sources_)
         if (s.fd >= 0) close(s.fd);

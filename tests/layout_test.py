@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
-"""The include rules of harness/README.md, checked on the source tree.
+"""The include rules of harness/README.md and app/README.md, checked on the source tree.
 
-Every project #include of every C++ file under harness/, stream/, kernels/ and rapl/ is looked up
-in ALLOWED: a folder may include only the folders listed for it. Also: no source file sits
-directly in harness/ (each lives in the folder of its concern), every harness folder has its
-README, and no source file is longer than 400 lines unless its first lines say why.
+Every project #include of every C++ file under app/, harness/, stream/, kernels/ and rapl/ is
+looked up in ALLOWED: a folder may include only the folders listed for it. Between the top-level
+folders the graph must have no arrow back up: the engine (harness/) sees none of stream/,
+kernels/, rapl/ or app/; the kernels and rapl see only the engine; app/ sees everything and
+nothing includes it. Also: no source file sits directly in harness/ or app/ (each lives in the
+folder of its concern or program), every harness and app folder has its README, and no source
+file is longer than 400 lines unless its first lines say why.
 
 usage: layout_test.py SOURCE_DIR        exit 0 clean, 1 with one line per violation
 """
@@ -12,34 +15,36 @@ import re
 import sys
 from pathlib import Path
 
-ORDER = ["common", "kernel", "machine", "instruments", "rapl", "measure", "results", "cli", "mpi"]
+ORDER = ["common", "kernel", "machine", "instruments", "measure", "results"]
+PROGRAMS = ["suite", "suite-mpi"]
+ENGINE = {"harness/" + f for f in ORDER}
 ALLOWED = {
     "harness/common": {"harness/common"},
     "harness/kernel": {"harness/common", "harness/kernel"},
     "harness/machine": {"harness/common", "harness/kernel", "harness/machine"},
     "harness/instruments": {"harness/common", "harness/instruments"},
+    "harness/measure": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "harness/measure"},
+    "harness/results": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "harness/measure", "harness/results"},
+    # Energy implements the instruments' interface; the program wires it in.
     "rapl": {"harness/common", "harness/instruments", "rapl"},
-    "harness/measure": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "rapl", "harness/measure"},
-    "harness/results": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "rapl", "harness/measure",
-                        "harness/results"},
-    "harness/cli": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "rapl", "harness/measure",
-                    "harness/results", "harness/cli", "kernels", "stream"},
-    # suite-mpi's own folder: the only one that includes mpi.h, and nothing includes it.
-    "harness/mpi": {"harness/common", "harness/kernel", "harness/machine", "harness/instruments", "rapl", "harness/measure",
-                    "harness/results", "harness/cli", "harness/mpi"},
     # Kernels see only their contract.
     "stream": {"harness/common", "harness/kernel", "stream"},
     "kernels": {"harness/common", "harness/kernel", "kernels"},
+    # The programs see everything; suite-mpi also takes suite's options and frame.
+    "app/suite": ENGINE | {"stream", "kernels", "rapl", "app/suite"},
+    "app/suite-mpi": ENGINE | {"stream", "kernels", "rapl", "app/suite", "app/suite-mpi"},
 }
+# The top-level floors: an include may point to its own floor or one below, never above.
+FLOOR = {"harness": 0, "stream": 1, "kernels": 1, "rapl": 1, "app": 2}
 MAX_LINES = 400
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 
 
 def folder_of(rel: str) -> str:
-    """The rule's key for a path relative to the source root: 'harness/measure', 'kernels', ..."""
+    """The rule's key for a path relative to the source root: 'harness/measure', 'app/suite', 'kernels', ..."""
     parts = rel.split("/")
-    if parts[0] == "harness":
-        return "/".join(parts[:2]) if len(parts) > 2 else "harness"
+    if parts[0] in ("harness", "app"):
+        return "/".join(parts[:2]) if len(parts) > 2 else parts[0]
     return parts[0]
 
 
@@ -50,35 +55,44 @@ def main() -> int:
     root = Path(sys.argv[1])
     problems = []
     checked = 0
-    sources = [p for d in ("harness", "stream", "kernels", "rapl") for p in sorted((root / d).rglob("*")) if p.suffix in (".cpp", ".hpp")]
+    edges = set()  # (from, to) between top-level folders
+    sources = [p for d in FLOOR for p in sorted((root / d).rglob("*")) if p.suffix in (".cpp", ".hpp")]
     for path in sources:
         rel = path.relative_to(root).as_posix()
         here = folder_of(rel)
-        if here == "harness":
-            problems.append(f"{rel}: a source file directly in harness/; put it in the folder of its concern ({', '.join(ORDER)})")
+        if here in ("harness", "app"):
+            where = ", ".join(ORDER) if here == "harness" else ", ".join(PROGRAMS)
+            problems.append(f"{rel}: a source file directly in {here}/; put it in the folder of its concern ({where})")
             continue
         allowed = ALLOWED.get(here)
         if allowed is None:
-            problems.append(f"{rel}: folder {here} has no include rule in tests/layout_test.py (and harness/README.md)")
+            problems.append(f"{rel}: folder {here} has no include rule in tests/layout_test.py (and its README)")
             continue
         text = path.read_text()
         for target in INCLUDE.findall(text):
             if "/" not in target:
                 continue  # a header beside the file, e.g. "process.hpp"
             there = folder_of(target)
-            if there not in ALLOWED and there != "harness":
+            if there not in ALLOWED and there not in ("harness", "app"):
                 continue  # not a project folder (generated files, system headers in quotes)
             checked += 1
+            edges.add((rel.split("/")[0], target.split("/")[0]))
             if there not in allowed:
                 problems.append(f"{rel}: includes {target}, but {here} may include only {', '.join(sorted(allowed))}")
         lines = text.count("\n")
         if lines > MAX_LINES and "lines" not in "\n".join(text.splitlines()[:6]):
             problems.append(f"{rel}: {lines} lines; split it, or say at its top why it is one idea")
-    for folder in ORDER:
-        if folder != "rapl" and not (root / "harness" / folder / "README.md").is_file():
-            problems.append(f"harness/{folder}/README.md is missing: each folder says what lives there and what it may include")
+    # The same rule seen from above: no arrow between top-level folders points to a higher floor.
+    for a, b in sorted(edges):
+        if FLOOR[b] > FLOOR[a]:
+            problems.append(f"{a}/ includes {b}/, a floor above it: the include graph between top-level folders runs back up")
+    for folder in ["harness/" + f for f in ORDER] + ["app/" + p for p in PROGRAMS] + ["app"]:
+        if not (root / folder / "README.md").is_file():
+            problems.append(f"{folder}/README.md is missing: each folder says what lives there and what it may include")
     for p in problems:
         print("layout: " + p)
+    graph = ", ".join(f"{a}->{b}" for a, b in sorted(edges) if a != b)
+    print(f"layout: top-level includes: {graph}")
     print(f"layout: {len(sources)} files, {checked} project includes checked, {len(problems)} violation(s)")
     if not checked:
         print("layout: no include was checked; the test is looking in the wrong place")

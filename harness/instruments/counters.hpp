@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/instruments/instrument.hpp"
 #include "harness/instruments/measurements.hpp"
 
 namespace suite {
@@ -74,8 +75,9 @@ std::string open_failure_reason(int err, bool hardware, const PerfAccess& access
 
 // The counters of one point, opened on every thread of the OpenMP team (each thread opens its
 // own, pid 0), the hardware events of a thread in one group so that they are counted over the
-// same cycles. Move-only; start()/stop() bracket one repetition exactly where the runner's clock does.
-class TeamCounters {
+// same cycles. Move-only; start()/stop() bracket one repetition exactly where the runner's clock
+// does. Empty (default-constructed, --counters=none) it counts nothing: the null object.
+class TeamCounters final : public RepetitionInstrument {
 public:
     TeamCounters() = default;
     TeamCounters(const std::vector<CounterSpec>& specs, int threads, const PerfAccess& access);
@@ -83,11 +85,12 @@ public:
     TeamCounters& operator=(TeamCounters&&) noexcept;
     TeamCounters(const TeamCounters&) = delete;
     TeamCounters& operator=(const TeamCounters&) = delete;
-    ~TeamCounters();
+    ~TeamCounters() override;
 
     bool empty() const { return specs_.empty(); }
-    void start();
-    void stop();  // adds one repetition
+    void start() override;
+    void stop(double seconds) override;  // adds one repetition (the counts need no clock)
+    void stop() { stop(0.0); }
     // After the repetitions: were they run by the threads that opened the counters? (OpenMP
     // keeps its pool, but a count that missed work would be a wrong number.)
     void check_team();

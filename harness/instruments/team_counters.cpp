@@ -117,7 +117,7 @@ void TeamCounters::start() {
     if (!empty()) read_all(begin_);
 }
 
-void TeamCounters::stop() {
+void TeamCounters::stop(double) {
     if (empty()) return;
     std::vector<Raw> end(fds_.size());
     read_all(end);

@@ -2,7 +2,7 @@
 // The processes a run spans, as a kernel and the runner see them: a rank, a size, a barrier,
 // sums and maxima over the ranks, and the exchange of halo values with neighbouring ranks.
 // The plain build runs on the one-process Comm below; `suite-mpi` hands every kernel an MPI
-// implementation (harness/mpi/), so that nothing here or in a kernel includes MPI.
+// implementation (app/suite-mpi/), so that nothing here or in a kernel includes MPI.
 // A kernel that distributes its work reads KernelConfig::comm; every other kernel ignores it
 // and simply runs on every rank at once (the runner starts the ranks' repetitions together).
 #include <cstdint>

@@ -1,6 +1,10 @@
 #include "harness/measure/instrument_set.hpp"
 
+#include <stdexcept>
+
 #include <nlohmann/json.hpp>
+
+#include "harness/common/units.hpp"
 
 namespace suite {
 
@@ -15,12 +19,20 @@ nlohmann::json per_call(const PerCall& p) { return {{"median", p.median}, {"min"
 
 }  // namespace
 
-Instruments make_instruments(const std::string& counters, const std::string& energy, const std::string& root) {
+Instruments make_instruments(const std::string& counters, const std::string& energy, const EnergyOpener& open_energy) {
     Instruments in;
     in.access = perf_access();
-    const EnergyBackend backend = parse_energy_backend(energy);  // usage errors first, before any probing
+    if (energy == "none") {
+        in.energy = energy_not_requested();
+    } else if (open_energy) {
+        in.energy = open_energy(energy);  // its usage errors before the counters'
+        if (!in.energy) throw std::logic_error("the energy opener returned no instrument");
+    } else if (energy == "auto") {
+        in.energy = std::make_shared<NoEnergy>("this program has no energy instrument");
+    } else {
+        throw UsageError("--energy=" + energy + ": this program reads no energy; accepted: auto, none");
+    }
     in.counters = parse_counters(counters, in.access);
-    in.energy = EnergyMeter::open(backend, root);
     return in;
 }
 
@@ -57,13 +69,14 @@ nlohmann::json instruments_context(const Instruments& in, double timer_resolutio
     counters["hardware"] = {{"available", hw}, {"reason", reason_or_null(hw, hw_reason)}};
 
     nlohmann::json domains = nlohmann::json::array();
-    for (const auto& s : in.energy.sources())
+    for (const auto& s : in.energy->domains())
         domains.push_back({{"domain", s.domain}, {"socket", socket_json(s.socket)}, {"source", s.where},
                            {"available", s.reason.empty()}, {"reason", reason_or_null(s.reason.empty(), s.reason)}});
-    const bool energy_ok = in.energy.available();
+    const EnergyInstrument& meter = *in.energy;
+    const bool energy_ok = meter.available();
     nlohmann::json energy = {{"available", energy_ok},
-                             {"reason", reason_or_null(energy_ok, in.energy.requested() ? in.energy.reason() : "not requested (--energy=none)")},
-                             {"backend", in.energy.backend().empty() ? nlohmann::json(nullptr) : nlohmann::json(in.energy.backend())},
+                             {"reason", reason_or_null(energy_ok, meter.requested() ? meter.reason() : "not requested (--energy=none)")},
+                             {"backend", meter.backend().empty() ? nlohmann::json(nullptr) : nlohmann::json(meter.backend())},
                              {"domains", domains},
                              {"baseline_s", in.energy_baseline_s > 0 ? nlohmann::json(in.energy_baseline_s) : nlohmann::json(nullptr)}};
     return {{"timer", {{"available", true}, {"clock", "CLOCK_MONOTONIC (std::chrono::steady_clock)"}, {"resolution_ns", timer_resolution_ns}}},

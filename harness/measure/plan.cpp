@@ -118,7 +118,7 @@ Variants plan_variants(const KernelInfo& info, const std::string& stores_variant
 
 }  // namespace
 
-Plan make_plan(const RunOptions& o, const Topology& topo) {
+Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& open_energy) {
     Plan plan;
     plan.quiet = o.quiet;
     plan.dry_run = o.dry_run;
@@ -201,7 +201,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
     // recorded as unavailable, and said once when it was asked for by name.
     if (!(o.energy_baseline >= 0) || o.energy_baseline > 600)
         throw UsageError("--energy-baseline=" + std::to_string(o.energy_baseline) + ": accepted: 0 (none) to 600 seconds");
-    plan.instruments = make_instruments(o.counters, o.energy, sysfs_root());
+    plan.instruments = make_instruments(o.counters, o.energy, open_energy);
     plan.instruments.energy_baseline_s = o.energy_baseline;
     for (int level = 4; level >= 1; --level)
         if (const Cache* c = topo.find_cache(level); c && c->line_bytes > 0) {
@@ -213,7 +213,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
         for (const auto& e : plan.instruments.counters.events)
             if (std::string why = probe_event(e, plan.instruments.access); !why.empty())
                 plan.notes.push_back("counter " + e.name + " cannot be counted here: " + why);
-    const EnergyMeter& meter = plan.instruments.energy;
+    const EnergyInstrument& meter = *plan.instruments.energy;
     if ((o.energy == "sysfs" || o.energy == "perf" || o.energy_baseline > 0) && meter.requested() && !meter.available())
         plan.notes.push_back("energy cannot be measured here: " + meter.reason());
 
@@ -372,7 +372,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo) {
                                        : "the cache probe found no last level below memory: the default sizes follow the reported caches");
 
     // Last, as it creates (and removes) a probe file: nothing is written before all else is
-    // checked. The run claims the file (lock, inputs) before it measures: harness/cli/run.cpp.
+    // checked. The run claims the file (lock, inputs) before it measures: app/suite/run.cpp.
     if (!o.out.empty()) check_output_target(o.out, "--out");
     return plan;
 }

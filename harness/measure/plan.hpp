@@ -59,6 +59,8 @@ struct Plan {
     nlohmann::json caches_measured;  // the probe's findings for context.caches_measured; null: no probe
 };
 
-Plan make_plan(const RunOptions& opts, const Topology& topo);
+// `open_energy` builds the energy instrument from --energy (the program's: RAPL for suite and
+// suite-mpi); without one only --energy=auto|none is accepted, and energy is not measured.
+Plan make_plan(const RunOptions& opts, const Topology& topo, const EnergyOpener& open_energy = {});
 
 }  // namespace suite

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -144,9 +145,12 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     // Counters are opened by the team's own threads; energy is read by this one. Both bracket
     // exactly the clock's interval, the counters innermost so that they see little but the kernel.
     Instruments* in = settings.instruments;
-    TeamCounters counters;
+    TeamCounters counters;  // empty: counts nothing
     if (in && in->counters.requested) counters = TeamCounters(in->counters.events, point.threads, in->access);
-    EnergyMeter* energy = in && in->energy.available() ? &in->energy : nullptr;
+    NoEnergy no_energy;
+    EnergyInstrument& energy = in && in->energy->available() ? *in->energy : static_cast<EnergyInstrument&>(no_energy);
+    // Outermost first: started in this order, stopped in the reverse.
+    RepetitionInstrument* const around[] = {&energy, &counters};
 
     rec.samples_s.reserve(static_cast<std::size_t>(rec.repetitions));
     // Not under valgrind: there the figures are callgrind's exact counts, not times; and the
@@ -157,15 +161,13 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     const LoadSnapshot load_before = judge_load ? take_load_snapshot(cpus) : LoadSnapshot{};
     for (int r = 0; r < rec.repetitions; ++r) {
         sync_ranks(settings);
-        if (energy) energy->start();
-        counters.start();
+        for (RepetitionInstrument* i : around) i->start();
         t0 = Clock::now();
         callgrind::toggle_collect();  // under `suite deterministic`, only the kernel's calls are counted
         kernel->run(rec.batch);
         callgrind::toggle_collect();
         const double seconds = seconds_since(t0);
-        counters.stop();
-        if (energy) energy->stop(seconds);
+        for (auto i = std::rbegin(around); i != std::rend(around); ++i) (*i)->stop(seconds);
         rec.samples_s.push_back(seconds / rec.batch);
     }
     const LoadSnapshot load_after = judge_load ? take_load_snapshot(cpus) : LoadSnapshot{};
@@ -187,7 +189,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         rec.counters.requested = in->counters.requested;
         rec.counters.omitted = in->counters.omitted;
         if (rec.counters.requested && in->counters.events.empty()) rec.counters.reason = "no event can be opened here";
-        rec.energy = in->energy.take(rec.batch, rec.work.units, rec.work.stream_bytes, rec.time.median);
+        rec.energy = in->energy->take(rec.batch, rec.work.units, rec.work.stream_bytes, rec.time.median);
     }
     return rec;
 }

@@ -1,5 +1,5 @@
 #pragma once
-// What `suite deterministic` (harness/cli/deterministic.cpp) reads back from valgrind: the
+// What `suite deterministic` (app/suite/deterministic.cpp) reads back from valgrind: the
 // callgrind dump of each point, turned into the record's "callgrind" block (counts per kernel
 // call under a fixed simulated cache, so that they repeat exactly on any machine).
 #include <string>

@@ -88,4 +88,20 @@ ThreadSharing thread_sharing(const mesh::MeshView& m, int threads) {
     return s;
 }
 
+Traversal traversal(std::uint64_t n, int threads) {
+    Traversal t;
+    t.visit.resize(n);
+    t.thread.resize(n);
+    t.step.resize(n);
+    for (int u = 0; u < threads; ++u) {
+        const auto [lo, hi] = thread_block(n, u, threads);
+        for (std::uint64_t e = lo; e < hi; ++e) {
+            t.visit[e] = static_cast<std::int64_t>(e);
+            t.thread[e] = u;
+            t.step[e] = static_cast<std::int64_t>(e - lo);
+        }
+    }
+    return t;
+}
+
 }  // namespace suite::sfc

@@ -36,4 +36,11 @@ ThreadSharing thread_sharing(const mesh::MeshView& m, int threads);
 // Thread t's block [lo, hi) of n elements: the harness's static split (static_block).
 std::pair<std::uint64_t, std::uint64_t> thread_block(std::uint64_t n, int t, int threads);
 
+// How such a loop walks n elements, per element (what `suite traverse` draws): its visit index,
+// the thread that owns it, and its step within that thread's block.
+struct Traversal {
+    std::vector<std::int64_t> visit, thread, step;
+};
+Traversal traversal(std::uint64_t n, int threads);
+
 }  // namespace suite::sfc

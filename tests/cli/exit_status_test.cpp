@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/cli/run.hpp"
+#include "app/suite/run.hpp"
 #include "harness/measure/plan.hpp"
 #include "tests/kernel/test_solver_kernel.hpp"
 
@@ -50,7 +50,8 @@ struct Ran {
 Ran run(Plan&& plan) {
     ::testing::internal::CaptureStdout();
     ::testing::internal::CaptureStderr();
-    const int status = execute_plan(plan, topology(), {"suite"}, nullptr);
+    CommandFrame frame("suite");
+    const int status = execute_plan(plan, topology(), {"suite"}, frame);
     std::string out = ::testing::internal::GetCapturedStdout();
     return {status, out, ::testing::internal::GetCapturedStderr()};
 }

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/cli/parse.hpp"
-#include "harness/cli/run.hpp"
+#include "app/suite/parse.hpp"
+#include "app/suite/run.hpp"
 #include "harness/common/units.hpp"
 #include "harness/measure/plan.hpp"
 #include "tests/kernel/test_solver_kernel.hpp"

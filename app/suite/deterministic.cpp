@@ -1,4 +1,5 @@
-#include "harness/cli/commands.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/frame.hpp"
 #include "harness/results/callgrind_dump.hpp"
 
 #include <fcntl.h>
@@ -21,17 +22,17 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/parse.hpp"
+#include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/results/build_info.hpp"
 #include "harness/instruments/callgrind_marks.hpp"
-#include "harness/cli/run.hpp"
+#include "app/suite/run.hpp"
 #include "harness/measure/plan.hpp"
 #include "harness/measure/result.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite {
-
+namespace deterministic_command {
 namespace {
 
 using nlohmann::json;
@@ -226,8 +227,10 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
 }
 
 }  // namespace
+}  // namespace deterministic_command
 
 int cmd_deterministic(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {
+    using namespace deterministic_command;
     CLI::App app{"suite deterministic: exact instruction and simulated cache-miss counts under valgrind's callgrind"};
     app.footer(det_examples);
     app.get_formatter()->column_width(28);
@@ -260,8 +263,9 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
         plan.format = "json";
         plan.quiet = true;
         plan.settings.min_sample_s = 0;
-        const OutputFile inner = OutputFile::claim(plan.out_path, "--out");
-        return execute_plan(plan, topo, full_argv, &inner);
+        CommandFrame frame("suite");
+        frame.claim_file(plan.out_path, "--out");
+        return execute_plan(plan, topo, full_argv, frame);
     }
 #ifdef __AVX512F__
     throw UsageError("this build uses AVX-512 (built with " + std::string(build::flags) +

@@ -1,10 +1,8 @@
-#include "harness/cli/run.hpp"
+#include "app/suite/run.hpp"
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <cstdio>
@@ -12,17 +10,19 @@
 #include <map>
 #include <stdexcept>
 
-#include "harness/cli/commands.hpp"
-#include "harness/cli/parse.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/frame.hpp"
+#include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
 #include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "rapl/energy.hpp"
 
 namespace suite {
-
+namespace run_command {
 namespace {
 
 const char* const examples = R"(
@@ -68,10 +68,6 @@ converge (before 1), 130/143 interrupted (the result file then holds the finishe
 "complete": false).
 )";
 
-std::atomic<int> g_signal{0};
-
-extern "C" void on_signal(int sig) { g_signal.store(sig); }
-
 // One option --NAME=X for every parameter a registered kernel declares (KernelInfo::params),
 // collected now: CLI11 needs its options before it parses. The text is kept as typed and
 // checked by make_plan, which knows the kernels selected.
@@ -97,6 +93,7 @@ std::string params_label(const std::map<std::string, double>& params) {
 }
 
 }  // namespace
+}  // namespace run_command
 
 std::string param_users(const std::string& name) {
     std::vector<std::string> users, with_defaults;
@@ -124,7 +121,7 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
                    "strategies of the kernels that have them, each measured as its own point (see ./suite list; default: the kernel's own)");
     app.add_option("--particles", o.particles,
                    "particle orders of the MPM kernels, each its own point: unsorted, sorted, dynamic (default: all that the kernel has)");
-    add_param_options(app, o);
+    run_command::add_param_options(app, o);
     app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store; sequential only)");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
     app.add_option("--sizes", o.sizes, "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
@@ -160,7 +157,7 @@ std::vector<FileIdentity> run_inputs(const RunOptions& o) {
     return identify_inputs(paths);
 }
 
-int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, const OutputFile* out) {
+int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, CommandFrame& frame) {
     for (const auto& note : plan.notes) std::cerr << "suite: note: " << note << "\n";
     if (plan.dry_run) {
         std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text << ", placement=" << plan.settings.placement.text
@@ -168,23 +165,18 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         for (const auto& p : plan.points)
             std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
                       << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads
-                      << (p.mesh.empty() ? "" : " mesh=" + p.mesh) << params_label(p.params) << "\n";
+                      << (p.mesh.empty() ? "" : " mesh=" + p.mesh) << run_command::params_label(p.params) << "\n";
         return 0;
     }
-    struct sigaction sa{};
-    sa.sa_handler = on_signal;
-    sa.sa_flags = SA_RESETHAND;  // a second Ctrl-C ends the program at once; the file on disk stays valid
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
-    plan.settings.stop = &g_signal;
+    plan.settings.stop = frame.stop_flag();
     plan.settings.instruments = &plan.instruments;
-    if (plan.instruments.energy_baseline_s > 0 && plan.instruments.energy.available()) {
+    if (plan.instruments.energy_baseline_s > 0 && plan.instruments.energy->available()) {
         if (!plan.quiet) std::cerr << "measuring idle power for " << plan.instruments.energy_baseline_s << " s ...\n";
-        plan.instruments.energy.measure_idle(plan.instruments.energy_baseline_s);
+        plan.instruments.energy->measure_idle(plan.instruments.energy_baseline_s);
     }
 
     const bool to_file = !plan.out_path.empty();
+    const OutputFile* out = frame.file();
     if (to_file && (!out || out->path() != plan.out_path)) throw std::logic_error("execute_plan: --out was not claimed");
     const bool console_table = !plan.quiet && (to_file || plan.format == "table");
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
@@ -195,7 +187,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     if (console_table) std::cout << table_header() << std::flush;
     int status = 0;
     const std::size_t total = plan.points.size();
-    for (std::size_t i = 0; i < total && g_signal.load() == 0; ++i) {
+    for (std::size_t i = 0; i < total && !frame.stop_requested(); ++i) {
         const Point& p = plan.points[i];
         if (progress) {
             std::fprintf(stderr, "\r[%zu/%zu] %s %s %s threads=%d ...", i + 1, total, display_name(p.kernel->info.name, p.variant).c_str(),
@@ -229,7 +221,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     }
     if (progress) std::fprintf(stderr, "\r\033[K");
     if (console_table) std::cout << stability_summary(doc.records) << std::flush;
-    const int sig = g_signal.load();
+    const int sig = frame.signal();
     if (to_file) {
         out->write(doc.render(format, sig == 0));
         if (!plan.quiet)
@@ -237,25 +229,21 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     } else if (plan.format != "table") {
         std::cout << doc.render(format, sig == 0) << std::flush;
     }
-    if (sig) {
-        std::cerr << "suite: interrupted by signal " << sig << " after " << doc.records.size() << " of " << total << " point(s)\n";
-        return 128 + sig;
-    }
-    return status;
+    return frame.finish(status, std::to_string(doc.records.size()) + " of " + std::to_string(total) + " point(s)");
 }
 
 int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {
     CLI::App app{"suite: NUMA/cache micro-benchmarks with verified results"};
-    app.footer(examples);
+    app.footer(run_command::examples);
     app.get_formatter()->column_width(28);
     RunOptions opts;
     setup_run_options(app, opts);
     if (!parse_command_line(app, "suite", args)) return 0;
     const Topology topo = Topology::load();
-    Plan plan = make_plan(opts, topo);
+    Plan plan = make_plan(opts, topo, open_energy);
     // Claimed before anything runs: a second run on the same file refuses now, not at the end.
-    OutputFile out;
-    if (!plan.out_path.empty()) out = OutputFile::claim(plan.out_path, "--out", run_inputs(opts));
+    CommandFrame frame("suite");
+    if (!plan.out_path.empty()) frame.claim_file(plan.out_path, "--out", run_inputs(opts));
     if (opts.probe_caches && !plan.dry_run) {
         // The options are all checked before the seconds of probing; the plan is then made again
         // with the measured last level, which only changes the default sizes.
@@ -265,10 +253,10 @@ int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>
         const CacheProbe probe = probe_caches(topo, po);
         if (!plan.quiet) std::cerr << format_probe(probe, topo);
         opts.measured = measured_caches(probe, topo);
-        plan = make_plan(opts, topo);
+        plan = make_plan(opts, topo, open_energy);
         plan.caches_measured = to_json(probe, topo);
     }
-    return execute_plan(plan, topo, full_argv, &out);
+    return execute_plan(plan, topo, full_argv, frame);
 }
 
 }  // namespace suite

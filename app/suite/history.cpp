@@ -11,8 +11,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "harness/cli/commands.hpp"
-#include "harness/cli/parse.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/parse.hpp"
 #include "harness/results/check.hpp"
 #include "harness/results/dashboard.hpp"
 #include "harness/results/history.hpp"
@@ -21,7 +21,7 @@
 #include "harness/results/text_table.hpp"
 
 namespace suite {
-
+namespace history_command {
 namespace {
 
 const char* const history_usage = R"(suite history: every run's results in one SQLite database; their steps; a gate against the recent past
@@ -306,8 +306,10 @@ int history_html(const std::vector<std::string>& args) {
 }
 
 }  // namespace
+}  // namespace history_command
 
 int cmd_history(const std::vector<std::string>& args) {
+    using namespace history_command;
     const std::string sub = args.empty() ? "" : args[0];
     const std::vector<std::string> rest(args.begin() + (args.empty() ? 0 : 1), args.end());
     if (sub == "add") return history_add(rest);

@@ -5,25 +5,25 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/mpm_simulate.hpp"
 #include "kernels/mpm/mpm.hpp"
+#include "kernels/mpm/simulation.hpp"
 
-namespace suite {
+namespace suite::mpm_command {
 
 // The run as mpm.cpp resolved it, beside the state and the outcome.
-struct MpmReportInput {
+struct ReportInput {
     const mpm::State& st;            // after the run
     const mpm::Setup& setup;
-    const MpmRunSettings& run;
-    const MpmOutcome& outcome;
+    const mpm::SimulationSettings& run;
+    const mpm::Outcome& outcome;
     nlohmann::json options;          // every option's value as used (the settings of mpm.json)
     double stable_dt = 0;            // the grid's and material's stable step (Courant number 1)
     std::string png;                 // "" when front.png was drawn, else why not
 };
 
 // step,time,front,kinetic_energy: one row a step from step 0, every number to 17 digits.
-std::string mpm_front_csv(const MpmOutcome& r);
-nlohmann::json mpm_summary_json(const MpmReportInput& in);
-std::string mpm_summary_text(const MpmReportInput& in);
+std::string front_csv(const mpm::Outcome& r);
+nlohmann::json summary_json(const ReportInput& in);
+std::string summary_text(const ReportInput& in);
 
-}  // namespace suite
+}  // namespace suite::mpm_command

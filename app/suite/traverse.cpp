@@ -4,22 +4,16 @@
 // 100 % (plots/traverse.py); and summary.json with the numbers that go under the figures
 // (elements whose vertices are shared between threads, bandwidth, profile, vertex spread, and
 // the fraction of elements sharing a key by depth).
-#include "harness/cli/commands.hpp"
-
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/parse.hpp"
-#include "harness/cli/plotter.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/frame.hpp"
+#include "app/suite/parse.hpp"
+#include "app/suite/plotter.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
@@ -28,10 +22,10 @@
 #include "kernels/sfc/quality.hpp"
 
 namespace suite {
+namespace traverse_command {
+namespace {
 
 using namespace sfc;
-
-namespace {
 
 const char* const footer = R"(
 Examples:
@@ -59,8 +53,10 @@ struct Options {
 };
 
 }  // namespace
+}  // namespace traverse_command
 
 int cmd_traverse(const std::vector<std::string>& args) {
+    using namespace traverse_command;
     CLI::App app{"suite traverse: the order in which a loop over a mesh visits its elements, per ordering and thread count"};
     app.footer(footer);
     app.get_formatter()->column_width(28);
@@ -103,15 +99,18 @@ int cmd_traverse(const std::vector<std::string>& args) {
             for (int t : threads) std::printf("  %s-t%d.vtu\n", name.c_str(), t);
         return 0;
     }
-    const OutputDir out = OutputDir::claim(o.out, "--out", inputs);
+    CommandFrame frame("suite");
+    const OutputDir& out = frame.claim_dir(o.out, "--out", inputs);
 
     const mesh::Mesh base = mesh::load_mesh(spec);
     nlohmann::json summary = {{"mesh", o.mesh}, {"dim", base.dim}, {"elements", base.elements()}, {"vertices", base.vertices()},
-                              {"depth", depth}, {"seed", o.seed}, {"threads", threads}, {"orderings", nlohmann::json::array()}};
+                              {"depth", depth}, {"seed", o.seed}, {"threads", threads}, {"complete", false}, {"orderings", nlohmann::json::array()}};
     std::printf("mesh %s: %zu %s, %zu vertices\n\n", o.mesh.c_str(), base.elements(), mesh::element_word(base.dim, true).c_str(), base.vertices());
     std::printf("%-17s %10s %14s %12s %11s   elements with vertices shared between threads\n", "ordering", "bandwidth", "profile",
                 "spread-mean", "spread-p95");
+    std::size_t done = 0;
     for (const auto& name : orderings) {
+        if (frame.stop_requested()) break;  // the safe point: between orderings
         const mesh::Mesh m = ordered(base, name, o.seed, depth);
         const OrderingQuality q = ordering_quality(m);
         nlohmann::json entry = {{"ordering", name},
@@ -123,17 +122,9 @@ int cmd_traverse(const std::vector<std::string>& args) {
         std::string shared_text;
         for (int t : threads) {
             const ThreadSharing s = thread_sharing(m.view(), t);
-            std::vector<std::int64_t> visit(m.elements()), owner(m.elements()), step(m.elements());
-            for (int u = 0; u < t; ++u) {
-                const auto [lo, hi] = thread_block(m.elements(), u, t);
-                for (std::uint64_t e = lo; e < hi; ++e) {
-                    visit[e] = static_cast<std::int64_t>(e);
-                    owner[e] = u;
-                    step[e] = static_cast<std::int64_t>(e - lo);
-                }
-            }
+            Traversal walk = traversal(m.elements(), t);
             const std::string file = name + "-t" + std::to_string(t) + ".vtu";
-            out.write(file, mesh::vtu_text(m, {{"visit", visit}, {"thread", owner}, {"step", step}}));
+            out.write(file, mesh::vtu_text(m, {{"visit", std::move(walk.visit)}, {"thread", std::move(walk.thread)}, {"step", std::move(walk.step)}}));
             const double fraction = static_cast<double>(s.elements) / static_cast<double>(m.elements());
             entry["threads"].push_back({{"threads", t}, {"shared_elements", s.elements}, {"shared_fraction", fraction},
                                         {"shared_vertices", s.vertices}, {"vtu", file}});
@@ -145,7 +136,15 @@ int cmd_traverse(const std::vector<std::string>& args) {
         std::printf("%-17s %10llu %14llu %12.1f %11llu   %s\n", name.c_str(), static_cast<unsigned long long>(q.bandwidth),
                     static_cast<unsigned long long>(q.profile), q.spread_mean, static_cast<unsigned long long>(q.spread_p95), shared_text.c_str());
         summary["orderings"].push_back(entry);
+        if (++done < orderings.size()) out.write("summary.json", summary.dump(1) + "\n");  // kept if the next is interrupted
     }
+    const std::string finished = std::to_string(done) + " of " + std::to_string(orderings.size()) + " ordering(s)";
+    if (done < orderings.size()) {
+        out.write("summary.json", summary.dump(1) + "\n");
+        std::printf("\nwrote %s (%s, incomplete: interrupted)\n", o.out.c_str(), finished.c_str());
+        return frame.finish(0, finished);
+    }
+    summary["complete"] = true;
     // Keys at depth d name cells of the same grid whatever the curve, so one curve gives the
     // fraction for all (the tests check that Morton and Hilbert agree).
     const std::vector<double> shared = shared_key_fraction(base.view(), Curve::morton);
@@ -172,7 +171,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     out.write("summary.json", summary.dump(1) + "\n");
     std::printf("\nwrote %s (.vtu per ordering and thread count%s, summary.json)\n", o.out.c_str(),
                 summary["png"]["available"].get<bool>() ? ", .png snapshots" : "");
-    return 0;
+    return frame.finish(0, finished);
 }
 
 }  // namespace suite

@@ -5,13 +5,13 @@
 
 #include <CLI/CLI.hpp>
 
-#include "harness/cli/commands.hpp"
-#include "harness/cli/parse.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/parse.hpp"
 #include "harness/results/compare.hpp"
 #include "harness/results/compare_hosts.hpp"
 
 namespace suite {
-
+namespace compare_command {
 namespace {
 
 const char* const compare_examples = R"(
@@ -55,8 +55,10 @@ which).
 )";
 
 }  // namespace
+}  // namespace compare_command
 
 int cmd_compare(const std::vector<std::string>& args) {
+    using namespace compare_command;
     CLI::App app{"suite compare: results of two or more runs (machines, builds) side by side, or the hosts of one MPI run"};
     app.footer(compare_examples);
     std::vector<std::string> paths;

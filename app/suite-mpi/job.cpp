@@ -1,4 +1,4 @@
-#include "harness/mpi/job.hpp"
+#include "app/suite-mpi/job.hpp"
 
 #include <mpi.h>
 #include <sched.h>

@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "harness/cli/commands.hpp"
+#include "app/suite/commands.hpp"
 #include "harness/common/units.hpp"
 
 int main(int argc, char** argv) {

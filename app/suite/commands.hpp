@@ -1,5 +1,5 @@
 #pragma once
-// The subcommands of `suite`, one file each in harness/cli/; main.cpp picks one by name. Each
+// The subcommands of `suite`, one file each in app/suite/; main.cpp picks one by name. Each
 // takes the arguments after its name and returns the process's exit status; bad usage is
 // thrown as UsageError (exit 2). A command parses and wires: the work it asks for lives in
 // harness/measure/ (running) or harness/results/ (reading and judging result files).

@@ -1,10 +1,13 @@
 // `suite mpm`: the explicit Material Point Method of kernels/mpm run as a simulation, the dam
 // collapse: a column of elastic material in the corner of the unit box falls and spreads under
 // gravity. Every option is checked (and the state built, which checks the library's own limits)
-// before anything is written; then the steps, with their checks (mpm_simulate.cpp), and into
-// --out=DIR the particle snapshots (.vtu and a .pvd), front.csv, mpm.json and front.png
+// before anything is written; then the steps, with their checks (kernels/mpm/simulation), and
+// into --out=DIR the particle snapshots (.vtu and a .pvd), front.csv, mpm.json and front.png
 // (plots/mpm_front.py; mpm_report.cpp renders the numbers).
 #include <omp.h>
+#include <unistd.h>
+
+#include <chrono>
 
 #include <cstdio>
 #include <iostream>
@@ -12,23 +15,23 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/commands.hpp"
-#include "harness/cli/mpm_report.hpp"
-#include "harness/cli/mpm_simulate.hpp"
-#include "harness/cli/parse.hpp"
-#include "harness/cli/plotter.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/frame.hpp"
+#include "app/suite/mpm_report.hpp"
+#include "app/suite/parse.hpp"
+#include "app/suite/plotter.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/mpm/mpm.hpp"
+#include "kernels/mpm/simulation.hpp"
 #include "kernels/mpm/vtk.hpp"
 
 namespace suite {
-
-// Names in this file carry an mpm_ prefix: harness/cli compiles as one unit (CMakeLists.txt).
+namespace mpm_command {
 namespace {
 
-const char* const mpm_footer = R"(
+const char* const footer = R"(
 The dam collapse: the material fills [0,X]x[0,Y]x[0,Z] (--column) in the corner at the origin
 of the grid's box (box:NX,NY,NZ is the unit cube), at rest and unstressed, and falls under gravity (9.81 m/s² down z); the box's faces
 are slip walls. Explicit MPM, update stress last, linear tetrahedra, linear elasticity with the
@@ -61,7 +64,7 @@ nothing written); 130/143 interrupted (the files of the steps done are written, 
 "complete": false).
 )";
 
-struct MpmOptions {
+struct Options {
     std::string case_name = "dam-collapse";
     std::string mesh = "box:16,16,16";
     std::string ordering = "natural";
@@ -81,7 +84,7 @@ struct MpmOptions {
 };
 
 // --column=X,Y,Z: three finite numbers > 0.
-void mpm_parse_column(const std::string& text, double* hi) {
+void parse_column(const std::string& text, double* hi) {
     const std::vector<std::string> parts = split(text, ',');
     bool ok = parts.size() == 3;
     for (std::size_t a = 0; ok && a < 3; ++a) {
@@ -97,7 +100,7 @@ void mpm_parse_column(const std::string& text, double* hi) {
 }
 
 // The setup the options ask for, every number checked.
-mpm::Setup mpm_setup(const MpmOptions& o) {
+mpm::Setup setup_of(const Options& o) {
     if (o.case_name != "dam-collapse") throw UsageError("--case=" + o.case_name + ": the one case is dam-collapse");
     require_known({o.ordering}, {"natural", "random", "morton", "hilbert"}, "grid ordering");
     require_known({o.particles}, {"unsorted", "sorted", "dynamic"}, "particle order");
@@ -120,7 +123,7 @@ mpm::Setup mpm_setup(const MpmOptions& o) {
     m.material.young = parse_finite(o.young, "--young");
     m.material.poisson = parse_finite(o.poisson, "--poisson");
     m.material.density = parse_finite(o.density, "--density");
-    mpm_parse_column(o.column, m.region.hi);
+    parse_column(o.column, m.region.hi);
     m.courant = parse_finite(o.courant, "--courant");
     m.dt = parse_finite(o.dt, "--dt");
     if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
@@ -128,7 +131,7 @@ mpm::Setup mpm_setup(const MpmOptions& o) {
 }
 
 // build(), with the region's messages named after the option that sets it.
-mpm::State mpm_build(const mpm::Setup& s, const MpmOptions& o) {
+mpm::State build_state(const mpm::Setup& s, const Options& o) {
     try {
         return mpm::build(s);
     } catch (const UsageError& e) {
@@ -138,7 +141,7 @@ mpm::State mpm_build(const mpm::Setup& s, const MpmOptions& o) {
     }
 }
 
-nlohmann::json mpm_options_json(const MpmOptions& o, const mpm::Setup& s) {
+nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
     const mpm::Settings& m = s.settings;
     return {{"case", o.case_name},
             {"mesh", s.mesh},
@@ -161,19 +164,56 @@ nlohmann::json mpm_options_json(const MpmOptions& o, const mpm::Setup& s) {
             {"vtk_every", o.vtk_every}};
 }
 
-// How many snapshots a run of `steps` writes: step 0, every `every`, and the last.
-std::uint64_t mpm_snapshot_count(std::uint64_t steps, std::uint64_t every) {
-    if (every == 0) return 0;
-    return 1 + steps / every + (steps % every != 0 ? 1 : 0);
-}
+using Clock = std::chrono::steady_clock;
+
+// The progress line: rewritten in place on a terminal (at most ten times a second), otherwise a
+// line at every tenth of the run, so that a log shows progress without a line a step.
+class Progress {
+public:
+    Progress(bool quiet, std::uint64_t steps, std::size_t particles)
+        : on_(!quiet), tty_(isatty(STDERR_FILENO) != 0), steps_(steps), particles_(particles) {}
+
+    void update(const mpm::State& st, double front, double stepping_s) {
+        if (!on_) return;
+        const std::uint64_t k = st.steps;
+        const auto now = Clock::now();
+        if (tty_) {
+            if (k != steps_ && std::chrono::duration<double>(now - last_).count() < 0.1) return;
+        } else {
+            // The first step at or past the next tenth of the run.
+            if (k * 10 < next_tenth_ * steps_) return;
+            while (next_tenth_ <= 10 && k * 10 >= next_tenth_ * steps_) ++next_tenth_;
+        }
+        last_ = now;
+        const double rate = stepping_s > 0 ? static_cast<double>(particles_) * static_cast<double>(k) / stepping_s : 0;
+        std::fprintf(stderr, "%sstep %llu/%llu  t = %.4g s  front %.4f m  %.3g particle-steps/s%s", tty_ ? "\r\033[K" : "",
+                     static_cast<unsigned long long>(k), static_cast<unsigned long long>(steps_), st.time, front, rate, tty_ ? "" : "\n");
+        std::fflush(stderr);
+        shown_ = true;
+    }
+    // Clears the line on a terminal, so that what follows starts on a clean one.
+    void finish() {
+        if (on_ && tty_ && shown_) std::fprintf(stderr, "\r\033[K");
+        std::fflush(stderr);
+    }
+
+private:
+    bool on_, tty_, shown_ = false;
+    std::uint64_t steps_;
+    std::size_t particles_;
+    std::uint64_t next_tenth_ = 1;
+    Clock::time_point last_{};
+};
 
 }  // namespace
+}  // namespace mpm_command
 
 int cmd_mpm(const std::vector<std::string>& args) {
+    using namespace mpm_command;
     CLI::App app{"suite mpm: the Material Point Method's dam collapse, with particle snapshots for ParaView and the front against time"};
-    app.footer(mpm_footer);
+    app.footer(footer);
     app.get_formatter()->column_width(30);
-    MpmOptions o;
+    Options o;
     app.add_option("--case", o.case_name, "the simulation: dam-collapse (the one case)");
     app.add_option("--mesh", o.mesh, "the background grid, tetrahedra: box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default box:16,16,16)");
     app.add_option("--ordering", o.ordering, "the grid's element and node order, applied once: natural, random, morton, hilbert (default natural)");
@@ -202,15 +242,15 @@ int cmd_mpm(const std::vector<std::string>& args) {
     if (!parse_command_line(app, "suite mpm", args)) return 0;
 
     // Everything is checked, and the state built, before any file or directory is made.
-    const mpm::Setup setup = mpm_setup(o);
+    const mpm::Setup setup = setup_of(o);
     if (o.out.empty() && !o.dry_run) throw UsageError("suite mpm needs --out=DIR, the directory for its snapshots, front.csv, mpm.json and front.png (or --dry-run)");
     if (!o.out.empty()) OutputDir::check(o.out, "--out");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
     omp_set_num_threads(o.threads);
-    mpm::State st = mpm_build(setup, o);
+    mpm::State st = build_state(setup, o);
     const double stable = mpm::critical_step(st.grid, st.settings.material);
-    const std::uint64_t snapshots = mpm_snapshot_count(o.steps, o.vtk_every);
+    const std::uint64_t snapshots = mpm::snapshot_count(o.steps, o.vtk_every);
     if (o.dry_run) {
         std::printf("dam-collapse on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t = %.4g s; "
                     "%s grid, %s particles, %s scatter, %d thread(s)\n",
@@ -223,25 +263,31 @@ int cmd_mpm(const std::vector<std::string>& args) {
                         snapshots ? " and particles.pvd" : "", o.no_png ? "" : ", front.png");
         return 0;
     }
-    const OutputDir out = OutputDir::claim(o.out, "--out", inputs);
+    CommandFrame frame("suite");
+    const OutputDir& out = frame.claim_dir(o.out, "--out", inputs);
 
-    MpmRunSettings run;
+    mpm::SimulationSettings run;
     run.steps = o.steps;
     run.vtk_every = o.vtk_every;
-    run.quiet = o.quiet;
-    const MpmOutcome r = mpm_simulate(st, setup, run, out);
-    out.write("front.csv", mpm_front_csv(r));
+    run.stop = frame.stop_flag();
+    Progress progress(o.quiet, o.steps, st.particles.size());
+    mpm::SimulationHooks hooks;
+    hooks.snapshot = [&out](const std::string& name, const std::string& vtu) { out.write(name, vtu); };
+    hooks.progress = [&progress](const mpm::State& now, double front, double stepping_s) { progress.update(now, front, stepping_s); };
+    const mpm::Outcome r = mpm::simulate(st, setup, run, hooks);
+    progress.finish();
+    out.write("front.csv", front_csv(r));
     if (!r.snapshots.empty()) out.write("particles.pvd", mpm::collection_pvd(r.snapshots));
-    MpmReportInput report{st, setup, run, r, mpm_options_json(o, setup), stable, "--no-png"};
-    out.write("mpm.json", mpm_summary_json(report).dump(1) + "\n");
+    ReportInput report{st, setup, run, r, options_json(o, setup), stable, "--no-png"};
+    out.write("mpm.json", summary_json(report).dump(1) + "\n");
     if (!o.no_png) {
         const Plotter p = find_plotter("mpm_front.py");
         report.png = p.reason.empty() ? draw(p, o.out) : p.reason;
         if (!report.png.empty()) std::cerr << "suite: note: no front.png: " << report.png << "\n";
-        out.write("mpm.json", mpm_summary_json(report).dump(1) + "\n");
+        out.write("mpm.json", summary_json(report).dump(1) + "\n");
     }
     if (!o.quiet) {
-        std::printf("%s", mpm_summary_text(report).c_str());
+        std::printf("%s", summary_text(report).c_str());
         std::printf("wrote %s (%zu snapshot(s)%s, front.csv, mpm.json%s)\n", o.out.c_str(), r.snapshots.size(), r.snapshots.empty() ? "" : " and particles.pvd",
                     report.png.empty() ? ", front.png" : "");
     }
@@ -250,11 +296,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
         std::cerr << "suite: error: mpm check failed: " << r.failure << "\n";
         return 1;
     }
-    if (r.signal) {
-        std::cerr << "suite: interrupted by signal " << r.signal << " after " << r.steps_done << " of " << o.steps << " step(s)\n";
-        return 128 + r.signal;
-    }
-    return 0;
+    return frame.finish(0, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)");
 }
 
 }  // namespace suite

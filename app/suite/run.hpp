@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/suite/frame.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/measure/plan.hpp"
 #include "harness/machine/topology.hpp"
@@ -23,8 +24,8 @@ std::string param_users(const std::string& name);
 std::vector<FileIdentity> run_inputs(const RunOptions& opts);
 
 // Runs the plan; returns the process exit status (0; 1 if a verification failed; 3 if a solver
-// did not converge, which wins over 1; 128+signal).
-// `out` is plan.out_path claimed (OutputFile::claim); unused when the plan writes no file.
-int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, const OutputFile* out);
+// did not converge, which wins over 1; 128+signal). `frame` holds plan.out_path claimed (when the
+// plan writes a file) and the stop a signal asks for: the sweep stops between points.
+int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, CommandFrame& frame);
 
 }  // namespace suite

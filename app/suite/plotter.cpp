@@ -1,4 +1,4 @@
-#include "harness/cli/plotter.hpp"
+#include "app/suite/plotter.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>

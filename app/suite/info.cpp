@@ -8,12 +8,13 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/commands.hpp"
-#include "harness/cli/parse.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/parse.hpp"
 #include "harness/machine/topology.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/measure/instrument_set.hpp"
 #include "harness/results/context.hpp"
+#include "rapl/energy.hpp"
 
 namespace suite {
 
@@ -27,7 +28,7 @@ int cmd_info(const std::vector<std::string>& args) {
     std::optional<CacheProbe> measured;
     if (probe) measured = probe_caches(topo);
     // What a result's context would say about measuring here.
-    const Instruments instruments = make_instruments("default", "auto", sysfs_root());
+    const Instruments instruments = make_instruments("default", "auto", open_energy);
     const nlohmann::json context = build_context(topo, {}, instruments);
     if (json) {
         nlohmann::json j = to_json(topo);

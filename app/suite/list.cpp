@@ -9,14 +9,14 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/commands.hpp"
-#include "harness/cli/parse.hpp"
-#include "harness/cli/run.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/parse.hpp"
+#include "app/suite/run.hpp"
 #include "harness/instruments/counters.hpp"
 #include "harness/kernel/kernel.hpp"
 
 namespace suite {
-
+namespace list_command {
 namespace {
 
 // The names perf(1) users know, each tried here.
@@ -118,8 +118,10 @@ int list_counters(bool json) {
 }
 
 }  // namespace
+}  // namespace list_command
 
 int cmd_list(const std::vector<std::string>& args) {
+    using namespace list_command;
     CLI::App app{"suite list: the kernels and what they accept"};
     bool json = false, counters = false;
     app.add_flag("--json", json, "machine-readable output");

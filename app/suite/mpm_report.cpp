@@ -1,28 +1,28 @@
-#include "harness/cli/mpm_report.hpp"
+#include "app/suite/mpm_report.hpp"
 
 #include <cmath>
 #include <cstdio>
 
 #include "harness/common/units.hpp"
 
-namespace suite {
+namespace suite::mpm_command {
 
 namespace {
 
-std::string mpm_fmt(const char* f, double v) {
+std::string fmt(const char* f, double v) {
     char b[64];
     std::snprintf(b, sizeof b, f, v);
     return b;
 }
 
-double mpm_rate(const MpmReportInput& in) {
-    const MpmOutcome& r = in.outcome;
+double particle_rate(const ReportInput& in) {
+    const mpm::Outcome& r = in.outcome;
     return r.stepping_s > 0 ? static_cast<double>(in.st.particles.size()) * static_cast<double>(r.steps_done) / r.stepping_s : 0;
 }
 
 }  // namespace
 
-std::string mpm_front_csv(const MpmOutcome& r) {
+std::string front_csv(const mpm::Outcome& r) {
     std::string out = "step,time,front,kinetic_energy\n";
     char line[128];
     for (const auto& row : r.rows) {
@@ -32,10 +32,10 @@ std::string mpm_front_csv(const MpmOutcome& r) {
     return out;
 }
 
-nlohmann::json mpm_summary_json(const MpmReportInput& in) {
-    const MpmOutcome& r = in.outcome;
+nlohmann::json summary_json(const ReportInput& in) {
+    const mpm::Outcome& r = in.outcome;
     const mpm::State& st = in.st;
-    const double rate = mpm_rate(in);
+    const double rate = particle_rate(in);
     nlohmann::json checks = nlohmann::json::array();
     for (const auto& c : r.checks) checks.push_back({{"check", c.name}, {"passed", c.passed}, {"detail", c.detail}});
     nlohmann::json snapshots = nlohmann::json::array();
@@ -81,11 +81,11 @@ nlohmann::json mpm_summary_json(const MpmReportInput& in) {
     return doc;
 }
 
-std::string mpm_summary_text(const MpmReportInput& in) {
-    const MpmOutcome& r = in.outcome;
+std::string summary_text(const ReportInput& in) {
+    const mpm::Outcome& r = in.outcome;
     const mpm::State& st = in.st;
     const mpm::Setup& s = in.setup;
-    const double rate = mpm_rate(in);
+    const double rate = particle_rate(in);
     const double front0 = r.rows.empty() ? 0 : r.rows.front().front, front1 = r.rows.empty() ? 0 : r.rows.back().front;
     std::string t;
     const auto line = [&t](const std::string& label, const std::string& text) {
@@ -97,19 +97,19 @@ std::string mpm_summary_text(const MpmReportInput& in) {
          " scatter, " + std::to_string(s.threads) + " thread" + (s.threads == 1 ? "" : "s") + ")\n";
     line("particles", std::to_string(st.particles.size()) + " (" + std::to_string(s.settings.per_element) + " per element of the column)");
     line("grid", std::to_string(st.grid.elements()) + " elements, " + std::to_string(st.grid.nodes()) + " nodes");
-    line("dt", mpm_fmt("%.4g s", st.dt) + " (" + mpm_fmt("%.3g", st.dt / in.stable_dt) + " of the stable " + mpm_fmt("%.4g s", in.stable_dt) + ")");
+    line("dt", fmt("%.4g s", st.dt) + " (" + fmt("%.3g", st.dt / in.stable_dt) + " of the stable " + fmt("%.4g s", in.stable_dt) + ")");
     line("steps", std::to_string(r.steps_done) + (r.steps_done == in.run.steps ? "" : " of " + std::to_string(in.run.steps)) + ", simulated " +
-                      mpm_fmt("%.4g s", st.time));
-    line("wall", mpm_fmt("%.3f s", r.wall_s) + " (stepping " + mpm_fmt("%.3f s", r.stepping_s) + ")");
-    line("rate", mpm_fmt("%.4g particle-steps/s", rate) + mpm_fmt(" (%.4g per thread)", rate / s.threads));
-    line("front", mpm_fmt("%.6g m", front0) + " -> " + mpm_fmt("%.6g m", front1) + mpm_fmt(" (column width %g m)", s.settings.region.hi[0]));
+                      fmt("%.4g s", st.time));
+    line("wall", fmt("%.3f s", r.wall_s) + " (stepping " + fmt("%.3f s", r.stepping_s) + ")");
+    line("rate", fmt("%.4g particle-steps/s", rate) + fmt(" (%.4g per thread)", rate / s.threads));
+    line("front", fmt("%.6g m", front0) + " -> " + fmt("%.6g m", front1) + fmt(" (column width %g m)", s.settings.region.hi[0]));
     if (std::isnan(r.mass_final)) line("mass drift", "not checked (the run stopped at a failed check)");
     else
-        line("mass drift", mpm_fmt("%.3g", (r.mass_final - r.mass_initial) / r.mass_initial) + " relative" +
-                               mpm_fmt("; nodal mass of a final P2G within %.3g", r.nodal_error));
+        line("mass drift", fmt("%.3g", (r.mass_final - r.mass_initial) / r.mass_initial) + " relative" +
+                               fmt("; nodal mass of a final P2G within %.3g", r.nodal_error));
     line("clamped", std::to_string(st.clamped) + " particle position(s) pulled back onto a wall, in all");
     for (const auto& c : r.checks) line(c.name == "finite and inside the box" ? "NaN check" : c.name, (c.passed ? "passed: " : "FAILED: ") + c.detail);
     return t;
 }
 
-}  // namespace suite
+}  // namespace suite::mpm_command

@@ -5,13 +5,13 @@
 
 #include <CLI/CLI.hpp>
 
-#include "harness/cli/commands.hpp"
-#include "harness/cli/parse.hpp"
+#include "app/suite/commands.hpp"
+#include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/results/check.hpp"
 
 namespace suite {
-
+namespace check_command {
 namespace {
 
 const char* const check_examples = R"(
@@ -51,8 +51,10 @@ interrupted, nothing in common with the baseline, another machine or build), one
 )";
 
 }  // namespace
+}  // namespace check_command
 
 int cmd_check(const std::vector<std::string>& args) {
+    using namespace check_command;
     CLI::App app{"suite check: the CI regression gate, a run against a baseline"};
     app.footer(check_examples);
     std::string baseline_path, tolerance = "10%", alpha = "0.01", markdown;

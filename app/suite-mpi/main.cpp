@@ -14,11 +14,13 @@
 #include <iostream>
 #include <set>
 
-#include "harness/cli/parse.hpp"
-#include "harness/cli/run.hpp"
+#include "app/suite/parse.hpp"
+#include "app/suite/frame.hpp"
+#include "app/suite/run.hpp"
 #include "harness/common/output_file.hpp"
-#include "harness/mpi/job.hpp"
-#include "harness/mpi/mpi_comm.hpp"
+#include "app/suite-mpi/job.hpp"
+#include "app/suite-mpi/mpi_comm.hpp"
+#include "rapl/energy.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/ranks.hpp"
 #include "harness/results/report.hpp"
@@ -50,9 +52,6 @@ std::string fmt_spread(double x) {
     std::snprintf(text, sizeof text, "%.3f", x);
     return text;
 }
-
-std::atomic<int> g_stop{0};
-extern "C" void on_stop(int sig) { g_stop.store(sig); }
 
 // Thrown on every rank for a decision rank 0 took and has already said (exit `status`).
 struct Quiet : std::exception {
@@ -94,25 +93,23 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
     const Topology topo = Topology::load();  // this rank's share
     Plan plan;
     on_rank0(job, [&] {
-        plan = make_plan(opts, topo);
+        plan = make_plan(opts, topo, open_energy);
         if (plan.format != "json" && !(plan.format == "table" && plan.out_path.empty()))
             throw UsageError("--format=" + plan.format + ": suite-mpi writes JSON (a file with --out, or the table on the console)");
     });
-    if (job.rank != 0) plan = make_plan(opts, topo);
+    if (job.rank != 0) plan = make_plan(opts, topo, open_energy);
     if (job.rank == 0 && !plan.dry_run)
         for (const auto& note : plan.notes) std::cerr << "suite-mpi: note: " << note << "\n";
-    OutputFile out;
+    // Every rank stops at the same sample once any rank is asked to (the runner agrees on it),
+    // so a second signal waits for that rather than leave the others in a collective.
+    CommandFrame frame("suite-mpi", CommandFrame::SecondSignal::waits);
     on_rank0(job, [&] {
-        if (!plan.out_path.empty()) out = OutputFile::claim(plan.out_path, "--out", run_inputs(opts));
+        if (!plan.out_path.empty()) frame.claim_file(plan.out_path, "--out", run_inputs(opts));
     });
-    if (plan.dry_run) return job.rank == 0 ? execute_plan(plan, topo, argv, nullptr) : 0;
+    if (plan.dry_run) return job.rank == 0 ? execute_plan(plan, topo, argv, frame) : 0;
+    const OutputFile* out = frame.file();
 
-    struct sigaction sa{};
-    sa.sa_handler = on_stop;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
-    plan.settings.stop = &g_stop;
+    plan.settings.stop = frame.stop_flag();
     plan.settings.instruments = &plan.instruments;
     plan.settings.comm = &comm;
 
@@ -122,7 +119,7 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
         doc = {{"schema_version", schema_version}, {"complete", false}, {"results", nlohmann::json::array()}};
         doc["context"] = build_context(topo, argv, plan.instruments);
         doc["context"]["mpi"] = job.context;
-        if (to_file) out.write(doc.dump(1) + "\n");  // valid from the start: a job killed at once leaves this
+        if (to_file) out->write(doc.dump(1) + "\n");  // valid from the start: a job killed at once leaves this
         if (!plan.quiet) std::cout << table_header() << std::flush;
     }
     int status = 0;
@@ -150,7 +147,7 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
         }
         const Record all = aggregate_record(rec, runs, job.hosts);
         doc["results"].push_back(to_json(all));
-        if (to_file) out.write(doc.dump(1) + "\n");
+        if (to_file) out->write(doc.dump(1) + "\n");
         for (const RankRun& r : runs)
             if (r.solver_failed) status = 3;
             else if (!r.passed && status == 0) status = 1;
@@ -163,16 +160,17 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
                       << std::flush;
         }
     }
-    int result = static_cast<int>(comm.max(interrupted ? 128 + g_stop.load() : status));
+    const int stopped_by = static_cast<int>(comm.max(interrupted ? frame.signal() : 0));  // the signal, as some rank got it
+    const int result = static_cast<int>(comm.max(interrupted ? 128 + stopped_by : status));
     if (job.rank == 0) {
         doc["complete"] = !interrupted;
         if (to_file) {
-            out.write(doc.dump(1) + "\n");
+            out->write(doc.dump(1) + "\n");
             if (!plan.quiet) std::cerr << "wrote " << doc["results"].size() << " record(s) to " << plan.out_path << "\n";
         } else if (plan.format == "json") {
             std::cout << doc.dump(1) << "\n";
         }
-        if (interrupted) std::cerr << "suite-mpi: interrupted by signal " << g_stop.load() << "\n";
+        if (interrupted) std::cerr << "suite-mpi: interrupted by signal " << stopped_by << " after " << doc["results"].size() / (job.size + 1) << " of " << total << " point(s)\n";
     }
     return result;
 }

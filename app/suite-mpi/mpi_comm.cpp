@@ -1,4 +1,4 @@
-#include "harness/mpi/mpi_comm.hpp"
+#include "app/suite-mpi/mpi_comm.hpp"
 
 #include <mpi.h>
 

@@ -1,0 +1,112 @@
+#include "kernels/fem/ordering_study.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "harness/common/stats.hpp"
+#include "harness/kernel/blocks.hpp"
+#include "kernels/fem/assembly.hpp"
+#include "kernels/fem/csr.hpp"
+
+namespace suite::fem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string fmt(const char* f, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+std::string source_of(const std::string& name) {
+    if (name == "amd") return "SuiteSparse AMD";
+    if (name == "nd") return "METIS_NodeND";
+    return "mesh toolkit (kernels/sfc)";
+}
+
+}  // namespace
+
+void spmv(const Csr& b, const double* x, double* y, int threads) {
+    const Pattern p{b.n, const_cast<std::uint32_t*>(b.row_ptr.data()), const_cast<std::uint32_t*>(b.col.data())};
+#pragma omp parallel num_threads(threads)
+    {
+        const Block blk = my_block(b.n);
+        spmv_rows(p, b.val.data(), x, y, blk.lo, blk.hi);
+    }
+}
+
+MatrixUnderStudy prepare_matrix(const mesh::Mesh& m, double delta) {
+    const MeshArrays arrays{static_cast<std::int64_t>(m.vertices()), static_cast<std::int64_t>(m.elements()), m.x.data(), m.y.data(), m.conn.data()};
+    AssembledCsr assembled = assemble_reference(arrays, delta);
+    MatrixUnderStudy s;
+    Csr& a = s.a;
+    a.n = arrays.nv;
+    a.row_ptr = std::move(assembled.row_ptr);
+    a.col = std::move(assembled.col);
+    a.val = std::move(assembled.a);
+    s.asymmetry = symmetrize_from_lower(a);
+    if (!(s.asymmetry <= 1e-12)) throw std::runtime_error("the assembled A is not symmetric: entries differ from their twins by " + fmt("%.3g", s.asymmetry));
+    check_definite(a);
+    s.x.resize(static_cast<std::size_t>(a.n));
+    s.y_ref.resize(s.x.size());
+    for (std::int64_t i = 0; i < a.n; ++i) s.x[static_cast<std::size_t>(i)] = 1.0 + 0.5 * std::sin(0.37 * static_cast<double>(i));
+    spmv(a, s.x.data(), s.y_ref.data(), 1);
+    return s;
+}
+
+OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, const std::string& name, const StudySettings& set) {
+    const Csr& a = mat.a;
+    OrderingStudy r;
+    r.name = name;
+    r.source = source_of(name);
+    const auto t0 = Clock::now();
+    const std::vector<std::uint32_t> perm = name == "amd" ? amd_order(a) : name == "nd" ? nested_dissection_order(a) : mesh_vertex_order(m, name, set.seed);
+    r.order_s = since(t0);
+    if (!is_permutation(perm, static_cast<std::size_t>(a.n))) throw std::runtime_error(name + ": the ordering is not a permutation of the rows");
+    r.permuted = permute_symmetric(a, perm);
+    const Csr& b = r.permuted;
+    r.structure = structure(b);
+
+    // The factor: analysed first; computed when it fits under the limit.
+    r.symbolic = analyse(b);
+    r.factor_bytes = 12.0 * r.symbolic.factor_nnz;
+    if (r.factor_bytes <= set.max_factor_bytes) {
+        r.factor = factorise(b, set.reps);
+        if (!(r.factor.residual < 1e-8 && r.factor.max_error < 1e-6))
+            throw std::runtime_error(name + ": the Cholesky solve did not reproduce x = 1 (residual " + fmt("%.3g", r.factor.residual) + ", max error " +
+                                     fmt("%.3g", r.factor.max_error) + ")");
+        r.factorised = true;
+        r.factor_median_s = summarise(r.factor.factor_seconds).median;
+        r.solve_median_s = summarise(r.factor.solve_seconds).median;
+    }
+
+    // SpMV on the permuted matrix: x permuted alike, so y must be y_ref permuted.
+    std::vector<double> xb(mat.x.size()), yb(mat.x.size());
+    for (std::int64_t i = 0; i < a.n; ++i) xb[static_cast<std::size_t>(i)] = mat.x[perm[static_cast<std::size_t>(i)]];
+    spmv(b, xb.data(), yb.data(), set.threads);  // warm-up
+    for (int k = 0; k < set.reps; ++k) {
+        const auto s0 = Clock::now();
+        spmv(b, xb.data(), yb.data(), set.threads);
+        r.spmv_seconds.push_back(since(s0));
+    }
+    double worst = 0;
+    for (std::int64_t i = 0; i < a.n; ++i) {
+        double scale = 0;
+        for (std::uint32_t k = a.row_ptr[perm[i]]; k < a.row_ptr[perm[i] + 1]; ++k) scale += std::fabs(a.val[k] * mat.x[a.col[k]]);
+        worst = std::max(worst, std::fabs(yb[static_cast<std::size_t>(i)] - mat.y_ref[perm[i]]) / (scale > 0 ? scale : 1));
+    }
+    if (!(worst <= 1e-12)) throw std::runtime_error(name + ": the SpMV of the permuted matrix differs from the unpermuted one by " + fmt("%.3g", worst));
+    r.spmv_max_error = worst;
+    r.spmv_median_s = summarise(r.spmv_seconds).median;
+    r.spmv_bytes = 12.0 * static_cast<double>(a.nnz()) + 4.0 * static_cast<double>(a.n + 1) + 16.0 * static_cast<double>(a.n);
+    r.spy = spy_grid(b, set.spy_bins, &r.spy_bins);
+    return r;
+}
+
+}  // namespace suite::fem

@@ -1,0 +1,204 @@
+#include "kernels/mpm/simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+
+#include "harness/common/units.hpp"
+#include "kernels/mpm/kernel_checks.hpp"
+
+namespace suite::mpm {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+std::string g(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+// The first particle whose position or velocity is not finite, or that lies outside the grid's
+// box; "" when there is none. g2p pulls a position that crossed a wall back onto it, so a
+// particle outside the box (or a NaN, which no comparison keeps inside) means a broken step.
+std::string first_bad_particle(const State& st) {
+    const Particles& p = st.particles;
+    const double* lo = st.grid.lo;
+    const double* hi = st.grid.hi;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double x[3] = {p.x[i], p.y[i], p.z[i]}, v[3] = {p.vx[i], p.vy[i], p.vz[i]};
+        // The words are made only for a particle that fails (this runs after every step).
+        const auto who = [&p, i] { return "particle " + std::to_string(p.id[i]); };
+        const auto triple = [](const double* a) {
+            char b[96];
+            std::snprintf(b, sizeof b, "(%.6g, %.6g, %.6g)", a[0], a[1], a[2]);
+            return std::string(b);
+        };
+        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) return who() + "'s position " + triple(x) + " is not finite";
+        if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) return who() + "'s velocity " + triple(v) + " is not finite";
+        for (int a = 0; a < 3; ++a)
+            if (!(x[a] >= lo[a] && x[a] <= hi[a]))
+                return who() + " at " + triple(x) + " is outside the box [" + g(lo[0]) + "," + g(lo[1]) + "," + g(lo[2]) + "] to [" +
+                       g(hi[0]) + "," + g(hi[1]) + "," + g(hi[2]) + "]";
+    }
+    return "";
+}
+
+// The most energy gravity can give the particles from where they are: Σ m (-g) · (x - the wall
+// gravity pulls towards). The material starts at rest and unstressed and the walls do no work,
+// so a kinetic energy above it (with a margin for the scheme's error) was made by the time
+// stepping: an unstable step, which the walls' clamping can keep finite for a long time.
+double releasable_energy(const State& st) {
+    const Particles& p = st.particles;
+    const double* g = st.settings.gravity;
+    const std::vector<double>* axes[3] = {&p.x, &p.y, &p.z};
+    double e = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (int a = 0; a < 3; ++a) {
+            const double wall = g[a] < 0 ? st.grid.lo[a] : st.grid.hi[a];
+            e += p.mass[i] * -g[a] * ((*axes[a])[i] - wall);
+        }
+    return e;
+}
+constexpr double energy_margin = 1.5;
+
+// Each particle's mass indexed by its id, after checking that the ids are a permutation of
+// 0..n-1; `why` says what is wrong when they are not.
+std::vector<double> masses_by_id(const Particles& p, std::string& why) {
+    const std::size_t n = p.size();
+    std::vector<double> mass(n, 0);
+    std::vector<char> seen(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t id = p.id[i];
+        if (id >= n || seen[id]) {
+            why = "the particle ids are not a permutation of 0.." + std::to_string(n - 1) + " (id " + std::to_string(id) + " at position " +
+                  std::to_string(i) + ")";
+            return {};
+        }
+        seen[id] = 1;
+        mass[id] = p.mass[i];
+    }
+    return mass;
+}
+
+
+}  // namespace
+
+std::string snapshot_name(std::uint64_t step) {
+    char b[48];
+    std::snprintf(b, sizeof b, "particles_%06llu.vtu", static_cast<unsigned long long>(step));
+    return b;
+}
+
+Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, const SimulationHooks& hooks) {
+    if (run.vtk_every > 0 && !hooks.snapshot) throw std::logic_error("mpm::simulate: snapshots asked for and no hook to take them");
+    Outcome r;
+    std::string why;
+    const std::vector<double> mass0 = masses_by_id(st.particles, why);
+    if (!why.empty()) throw std::logic_error("mpm::simulate: the state as built: " + why);
+    r.mass_initial = compensated_sum(mass0);
+    const auto snapshot = [&] {
+        const std::string name = snapshot_name(st.steps);
+        hooks.snapshot(name, particles_vtu(st.particles));
+        r.snapshots.push_back({name, st.time});
+        r.snapshot_steps.push_back(st.steps);
+    };
+    const auto row = [&] {
+        r.rows.push_back({st.steps, st.time, front(st.particles), totals(st.particles).kinetic});
+    };
+    Check finite{"finite and inside the box", true, ""};
+    Check energy{"energy bound", true, ""};
+    const double releasable = releasable_energy(st);
+    double peak = 0;
+    std::uint64_t energy_steps = 0;
+    const auto t0 = Clock::now();
+    row();
+    if (run.vtk_every > 0) snapshot();
+    for (std::uint64_t k = 1; k <= run.steps; ++k) {
+        if (const int sig = run.stop ? run.stop->load() : 0) {
+            r.signal = sig;
+            break;
+        }
+        const auto s0 = Clock::now();
+        try {
+            advance(st, setup);
+        } catch (const std::exception& e) {
+            // A particle lost by the walk (a NaN position walks forever) ends the run as a failed check.
+            finite = {finite.name, false, "step " + std::to_string(k) + ": " + e.what()};
+            break;
+        }
+        r.stepping_s += seconds_between(s0, Clock::now());
+        r.steps_done = k;
+        row();  // the step that fails a check too: its front and energy may show how
+        if (const std::string bad = first_bad_particle(st); !bad.empty()) {
+            finite = {finite.name, false, "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): " + bad};
+            break;
+        }
+        const double kinetic = r.rows.back().kinetic;
+        peak = std::max(peak, kinetic);
+        energy_steps = k;
+        if (kinetic > energy_margin * releasable) {
+            energy = {energy.name, false,
+                      "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): the kinetic energy " + g(kinetic) + " J is more than " +
+                          g(energy_margin) + " times the " + g(releasable) +
+                          " J gravity can release from the start: the time stepping is unstable (give a smaller --dt or --courant)"};
+            break;
+        }
+        if (run.vtk_every > 0 && (k % run.vtk_every == 0 || k == run.steps)) snapshot();
+        if (hooks.progress) hooks.progress(st, r.rows.back().front, r.stepping_s);
+    }
+    // An interrupted run keeps its last state too, for a look at where it stopped.
+    if (r.signal && run.vtk_every > 0 && r.snapshot_steps.back() != st.steps) snapshot();
+    r.wall_s = seconds_between(t0, Clock::now());
+    if (finite.passed)
+        finite.detail = "every particle's position and velocity finite and inside the box after each of " + std::to_string(r.steps_done) + " step(s)";
+    r.checks.push_back(finite);
+    if (energy.passed)
+        energy.detail = "the kinetic energy peaked at " + g(peak) + " J, at most " + g(energy_margin) + " times the " + g(releasable) +
+                        " J gravity can release (checked after each of " + std::to_string(energy_steps) + " step(s))";
+    r.checks.push_back(energy);
+    for (const auto& c : r.checks)
+        if (!c.passed) {
+            r.failure = c.name + ": " + c.detail;
+            return r;
+        }
+
+    // Masses never change: each particle's must be its starting one exactly, whatever the
+    // reorderings did to the particles' order (so the sums are taken in id order).
+    Check mass{"mass", true, ""};
+    const std::vector<double> mass1 = masses_by_id(st.particles, why);
+    r.mass_final = mass1.empty() ? NAN : compensated_sum(mass1);
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < mass1.size(); ++i) changed += mass1[i] != mass0[i] ? 1 : 0;
+    if (!why.empty()) mass = {mass.name, false, why};
+    else if (changed > 0)
+        mass = {mass.name, false, std::to_string(changed) + " particle(s) changed mass; total " + g(r.mass_initial) + " kg -> " + g(r.mass_final) + " kg"};
+    else mass.detail = "every particle's mass is its initial one exactly; total " + format_number(r.mass_final) + " kg";
+    r.checks.push_back(mass);
+
+    // A P2G of the final particles, with the run's strategy: the nodes must receive all of it.
+    p2g(st);
+    std::vector<double> node_mass(st.node_hi);
+    for (std::uint32_t n = 0; n < st.node_hi; ++n) node_mass[n] = st.nodes[n].m;
+    r.nodal_mass = compensated_sum(node_mass);
+    r.nodal_error = std::fabs(r.nodal_mass - r.mass_initial) / r.mass_initial;
+    Check nodal{"nodal mass", r.nodal_error <= 1e-12, ""};
+    nodal.detail = "a P2G of the final particles puts " + format_number(r.nodal_mass) + " kg on the nodes, " + g(r.nodal_error) +
+                   " relative to the particles' total (at most 1e-12)";
+    r.checks.push_back(nodal);
+    for (const auto& c : r.checks)
+        if (!c.passed && r.failure.empty()) r.failure = c.name + ": " + c.detail;
+    return r;
+}
+
+std::uint64_t snapshot_count(std::uint64_t steps, std::uint64_t every) {
+    if (every == 0) return 0;
+    return 1 + steps / every + (steps % every != 0 ? 1 : 0);
+}
+
+}  // namespace suite::mpm
