@@ -161,9 +161,14 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
                                      program, "deterministic"};
     for (const auto& a : inner_args(opts)) argv.push_back(a);
     // A fixed environment, for the same reason; hwloc's x86 CPUID backend cannot work under
-    // valgrind and would say so, the OS's view of the topology suffices.
+    // valgrind and would say so, the OS's view of the topology suffices. Every allocation of
+    // 1 KiB or more is its own mmap: a kernel's call runs an OpenMP region, and libgomp
+    // allocates and frees a team in each one (for one thread it keeps none); from glibc's heap
+    // that costs whatever path the heap's layout takes, so a change anywhere in the program
+    // (an allocation more during set-up) moved a small kernel's count by up to 8 %. An mmap
+    // costs the same instructions every time. (The kernel's own instructions never moved.)
     std::vector<std::string> env_strings = {std::string(inner_env) + "=" + dir + "/run.json", "HWLOC_COMPONENTS=-x86", "LC_ALL=C",
-                                            "PATH=/usr/bin:/bin"};
+                                            "PATH=/usr/bin:/bin", "GLIBC_TUNABLES=glibc.malloc.mmap_threshold=1024"};
     std::vector<char*> cargv, cenv;
     for (auto& a : argv) cargv.push_back(a.data());
     cargv.push_back(nullptr);
