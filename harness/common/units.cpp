@@ -353,6 +353,9 @@ std::string format_bytes(std::uint64_t bytes) {
     // Whole numbers as they are; otherwise up to 3 significant digits, never in e-notation.
     char buf[32];
     const int decimals = std::fabs(v - std::round(v)) < 1e-9 ? 0 : v < 10 ? 2 : v < 100 ? 1 : 0;
+    // Never rounded past the largest size a size option takes (909494.7TiB is shown as
+    // 909494TiB, not 909495TiB, which parse_bytes would refuse as too large).
+    if (decimals == 0 && std::round(v) * std::ldexp(1.0, 10 * u) > static_cast<double>(max_size)) v = std::floor(v);
     std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
     std::string text = buf;
     if (text.find('.') != std::string::npos) {

@@ -160,6 +160,9 @@ TEST(FormatBytes, ReadableUnits) {
     EXPECT_EQ(format_bytes(1000), "1000B");
     EXPECT_EQ(format_bytes(3ull << 29), "1.5GiB");
     EXPECT_EQ(format_bytes(1024500), "1000KiB");  // not 1e+03KiB
+    // Near the largest size an option takes, never rounded past it: the text must parse back.
+    EXPECT_EQ(format_bytes(999999999999999966ull), "909494TiB");
+    EXPECT_NO_THROW(parse_bytes(format_bytes(999999999999999966ull)));
     EXPECT_EQ(format_bytes(1300), "1.27KiB");
 }
 
