@@ -25,8 +25,11 @@ test-deps:
 	@scripts/install-deps.sh test
 
 # Configured every time, so ARCH=... and CMAKE_FLAGS=... take effect on an existing build too.
+# Quiet but for what is left out of the build and why (suite-mpi without MPI, say); everything
+# when the configure fails.
 configure:
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=$(ARCH) $(CMAKE_FLAGS) > /dev/null
+	@out=$$(cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DSUITE_ARCH=$(ARCH) $(CMAKE_FLAGS) 2>&1) || { echo "$$out"; exit 1; }; \
+	  echo "$$out" | grep -E '^-- suite(-mpi| matrix): not built' || true
 
 # Everything: the program, the tests, the x86-64-v3 twin for valgrind, suite-gbench, the fuzz targets.
 build: deps configure
