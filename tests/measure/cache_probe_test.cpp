@@ -12,29 +12,36 @@ using namespace suite::test;
 using json = nlohmann::json;
 
 TEST(CacheProbe, InfoProbeFindsTheFirstLevelWhereHwlocSaysItIs) {
-    Outcome r = run_suite({"info", "--probe", "--json"}, 300);
-    ASSERT_EQ(r.status, 0) << describe(r);
-    const json m = json::parse(r.out)["caches_measured"];
-    ASSERT_TRUE(m.is_object()) << r.out;
-    ASSERT_GE(m["latency_sweep"].size(), 10u);
-    std::uint64_t previous = 0;
-    for (const auto& p : m["latency_sweep"]) {
-        EXPECT_GT(p["size_bytes"].get<std::uint64_t>(), previous);
-        previous = p["size_bytes"];
-        EXPECT_GT(p["ns"].get<double>(), 0);
-    }
-    EXPECT_EQ(m["bandwidth_sweep"].size(), m["latency_sweep"].size());
-    ASSERT_GE(m["levels"].size(), 1u) << m.dump(1);
-    const json& l1 = m["levels"][0];
-    EXPECT_EQ(l1["level"], 1);
-    EXPECT_FALSE(l1["partial"].get<bool>());
+    // A timing measurement, run beside the other tests (ctest -j 2): a probe whose sweep another
+    // process disturbed may miss the step once. Up to three probes; every one must be well
+    // formed, and one of them must find the L1 where hwloc says it is.
     const suite::Topology topo = suite::Topology::load();
     const suite::Cache* reported = topo.find_cache(1);
-    if (!reported || !l1["capacity_bytes"].is_number()) GTEST_SKIP() << "hwloc reports no L1 here, or the sweep ended in it";
-    // Every L1 data cache is seen by a pointer chase, whatever a VM does to the last level.
-    const double ratio = l1["capacity_bytes"].get<double>() / static_cast<double>(reported->size_bytes);
-    EXPECT_GT(ratio, 0.5) << m["levels"].dump();
-    EXPECT_LT(ratio, 2.0) << m["levels"].dump();
+    std::string seen;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        Outcome r = run_suite({"info", "--probe", "--json"}, 300);
+        ASSERT_EQ(r.status, 0) << describe(r);
+        const json m = json::parse(r.out)["caches_measured"];
+        ASSERT_TRUE(m.is_object()) << r.out;
+        ASSERT_GE(m["latency_sweep"].size(), 10u);
+        std::uint64_t previous = 0;
+        for (const auto& p : m["latency_sweep"]) {
+            EXPECT_GT(p["size_bytes"].get<std::uint64_t>(), previous);
+            previous = p["size_bytes"];
+            EXPECT_GT(p["ns"].get<double>(), 0);
+        }
+        EXPECT_EQ(m["bandwidth_sweep"].size(), m["latency_sweep"].size());
+        ASSERT_GE(m["levels"].size(), 1u) << m.dump(1);
+        const json& l1 = m["levels"][0];
+        EXPECT_EQ(l1["level"], 1);
+        EXPECT_FALSE(l1["partial"].get<bool>());
+        if (!reported || !l1["capacity_bytes"].is_number()) GTEST_SKIP() << "hwloc reports no L1 here, or the sweep ended in it";
+        // Every L1 data cache is seen by a pointer chase, whatever a VM does to the last level.
+        const double ratio = l1["capacity_bytes"].get<double>() / static_cast<double>(reported->size_bytes);
+        if (ratio > 0.5 && ratio < 2.0) return;
+        seen += "\nprobe " + std::to_string(attempt + 1) + ": " + m["levels"].dump();
+    }
+    ADD_FAILURE() << "no probe of three found the L1 within 2x of hwloc's " << reported->size_bytes << " B:" << seen;
 }
 
 TEST(CacheProbe, RunWithProbeCachesRecordsThemAndSizesTheDramPointByThem) {
