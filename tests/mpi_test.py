@@ -7,10 +7,12 @@ checked on a real job.
   aggregate  per point: one record per rank and one aggregate; the aggregate's work is the sum
              of the ranks', each of its repetitions the slowest rank's time, its bandwidth the
              sum moved over that time; the file is schema-valid
-  refusals   more ranks than cores (a launcher mask of 2 CPUs, 3 ranks) and a usage error: exit
+  refusals   more ranks than cores (a launcher mask of 2 CPUs, 3 ranks), a usage error, and one
+             that only rank 1 finds (--pin=0, outside its share): exit
              2, said once, by rank 0, and no result file
   killed     a rank killed with SIGKILL mid-run: the job ends (no hang), mpirun names the rank,
-             and the file holds what was finished, valid, with "complete": false
+             the file holds what was finished, valid, with "complete": false, and no lock file
+             is left (the other rank removes it at mpirun's SIGTERM)
   stopped    SIGINT to mpirun: the ranks stop together; the file says "complete": false
   reader     suite compare and suite check read the job's file
   fem        a distributed eigenvalue (fem-eigen-dist over 2 ranks, curve and METIS partitions)
@@ -129,6 +131,12 @@ r = mpirun(["--kernel=cpy", "--out=" + out])
 said = [l for l in r.stderr.splitlines() if l.startswith("suite-mpi: error:")]
 check(r.returncode == 2 and len(said) == 1 and "did you mean 'copy'" in said[0] and not os.path.exists(out),
       "a usage error: exit 2, said once by rank 0, no file (%d, %s)" % (r.returncode, said))
+# Found by rank 1 alone: each rank has one of the two CPUs, and CPU 0 is not rank 1's.
+r = mpirun(["--kernel=copy", "--size=1MiB", "--pin=0", "--out=" + out])
+said = [l for l in r.stderr.splitlines() if l.startswith("suite-mpi: error:")]
+check(r.returncode == 2 and len(said) == 1 and said[0].startswith("suite-mpi: error: rank 1: ") and "MPI_ABORT" not in r.stderr
+      and not os.path.exists(out) and not os.path.exists(out + ".lock"),
+      "a usage error only rank 1 finds: exit 2, said once by rank 0 naming rank 1, no abort, no file (%d, %s)" % (r.returncode, said))
 
 
 # --- a killed rank, and a stopped job ---------------------------------------------------------
@@ -176,6 +184,7 @@ for how in ("killed", "stopped"):
         check("exited on signal 9" in err, "killed: the message names the killed rank: " + " ".join(err.split())[-200:])
     else:
         check("interrupted" in err, "stopped: the ranks said they were interrupted: " + " ".join(err.split())[-200:])
+    check(not os.path.exists(out + ".lock"), how + ": no lock file left behind")
     doc = json.load(open(out))
     check(doc["complete"] is False and len(doc["results"]) >= 3 and len(doc["results"]) % 3 == 0,
           how + ": the file is valid JSON with the finished points (%d records) and complete: false" % len(doc["results"]))

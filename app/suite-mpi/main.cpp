@@ -77,6 +77,29 @@ void on_rank0(const Job& job, F&& decide) {
     }
 }
 
+// Runs `decide` on every rank (a rank's share of its host may refuse what rank 0's accepts:
+// --pin=0 on a rank whose CPUs do not include 0); the first refusal, by rank, becomes every
+// rank's exit 2, said once by rank 0 with the rank that found it.
+template <class F>
+void on_every_rank(const Job& job, F&& decide) {
+    std::string refusal;
+    try {
+        decide();
+    } catch (const UsageError& e) {
+        refusal = e.what();
+    }
+    const std::vector<std::string> all = gather_texts(refusal);
+    std::string first;
+    if (job.rank == 0)
+        for (std::size_t r = 0; r < all.size() && first.empty(); ++r)
+            if (!all[r].empty()) first = (r == 0 ? "" : "rank " + std::to_string(r) + ": ") + all[r];
+    first = broadcast_text(first);
+    if (!first.empty()) {
+        if (job.rank == 0) std::cerr << "suite-mpi: error: " << first << "\n";
+        throw Quiet(2);
+    }
+}
+
 int run_job(const std::vector<std::string>& args, const std::vector<std::string>& argv) {
     const Job job = start_job();
     const MpiComm comm;
@@ -92,12 +115,11 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
     if (broadcast_text(go ? "go" : "").empty()) return 0;  // --help was printed
     const Topology topo = Topology::load();  // this rank's share
     Plan plan;
-    on_rank0(job, [&] {
+    on_every_rank(job, [&] {
         plan = make_plan(opts, topo, open_energy);
         if (plan.format != "json" && !(plan.format == "table" && plan.out_path.empty()))
             throw UsageError("--format=" + plan.format + ": suite-mpi writes JSON (a file with --out, or the table on the console)");
     });
-    if (job.rank != 0) plan = make_plan(opts, topo, open_energy);
     if (job.rank == 0 && !plan.dry_run)
         for (const auto& note : plan.notes) std::cerr << "suite-mpi: note: " << note << "\n";
     // Every rank stops at the same sample once any rank is asked to (the runner agrees on it),

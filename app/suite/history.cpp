@@ -175,6 +175,7 @@ int history_add(const std::vector<std::string>& args) {
     for (const auto& p : paths) {
         files.push_back(load_result_file(p));
         if (!files.back().complete) throw InputError(p + ": the run was interrupted (\"complete\": false); add only complete runs");
+        if (files.back().points.empty()) throw InputError(p + ": the run has no results (\"results\": []); there is nothing to add");
         // The history's points have no rank: an MPI run's ranks and aggregate would mix in one series.
         if (files.back().mpi)
             throw InputError(p + ": a run of " + files.back().processes_label() + "; the history keeps runs of one process (an MPI run's ranks "

@@ -9,6 +9,8 @@
 // interrupted study keeps the orderings it finished.
 // Into --out=DIR: matrix.json, matrix.md (a table to paste into a report), spy-ORDERING.png and
 // spy.png (plots/matrix.py), and with --export=mtx ORDERING.mtx (Matrix Market).
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +25,7 @@
 #include "app/suite/plotter.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
 #include "kernels/fem/fem_mesh.hpp"
 #include "kernels/fem/ordering_study.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
@@ -68,6 +71,7 @@ struct Options {
     std::uint64_t seed = 1;
     bool no_png = false;
     bool dry_run = false;
+    bool replace = false;
 };
 
 std::string fmt(const char* f, double v) {
@@ -100,7 +104,10 @@ nlohmann::json ordering_json(const OrderingStudy& r, const Options& o) {
                          {"factor_bytes", r.factor_bytes}};
     if (!r.factorised) {
         fj["computed"] = false;
-        fj["reason"] = "the factor would take " + format_bytes(static_cast<std::uint64_t>(r.factor_bytes)) + ", above --max-factor=" + o.max_factor;
+        fj["reason"] = "the factor would take " + format_bytes(static_cast<std::uint64_t>(r.factor_bytes)) +
+                       (r.factor_over_memory ? ", and twice that is more than the " + format_bytes(static_cast<std::uint64_t>(r.memory_available)) +
+                                                   " of memory available"
+                                             : ", above --max-factor=" + o.max_factor);
     } else {
         fj["computed"] = true;
         fj["method"] = "CHOLMOD " + r.factor.method;
@@ -136,6 +143,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
     add_whole_option(app, "--threads,-t", o.threads, 1, 1024, "threads of the SpMV (default 1; CHOLMOD uses its own)");
     add_seed_option(app, o.seed, "seed of the random ordering, 0 to 18446744073709551615 (default 1)");
     app.add_flag("--no-png", o.no_png, "write the numbers only");
+    app.add_flag("--replace", o.replace, "replace the files of an earlier run in --out (refused without it)");
     app.add_flag("--dry-run", o.dry_run, "check the options (and read the mesh file), say what would be written, and stop");
     if (!parse_command_line(app, "suite matrix", args)) return 0;
 
@@ -150,16 +158,26 @@ int cmd_matrix(const std::vector<std::string>& args) {
     } catch (const UsageError& e) {
         throw UsageError("--max-factor=" + o.max_factor + ": " + e.what());
     }
+    if (o.threads > omp_get_thread_limit())
+        throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP allows at most " + std::to_string(omp_get_thread_limit()) +
+                         " (OMP_THREAD_LIMIT); ask for fewer or unset it");
     if (!o.exports.empty() && o.exports != "mtx") throw UsageError("--export=" + o.exports + ": the one export format is mtx (Matrix Market)");
     if (!o.exports.empty() && o.out.empty()) throw UsageError("--export=mtx writes into the --out directory: give --out=DIR");
     if (const std::string missing = sparse_libs_missing(); !missing.empty())
         throw UsageError("suite matrix needs " + missing + ", which this build did not find; install (scripts/install-deps.sh does) and rebuild");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
-    check_fem_spec(o.mesh);  // triangles, no isolated vertices, no inverted triangles
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
+    if (!o.out.empty()) OutputDir::check(o.out, DirPolicy{"--out", "suite matrix", inputs, o.replace});
+    // The memory, from the mesh's counts, before the mesh is built.
+    const mesh::MeshCounts counts = mesh::mesh_counts(spec);
+    const std::uint64_t need = study_bytes(counts), have = available_memory_bytes(MemoryPolicy{});
+    if (need > have)
+        throw UsageError("--mesh=" + o.mesh + " (" + std::to_string(counts.elements) + " triangles) needs about " + format_bytes(need) +
+                         " for the study, more than the " + format_bytes(have) + " of memory available; use a smaller mesh");
+    check_fem_spec(o.mesh);  // triangles, no isolated vertices, no inverted triangles
     if (o.dry_run) {
-        if (!o.out.empty()) OutputDir::check(o.out, "--out");
-        std::printf("mesh %s; orderings %s%s\n", o.mesh.c_str(), join(orderings, ", ").c_str(),
+        std::printf("mesh %s: %llu triangles, about %s of memory (%s available) besides each ordering's factor; orderings %s%s\n", o.mesh.c_str(),
+                    static_cast<unsigned long long>(counts.elements), format_bytes(need).c_str(), format_bytes(have).c_str(), join(orderings, ", ").c_str(),
                     o.out.empty() ? "; the table on the console only" : ("; into " + o.out + ": matrix.json, matrix.md" + (o.no_png ? "" : ", spy plots") +
                                                                          (o.exports.empty() ? "" : ", ORDERING.mtx")).c_str());
         return 0;
@@ -177,7 +195,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
     }
     const Csr& a = mat.a;
     CommandFrame frame("suite");
-    const OutputDir* out = o.out.empty() ? nullptr : &frame.claim_dir(o.out, "--out", inputs);
+    const OutputDir* out = o.out.empty() ? nullptr : &frame.claim_dir(o.out, DirPolicy{"--out", "suite matrix", inputs, o.replace});
 
     std::printf("mesh %s: %zu triangles, %lld rows, %llu nonzeros; A at δ = %g; SpMV on %d thread(s), medians of %d\n\n", o.mesh.c_str(), m.elements(),
                 static_cast<long long>(a.n), static_cast<unsigned long long>(a.nnz()), delta, o.threads, o.reps);
@@ -231,7 +249,9 @@ int cmd_matrix(const std::vector<std::string>& args) {
         if (rows.size() < orderings.size()) save(rows);
     }
     for (const auto& r : rows)
-        if (!r.factorised) std::printf("%s: factor analysed, not computed (over --max-factor=%s)\n", r.name.c_str(), o.max_factor.c_str());
+        if (!r.factorised)
+            std::printf("%s: factor analysed, not computed (%s)\n", r.name.c_str(),
+                        r.factor_over_memory ? "twice its size is more than the memory available" : ("over --max-factor=" + o.max_factor).c_str());
     const std::string done = std::to_string(rows.size()) + " of " + std::to_string(orderings.size()) + " ordering(s)";
     const bool complete = rows.size() == orderings.size();
     doc["complete"] = complete;
@@ -244,7 +264,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
     std::string pngs = "";
     if (!o.no_png) {
         const Plotter p = find_plotter("matrix.py");
-        const std::string why = p.reason.empty() ? draw(p, o.out) : p.reason;
+        const std::string why = p.reason.empty() ? draw(p, out->writing_path()) : p.reason;
         if (why.empty()) pngs = ", spy-ORDERING.png, spy.png";
         else std::cerr << "suite: note: no spy plots: " << why << "\n";
     }

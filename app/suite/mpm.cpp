@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 #include <cstdio>
 #include <iostream>
@@ -22,6 +24,7 @@
 #include "app/suite/plotter.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/mpm/simulation.hpp"
@@ -80,7 +83,7 @@ struct Options {
     std::uint64_t seed = 1;
     std::uint64_t steps = 1000, vtk_every = 50;
     std::string out;
-    bool no_png = false, dry_run = false, quiet = false;
+    bool no_png = false, dry_run = false, quiet = false, replace = false;
 };
 
 // --column=X,Y,Z: three finite numbers > 0.
@@ -99,8 +102,17 @@ void parse_column(const std::string& text, double* hi) {
         throw UsageError("--column=" + text + ": the material's region [0,X]x[0,Y]x[0,Z] is three finite numbers X,Y,Z > 0 in metres, e.g. 0.4,0.4,0.8 (the default)");
 }
 
-// The setup the options ask for, every number checked.
-mpm::Setup setup_of(const Options& o) {
+// A material constant that is a normal number > 0 (not 0, -0, a subnormal or an overflow): what
+// the elastic step can divide by. The message echoes the value as typed.
+double material_value(const std::string& text, const char* option, const char* what) {
+    const double v = parse_finite(text, option);
+    if (!(v >= std::numeric_limits<double>::min()) || v > 1e30)
+        throw UsageError(std::string(option) + "=" + text + ": " + what + ", a number from 1e-300 to 1e30");
+    return v;
+}
+
+// The setup the options ask for, every number checked; `given` tells which options were typed.
+mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     if (o.case_name != "dam-collapse") throw UsageError("--case=" + o.case_name + ": the one case is dam-collapse");
     require_known({o.ordering}, {"natural", "random", "morton", "hilbert"}, "grid ordering");
     require_known({o.particles}, {"unsorted", "sorted", "dynamic"}, "particle order");
@@ -115,19 +127,50 @@ mpm::Setup setup_of(const Options& o) {
     const std::string strategy = o.strategy.empty() ? (o.threads == 1 ? "serial" : "partition") : o.strategy;
     require_known({strategy}, {"serial", "atomic", "colour", "partition"}, "strategy");
     s.strategy = mpm::parse_strategy(strategy);
+    if (o.threads > omp_get_thread_limit())
+        throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP allows at most " + std::to_string(omp_get_thread_limit()) +
+                         " (OMP_THREAD_LIMIT); ask for fewer or unset it");
+    // An option the run would not use is refused rather than recorded as if it had been.
+    if (given.count("--sort-every") > 0 && o.particles == "unsorted")
+        throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=unsorted never reorders; give --particles=sorted or dynamic, "
+                         "or leave --sort-every out");
+    if (given.count("--courant") > 0 && given.count("--dt") > 0 && parse_finite(o.dt, "--dt") != 0)
+        throw UsageError("--courant=" + o.courant + " and --dt=" + o.dt + ": the step is --dt's when it is given; give one of them");
     if (s.strategy == mpm::Strategy::partition && o.threads > 64)
         throw UsageError("--threads=" + std::to_string(o.threads) + ": the partition strategy" + (o.strategy.empty() ? " (the default for more than one thread)" : "") +
                          " takes at most 64 threads (one bit each per node); give --strategy=atomic or colour, or fewer threads");
     mpm::Settings& m = s.settings;
     m.per_element = o.ppe;
-    m.material.young = parse_finite(o.young, "--young");
+    m.material.young = material_value(o.young, "--young", "Young's modulus E must be > 0 (Pa)");
     m.material.poisson = parse_finite(o.poisson, "--poisson");
-    m.material.density = parse_finite(o.density, "--density");
+    if (!(m.material.poisson > -1 && m.material.poisson < 0.5))
+        throw UsageError("--poisson=" + o.poisson + ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+    m.material.density = material_value(o.density, "--density", "the density must be > 0 (kg/m³)");
     parse_column(o.column, m.region.hi);
     m.courant = parse_finite(o.courant, "--courant");
     m.dt = parse_finite(o.dt, "--dt");
     if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
     return s;
+}
+
+// A step the collapse can be resolved with: no longer than the time the column takes to fall its
+// own height from rest under gravity. A material so soft or so dense that even its stable step
+// is longer (--young=1e-3, --density=1e300) would fail at its first step, telling the user to
+// shrink a --dt they never gave; it is refused here, with the numbers. (A --force'd step a few
+// times the stable one stays allowed: that is how an unstable step is shown to be caught.)
+void check_step_resolves_the_fall(const mpm::State& st, const Options& o, double stable) {
+    const mpm::Settings& m = st.settings;
+    const double g = std::sqrt(m.gravity[0] * m.gravity[0] + m.gravity[1] * m.gravity[1] + m.gravity[2] * m.gravity[2]);
+    const double height = m.region.hi[2] - m.region.lo[2];
+    const double fall = std::sqrt(2 * height / g);
+    if (st.dt <= fall) return;
+    char numbers[256];
+    std::snprintf(numbers, sizeof numbers, "the step %.3g s is longer than the %.3g s the column takes to fall its %.3g m", st.dt, fall, height);
+    if (m.dt > 0) throw UsageError("--dt=" + o.dt + ": " + numbers + "; give a smaller --dt");
+    char wave[160];
+    std::snprintf(wave, sizeof wave, " (the elastic wave speed is %.3g m/s, so the stable step is %.3g s)", m.material.wave_speed(), stable);
+    throw UsageError("--young=" + o.young + " --density=" + o.density + ": " + numbers + wave +
+                     ": no step could resolve the collapse; give a stiffer (larger --young) or lighter (smaller --density) material");
 }
 
 // build(), with the region's messages named after the option that sets it.
@@ -237,26 +280,31 @@ int cmd_mpm(const std::vector<std::string>& args) {
     add_whole_option(app, "--vtk-every", o.vtk_every, 0, 1000000000, "steps between particle snapshots; 0: none (default 50)");
     app.add_option("--out,-o", o.out, "directory for the snapshots, front.csv, mpm.json and front.png (created if missing; required unless --dry-run)");
     app.add_flag("--no-png", o.no_png, "do not draw front.png");
+    app.add_flag("--replace", o.replace, "replace the files of an earlier run in --out (refused without it)");
     app.add_flag("--dry-run", o.dry_run, "check everything (the grid and particles are built), say what would run, write nothing");
     app.add_flag("--quiet,-q", o.quiet, "no progress line and no summary on the console");
     if (!parse_command_line(app, "suite mpm", args)) return 0;
 
     // Everything is checked, and the state built, before any file or directory is made.
-    const mpm::Setup setup = setup_of(o);
+    const mpm::Setup setup = setup_of(o, app);
     if (o.out.empty() && !o.dry_run) throw UsageError("suite mpm needs --out=DIR, the directory for its snapshots, front.csv, mpm.json and front.png (or --dry-run)");
-    if (!o.out.empty()) OutputDir::check(o.out, "--out");
+    const DirPolicy policy{"--out", "suite mpm", {}, o.replace};
+    if (!o.out.empty()) OutputDir::check(o.out, policy);
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
     omp_set_num_threads(o.threads);
     mpm::State st = build_state(setup, o);
     const double stable = mpm::critical_step(st.grid, st.settings.material);
+    check_step_resolves_the_fall(st, o, stable);
     const std::uint64_t snapshots = mpm::snapshot_count(o.steps, o.vtk_every);
     if (o.dry_run) {
+        const std::uint64_t memory = mpm::state_bytes(mesh::mesh_counts(spec), st.particles.size());
         std::printf("dam-collapse on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t = %.4g s; "
-                    "%s grid, %s particles, %s scatter, %d thread(s)\n",
+                    "%s grid, %s particles, %s scatter, %d thread(s); about %s of memory (%s available)\n",
                     o.mesh.c_str(), st.particles.size(), st.grid.elements(), st.grid.nodes(), st.dt, st.dt / stable, stable,
                     static_cast<unsigned long long>(o.steps), st.dt * static_cast<double>(o.steps), setup.ordering.c_str(), setup.particles.c_str(),
-                    mpm::strategy_name(setup.strategy), setup.threads);
+                    mpm::strategy_name(setup.strategy), setup.threads, format_bytes(memory).c_str(),
+                    format_bytes(available_memory_bytes(MemoryPolicy{})).c_str());
         if (o.out.empty()) std::printf("no --out: nothing would be written\n");
         else
             std::printf("into %s: %llu snapshot(s) particles_SSSSSS.vtu%s, front.csv, mpm.json%s\n", o.out.c_str(), static_cast<unsigned long long>(snapshots),
@@ -264,7 +312,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
         return 0;
     }
     CommandFrame frame("suite");
-    const OutputDir& out = frame.claim_dir(o.out, "--out", inputs);
+    const OutputDir& out = frame.claim_dir(o.out, DirPolicy{"--out", "suite mpm", inputs, o.replace});
 
     mpm::SimulationSettings run;
     run.steps = o.steps;
@@ -282,7 +330,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
     out.write("mpm.json", summary_json(report).dump(1) + "\n");
     if (!o.no_png) {
         const Plotter p = find_plotter("mpm_front.py");
-        report.png = p.reason.empty() ? draw(p, o.out) : p.reason;
+        report.png = p.reason.empty() ? draw(p, out.writing_path()) : p.reason;
         if (!report.png.empty()) std::cerr << "suite: note: no front.png: " << report.png << "\n";
         out.write("mpm.json", summary_json(report).dump(1) + "\n");
     }
@@ -294,7 +342,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
     std::fflush(stdout);
     if (!r.passed()) {
         std::cerr << "suite: error: mpm check failed: " << r.failure << "\n";
-        return 1;
+        return frame.finish(1, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)");
     }
     return frame.finish(0, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)");
 }

@@ -50,6 +50,7 @@ struct Options {
     std::string depth;  // "": the deepest; else a whole number checked once the mesh's dimension is known
     bool no_png = false;
     bool dry_run = false;
+    bool replace = false;
 };
 
 }  // namespace
@@ -69,6 +70,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     app.add_option("--depth", o.depth, "key depth in bits per axis, from 1 (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)")
         ->type_name("UINT");
     app.add_flag("--no-png", o.no_png, "write the .vtu files and numbers only");
+    app.add_flag("--replace", o.replace, "replace the files of an earlier run in --out (refused without it)");
     app.add_flag("--dry-run", o.dry_run, "check the options (and read the mesh file), list what would be written, and stop");
     if (!parse_command_line(app, "suite traverse", args)) return 0;
 
@@ -91,7 +93,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     if (o.out.empty()) throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
     if (o.dry_run) {
-        OutputDir::check(o.out, "--out");
+        OutputDir::check(o.out, DirPolicy{"--out", "suite traverse", {}, o.replace});
         std::printf("mesh %s: %llu %s; into %s: %zu .vtu file(s)%s and summary.json\n", o.mesh.c_str(),
                     static_cast<unsigned long long>(counts.elements), mesh::element_word(counts.dim, true).c_str(), o.out.c_str(),
                     orderings.size() * threads.size(), o.no_png ? "" : ", 6 .png snapshots each");
@@ -100,7 +102,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
         return 0;
     }
     CommandFrame frame("suite");
-    const OutputDir& out = frame.claim_dir(o.out, "--out", inputs);
+    const OutputDir& out = frame.claim_dir(o.out, DirPolicy{"--out", "suite traverse", inputs, o.replace});
 
     const mesh::Mesh base = mesh::load_mesh(spec);
     nlohmann::json summary = {{"mesh", o.mesh}, {"dim", base.dim}, {"elements", base.elements()}, {"vertices", base.vertices()},
@@ -160,7 +162,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
         summary["png"] = {{"available", false}, {"reason", "--no-png"}};
     } else {
         const Plotter p = find_plotter("traverse.py");
-        const std::string why = p.reason.empty() ? draw(p, o.out) : p.reason;
+        const std::string why = p.reason.empty() ? draw(p, out.writing_path()) : p.reason;
         if (why.empty()) {
             summary["png"] = {{"available", true}, {"percent", {0, 20, 40, 60, 80, 100}}, {"pattern", "ORDERING-tT-PPP.png"}};
         } else {

@@ -8,12 +8,13 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "harness/common/output_detail.hpp"
 #include "harness/common/sysfs_file.hpp"  // file_kind
 #include "harness/common/units.hpp"
 
 namespace suite {
 
-namespace {
+namespace output_detail {
 
 std::string errno_text(int err) { return std::strerror(err); }
 
@@ -106,6 +107,12 @@ void replace_file(const std::string& path, const std::string& content) {
     }
 }
 
+}  // namespace output_detail
+
+namespace {
+
+using namespace output_detail;
+
 // The pid a lock file names (its holder writes it there after locking), or "" if none.
 std::string pid_in(int fd) {
     char buf[32] = {};
@@ -116,6 +123,10 @@ std::string pid_in(int fd) {
         if (c < '0' || c > '9') return "";
     return s;
 }
+
+}  // namespace
+
+namespace output_detail {
 
 // Opens and locks `lock_path` (a regular file, created if missing) for `what`; returns the fd.
 // Refuses, naming the holder, when another process (or another claim in this one) holds it.
@@ -167,7 +178,9 @@ int take_lock(const std::string& lock_path, const std::string& what) {
 }
 
 
-}  // namespace
+}  // namespace output_detail
+
+using namespace output_detail;
 
 OutputLock& OutputLock::operator=(OutputLock&& other) noexcept {
     if (this != &other) {
@@ -180,8 +193,11 @@ OutputLock& OutputLock::operator=(OutputLock&& other) noexcept {
 
 void OutputLock::release() noexcept {
     if (fd_ < 0) return;
-    // Unlink while still holding the lock, so that no one locks the name we are removing.
-    unlink(path_.c_str());
+    // Unlink while still holding the lock, so that no one locks the name we are removing; and
+    // only our own file: if the name was removed already (a signal handler may do that) and
+    // another run has made and locked a new one there, it is that run's.
+    struct stat mine{}, now{};
+    if (fstat(fd_, &mine) == 0 && stat(path_.c_str(), &now) == 0 && mine.st_dev == now.st_dev && mine.st_ino == now.st_ino) unlink(path_.c_str());
     close(fd_);
     fd_ = -1;
 }
@@ -213,54 +229,6 @@ void OutputFile::write(const std::string& content) const {
     if (!lock_.held()) throw std::logic_error("OutputFile::write on a file that was not claimed");
     check_target(path_, option_, inputs_, false);
     replace_file(path_, content);
-}
-
-namespace {
-
-// The policy for an output directory; with `create`, makes it when missing. Every file written
-// into it is checked again on its own (OutputDir::write).
-void check_dir(const std::string& dir, const std::string& option, bool create) {
-    if (dir.empty()) throw UsageError(option + " is empty; give a directory for the files, e.g. " + option + "=results/out");
-    struct stat st{};
-    if (lstat(dir.c_str(), &st) == 0) {
-        if (S_ISLNK(st.st_mode) && stat(dir.c_str(), &st) != 0)
-            throw UsageError(option + "=" + dir + " is a dangling symlink; give a directory");
-        if (!S_ISDIR(st.st_mode))
-            throw UsageError(option + "=" + dir + " exists and is " + file_kind(st.st_mode) + ", not a directory; it holds several files");
-        if (faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
-            throw UsageError(option + "=" + dir + ": the directory is not writable by this user (" + errno_text(errno) + ")");
-        return;
-    }
-    const std::string parent = parent_of(dir);
-    if (stat(parent.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-        throw UsageError(option + "=" + dir + ": the directory '" + parent + "' does not exist");
-    if (create && mkdir(dir.c_str(), 0755) != 0 && errno != EEXIST)
-        throw UsageError(option + "=" + dir + ": cannot create it (" + errno_text(errno) + ")");
-}
-
-}  // namespace
-
-void OutputDir::check(const std::string& dir, const std::string& option) {
-    check_dir(dir, option, false);
-}
-
-OutputDir OutputDir::claim(const std::string& dir, const std::string& option, const std::vector<FileIdentity>& inputs) {
-    check_dir(dir, option, true);
-    OutputDir d;
-    d.dir_ = dir;
-    d.option_ = option;
-    d.inputs_ = inputs;
-    d.lock_ = OutputLock(dir + "/.suite.lock", take_lock(dir + "/.suite.lock", option + "=" + dir));
-    return d;
-}
-
-void OutputDir::write(const std::string& name, const std::string& content) const {
-    if (!lock_.held()) throw std::logic_error("OutputDir::write on a directory that was not claimed");
-    if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
-        throw std::logic_error("OutputDir::write: '" + name + "' is not a plain file name");
-    const std::string path = dir_ + "/" + name;
-    check_target(path, option_, inputs_, false);
-    replace_file(path, content);
 }
 
 }  // namespace suite

@@ -45,6 +45,7 @@ public:
     ~OutputLock() { release(); }
 
     bool held() const { return fd_ >= 0; }
+    const std::string& path() const { return path_; }
     void release() noexcept;
 
 private:
@@ -61,6 +62,7 @@ public:
     void write(const std::string& content) const;
     const std::string& path() const { return path_; }
     bool claimed() const { return lock_.held(); }
+    const std::string& lock_path() const { return lock_.path(); }
     // Removes the lock file and drops the lock (the destructor does it too).
     void release() noexcept { lock_.release(); }
 
@@ -70,22 +72,67 @@ private:
     OutputLock lock_;
 };
 
-// A directory of outputs: created if missing (its parent must exist), locked as a whole, and
-// every file in it written through the same policy as an OutputFile.
+// What a directory of outputs may hold when it is claimed, and who claims it.
+struct DirPolicy {
+    std::string option = "--out";          // named in messages
+    std::string command;                   // e.g. "suite mpm": recorded with the files, named in refusals
+    std::vector<FileIdentity> inputs;      // files of the run that must not be written
+    bool replace_earlier = false;          // an earlier run's files are replaced (--replace), not refused
+    // A command that always writes the same few files (history html: index.html, chart.min.js)
+    // names them: they are replaced one by one, the directory's other files are left alone
+    // (a page's folder may hold a CNAME), and no manifest is kept: no stale file can build up.
+    std::vector<std::string> fixed_files;
+};
+
+// A directory of outputs: one run's files (unless the policy names a fixed set of files).
+// Created if missing (its parent must exist), locked as a whole, never a symlink. It may hold only the files of one earlier suite run, as its
+// manifest `.suite-files` lists them (the command on the first line, a name a line), and
+// those only when the policy replaces them: any other file in it (the user's, a FIFO where an
+// output goes, an input) is refused when the directory is claimed, before any work. An earlier
+// run's files are replaced at commit(): until then this run writes into a staging directory
+// inside it, so that a failure (an exception, release() without commit()) leaves the earlier
+// set as it was, and a commit leaves this run's set alone. Every file is written through the
+// same policy as an OutputFile.
 class OutputDir {
 public:
-    static OutputDir claim(const std::string& dir, const std::string& option, const std::vector<FileIdentity>& inputs = {});
+    static OutputDir claim(const std::string& dir, const DirPolicy& policy);
+    static OutputDir claim(const std::string& dir, const std::string& option, const std::vector<FileIdentity>& inputs = {}) {
+        return claim(dir, DirPolicy{option, "", inputs, false});
+    }
     // The checks of claim() alone, creating and locking nothing (for --dry-run).
-    static void check(const std::string& dir, const std::string& option);
+    static void check(const std::string& dir, const DirPolicy& policy);
+    static void check(const std::string& dir, const std::string& option) { check(dir, DirPolicy{option, "", {}, false}); }
 
-    // Writes DIR/name (a plain file name, no '/') atomically, under the same policy.
+    OutputDir() = default;
+    OutputDir(OutputDir&&) noexcept = default;
+    OutputDir& operator=(OutputDir&& other) noexcept;
+    OutputDir(const OutputDir&) = delete;
+    OutputDir& operator=(const OutputDir&) = delete;
+    ~OutputDir() { release(); }
+
+    // Writes `name` (a plain file name, no '/') atomically, under the same policy.
     void write(const std::string& name, const std::string& content) const;
     const std::string& path() const { return dir_; }
-    void release() noexcept { lock_.release(); }
+    const std::string& lock_path() const { return lock_.path(); }
+    // Where this run's files go until commit(): the directory, or its staging directory while
+    // an earlier run's files are being replaced. For programs that write files of their own there.
+    const std::string& writing_path() const { return writing_; }
+    // The run is over (finished, or stopped at a safe point): its files become the directory's,
+    // the earlier run's removed, the manifest rewritten. Throws std::runtime_error when a file
+    // cannot be moved or removed.
+    void commit();
+    // Drops the claim. Without commit(), a replacement is abandoned (the staging directory
+    // removed, the earlier files untouched); files written straight into the directory stay,
+    // listed in its manifest.
+    void release() noexcept;
 
 private:
-    std::string dir_, option_;
-    std::vector<FileIdentity> inputs_;
+    void record(const std::string& name) const;
+    std::string dir_, writing_, command_;
+    DirPolicy policy_;
+    std::vector<std::string> earlier_;   // the earlier run's files, removed at commit
+    bool staging_ = false, committed_ = false;
+    bool claimed_ = false;  // claim() finished: what is in the directory is this run's
     OutputLock lock_;
 };
 

@@ -33,6 +33,7 @@ const char* file_kind(mode_t mode) {
     if (S_ISBLK(mode)) return "a block device";
     if (S_ISDIR(mode)) return "a directory";
     if (S_ISSOCK(mode)) return "a socket";
+    if (S_ISREG(mode)) return "a regular file";
     return "not a regular file";
 }
 

@@ -1,6 +1,7 @@
 #include "harness/measure/plan.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <map>
 
 #include <omp.h>
@@ -307,6 +308,23 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         std::map<std::string, double> kparams = default_params(info);
         for (const auto& [name, value] : given_params)
             if (kparams.count(name)) kparams[name] = value;
+        // A kernel's refusal names a parameter by its value as a number (--cg-max=1e+300); the
+        // user reads it as typed (--cg-max=1e300).
+        const auto validate = [&](const KernelConfig& cfg) {
+            try {
+                k->validate(cfg);
+            } catch (const UsageError& e) {
+                std::string what = e.what();
+                for (const auto& [name, text] : o.params) {
+                    if (!kparams.count(name)) continue;
+                    const std::string shown = "--" + name + "=" + format_number(kparams.at(name)), typed = "--" + name + "=" + text;
+                    for (auto at = what.find(shown); at != std::string::npos; at = what.find(shown, at + typed.size()))
+                        if (at + shown.size() == what.size() || (!std::isalnum(static_cast<unsigned char>(what[at + shown.size()])) && what[at + shown.size()] != '.'))
+                            what.replace(at, shown.size(), typed);
+                }
+                throw UsageError(what);
+            }
+        };
         const std::size_t points_before = plan.points.size();
         // Its meshes: --mesh, or the kernel's defaults when no size is given either; "" = sized by --size.
         std::vector<std::string> meshes{""};
@@ -329,7 +347,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
                         const std::uint64_t size = k->mesh_elements(mesh);
                         for (int t : team_sizes(kv)) {
                             KernelConfig cfg{a, kv, size, plan.settings.seed, t, mesh, kparams};
-                            k->validate(cfg);
+                            validate(cfg);
                             plan.points.push_back({k, a, kv, size, t, mesh, kparams});
                         }
                         continue;
@@ -338,7 +356,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
                         for (int t : team_sizes(kv)) {
                             const std::uint64_t size = sizes_for(info, t)[s];
                             KernelConfig cfg{a, kv, size, plan.settings.seed, t, "", kparams};
-                            k->validate(cfg);
+                            validate(cfg);
                             plan.points.push_back({k, a, kv, size, t, "", kparams});
                         }
                 }

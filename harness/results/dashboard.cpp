@@ -148,7 +148,9 @@ std::string write_dashboard(const std::vector<Series>& series, const std::string
     // Everything that can fail for want of the library fails before the directory is created.
     const std::string library = dashboard_detail::read_chart_library(options.chart_js);
     const std::string page = dashboard_detail::page_html(series, options);
-    const OutputDir out = OutputDir::claim(out_dir, "--out");
+    // The page's two files, replaced by every `history html` into the same directory; what else
+    // the directory holds (a site's CNAME) is left alone.
+    const OutputDir out = OutputDir::claim(out_dir, DirPolicy{"--out", "suite history html", {}, false, {"chart.min.js", "index.html"}});
     out.write("chart.min.js", library);
     out.write("index.html", page);
     std::string dir = out_dir;

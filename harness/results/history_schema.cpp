@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "harness/results/history.hpp"
 
@@ -68,6 +69,17 @@ struct stat stat_or_missing(const std::string& path, bool& exists) {
     exists = ::stat(path.c_str(), &st) == 0;
     if (!exists && errno != ENOENT) throw InputError(path + ": cannot read it: " + std::strerror(errno));
     if (exists && !S_ISREG(st.st_mode)) throw InputError(path + ": is not a regular file; give a history database (e.g. results/history.sqlite)");
+    // What the file holds, not what stat says of it (a /proc file says 0 bytes and has text):
+    // an SQLite database starts with its 16-byte header; only an empty file may lack it.
+    if (exists) {
+        std::ifstream in(path, std::ios::binary);
+        char head[16] = {};
+        in.read(head, sizeof head);
+        const std::streamsize got = in.gcount();
+        static const char sqlite_header[16] = {'S', 'Q', 'L', 'i', 't', 'e', ' ', 'f', 'o', 'r', 'm', 'a', 't', ' ', '3', '\0'};
+        if (got > 0 && (got < 16 || std::memcmp(head, sqlite_header, 16) != 0))
+            throw InputError(path + ": is not a suite history database (it does not start as an SQLite file does); nothing was changed");
+    }
     return st;
 }
 

@@ -102,9 +102,9 @@ void validate_fem(const KernelConfig& cfg, const std::string& kernel, bool takes
             throw UsageError("--delta=" + format_number(d) + " for " + kernel + ": δ must be a finite number >= 0 (default 0.05)");
     }
     const std::string spec = mesh_spec_of(cfg);
-    check_fem_spec(spec);
     // The kernel's arrays, the mesh while it is loaded and ordered (three copies at most), and
-    // verify()'s serial reference assembly; nonzeros <= 2 nv + 3 ne for triangles.
+    // verify()'s serial reference assembly; nonzeros <= 2 nv + 3 ne for triangles. Estimated
+    // from the spec (a file's counts come from reading it), before the mesh is built to be checked.
     const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
     const std::uint64_t nv = c.vertices, ne = c.elements, nz = 2 * nv + 3 * ne;
     const std::uint64_t need = nv * (16 + 16 + 8 * 8) + ne * 24 + nz * 20 + 3 * (ne * 12 + nv * 16) + nz * 20 + ne * 24;
@@ -112,6 +112,7 @@ void validate_fem(const KernelConfig& cfg, const std::string& kernel, bool takes
     if (need > have)
         throw UsageError(kernel + " on --mesh=" + spec + " (" + std::to_string(ne) + " triangles) needs about " + format_bytes(need) + ", more than the " +
                          format_bytes(have) + " of memory available; use a smaller mesh");
+    check_fem_spec(spec);
 }
 
 ParamInfo delta_param() { return {"delta", 0.05, "δ of the waveguide, k² = (100 + δ) exp(-50 (x² + y²)) - 100; finite, >= 0 (fem kernels)"}; }

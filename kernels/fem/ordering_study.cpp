@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "harness/common/stats.hpp"
+#include "harness/kernel/arena.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "kernels/fem/assembly.hpp"
 #include "kernels/fem/csr.hpp"
@@ -39,6 +40,12 @@ void spmv(const Csr& b, const double* x, double* y, int threads) {
         const Block blk = my_block(b.n);
         spmv_rows(p, b.val.data(), x, y, blk.lo, blk.hi);
     }
+}
+
+std::uint64_t study_bytes(const mesh::MeshCounts& c) {
+    const std::uint64_t nv = c.vertices, ne = c.elements, nz = 2 * nv + 3 * ne;  // P1 triangles: nonzeros <= 2 nv + 3 ne
+    const std::uint64_t mesh = 16 * nv + 12 * ne, matrix = 12 * nz + 4 * nv;
+    return 3 * mesh + 6 * matrix + 32 * nv;
 }
 
 MatrixUnderStudy prepare_matrix(const mesh::Mesh& m, double delta) {
@@ -76,7 +83,10 @@ OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, c
     // The factor: analysed first; computed when it fits under the limit.
     r.symbolic = analyse(b);
     r.factor_bytes = 12.0 * r.symbolic.factor_nnz;
-    if (r.factor_bytes <= set.max_factor_bytes) {
+    // CHOLMOD's supernodal factor and its workspace: about twice the values and indices.
+    r.memory_available = static_cast<double>(available_memory_bytes(MemoryPolicy{}));
+    r.factor_over_memory = r.factor_bytes <= set.max_factor_bytes && 2 * r.factor_bytes > r.memory_available;
+    if (r.factor_bytes <= set.max_factor_bytes && !r.factor_over_memory) {
         r.factor = factorise(b, set.reps);
         if (!(r.factor.residual < 1e-8 && r.factor.max_error < 1e-6))
             throw std::runtime_error(name + ": the Cholesky solve did not reproduce x = 1 (residual " + fmt("%.3g", r.factor.residual) + ", max error " +

@@ -12,6 +12,7 @@
 #include "kernels/fem/matrix_study.hpp"
 #include "kernels/fem/sparse_libs.hpp"
 #include "kernels/mesh/mesh.hpp"
+#include "kernels/mesh/mesh_spec.hpp"
 
 namespace suite::fem {
 
@@ -21,6 +22,12 @@ struct MatrixUnderStudy {
     double asymmetry = 0;           // what symmetrize_from_lower removed
     std::vector<double> x, y_ref;   // y_ref = A x
 };
+
+// The memory the study takes at its peak, from the mesh's counts alone (before anything is
+// built): the mesh while loaded, checked and ordered, A as assembled and permuted, CHOLMOD's
+// copy for its analysis, the vectors; not the factor, which each ordering computes only when it
+// fits both its limit and the memory then available.
+std::uint64_t study_bytes(const mesh::MeshCounts& c);
 
 // Assembles A of `m` at δ, makes it exactly symmetric and checks that it is positive definite
 // (NotDefinite otherwise: it has no Cholesky factor).
@@ -41,7 +48,9 @@ struct OrderingStudy {
     Structure structure;
     Symbolic symbolic;
     double factor_bytes = 0;        // a value and a row index per nonzero of L
-    bool factorised = false;        // false: over max_factor_bytes
+    bool factorised = false;        // false: over max_factor_bytes, or over the memory available
+    bool factor_over_memory = false;  // not factorised for want of memory (within max_factor_bytes)
+    double memory_available = 0;    // bytes, when it was checked
     Factorisation factor;           // when factorised
     double factor_median_s = 0, solve_median_s = 0;
     std::vector<double> spmv_seconds;

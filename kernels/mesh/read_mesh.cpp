@@ -1,7 +1,10 @@
 // What every reader shares: the final checks, and reading a file whole and picking its reader.
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -19,6 +22,29 @@ void check_read_mesh(const Mesh& m, const std::vector<std::uint32_t>& element_li
             throw MeshError(name, element_lines[e], "a degenerate " + element_word(m.dim) + " (zero " + (m.dim == 2 ? "area" : "volume") +
                                                         " or a repeated vertex); every element must have a positive " +
                                                         (m.dim == 2 ? "area" : "volume"));
+    // An element listed twice: its corners, in any order, are another element's. (Sorted by
+    // corner set, ties by position, so the message names the later line and the earlier one.)
+    const std::size_t k = static_cast<std::size_t>(m.corners());
+    std::vector<std::pair<std::array<std::uint32_t, 4>, std::uint32_t>> keys(m.elements());
+    for (std::size_t e = 0; e < m.elements(); ++e) {
+        // A triangle's fourth slot holds the largest value, which sorts last and matches.
+        std::array<std::uint32_t, 4> c{UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX};
+        for (std::size_t j = 0; j < k; ++j) c[j] = m.conn[e * k + j];
+        std::sort(c.begin(), c.end());
+        keys[e] = {c, static_cast<std::uint32_t>(e)};
+    }
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t i = 1; i < keys.size(); ++i)
+        if (keys[i].first == keys[i - 1].first) {
+            const std::uint32_t later = keys[i].second, earlier = keys[i - 1].second;
+            std::string corners;
+            for (std::size_t c = 0; c < k; ++c) {
+                if (c) corners += ' ';
+                corners += std::to_string(m.conn[later * k + c]);
+            }
+            throw MeshError(name, element_lines[later], "the " + element_word(m.dim) + " " + corners + " again: line " + std::to_string(element_lines[earlier]) +
+                                                            " has the same corners; every element once");
+        }
 }
 
 Mesh read_mesh_file(const std::string& path) {

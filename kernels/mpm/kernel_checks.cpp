@@ -24,8 +24,8 @@ void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std:
     if (c.dim != 3) throw UsageError("--mesh=" + spec + " for " + kernel + ": the MPM grid must be tetrahedral, e.g. box:24,24,24");
     // The grid (shape, neighbours, keys while built), the particles at most per_element per
     // element, twice over (verify's copies), and the mesh while it is loaded and ordered.
-    const std::uint64_t ne = c.elements, nv = c.vertices, np = ne * static_cast<std::uint64_t>(cfg.param("ppe"));
-    const std::uint64_t need = 2 * (ne * (128 + 16 + 16 + 4 + 16) + nv * (64 + 25) + np * 160) + ne * 40 + nv * 24 * 3;
+    const std::uint64_t np = c.elements * static_cast<std::uint64_t>(cfg.param("ppe"));
+    const std::uint64_t need = state_bytes(c, np, 2);
     const std::uint64_t have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
         throw UsageError(kernel + " on --mesh=" + spec + " needs about " + format_bytes(need) + ", more than the " + format_bytes(have) +

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "kernels/mesh/mesh.hpp"
+#include "kernels/mesh/mesh_spec.hpp"
 
 namespace suite::mpm {
 
@@ -202,7 +203,15 @@ struct Setup {
 // The accepted names, for messages and --help.
 inline constexpr const char* orderings_accepted = "natural, random, morton, hilbert";
 inline constexpr const char* particle_orders_accepted = "unsorted, sorted, dynamic";
-// Throws UsageError for a bad mesh spec, ordering, particle order or setting.
+// The memory a State takes at its peak while it is built, from the grid's counts alone: the grid
+// (shape functions, neighbours, keys), `particles` particles, and the mesh while it is loaded and
+// ordered; `copies` of the grid and particles (a kernel's verify keeps a second).
+std::uint64_t state_bytes(const mesh::MeshCounts& c, std::uint64_t particles, int copies = 1);
+// The most particles a setup can seed: per_element in every element of the region's share of a
+// box grid (the unit cube), or of every element of a grid read from a file.
+std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts& c, const Settings& s);
+// Throws UsageError for a bad mesh spec, ordering, particle order or setting, and for a state
+// larger than the memory available (estimated before anything is built).
 State build(const Setup& s);
 void advance(State& st, const Setup& s);
 // Whether advance() reorders after step number `step` (1-based) under this setup.

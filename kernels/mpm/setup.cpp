@@ -4,6 +4,7 @@
 #include <random>
 
 #include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/sfc/encode.hpp"
@@ -24,6 +25,27 @@ void shuffle_particles(State& st, std::uint64_t seed) {
 
 }  // namespace
 
+std::uint64_t state_bytes(const mesh::MeshCounts& c, std::uint64_t particles, int copies) {
+    const std::uint64_t ne = c.elements, nv = c.vertices;
+    const std::uint64_t grid = ne * (128 + 16 + 16 + 4 + 16) + nv * (64 + 25);
+    return static_cast<std::uint64_t>(copies) * (grid + particles * 160) + ne * 40 + nv * 24 * 3;
+}
+
+std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts& c, const Settings& s) {
+    const std::uint64_t all = c.elements * static_cast<std::uint64_t>(std::max(s.per_element, 0));
+    if (spec.kind != mesh::MeshSpec::Kind::box) return all;
+    // The region's share of the unit cube, widened by a layer of elements on every side (an
+    // element belongs to the region by its centroid).
+    const double per_axis = static_cast<double>(1ULL << spec.refine);  // each refinement halves an element
+    const double cells[3] = {spec.nx * per_axis, spec.ny * per_axis, spec.nz * per_axis};
+    double share = 1;
+    for (int a = 0; a < 3; ++a) {
+        const double lo = std::max(0.0, s.region.lo[a] - 1 / cells[a]), hi = std::min(1.0, s.region.hi[a] + 1 / cells[a]);
+        share *= std::max(0.0, hi - lo);
+    }
+    return std::min(all, static_cast<std::uint64_t>(share * static_cast<double>(all)) + 1);
+}
+
 State build(const Setup& s) {
     const auto& names = {"natural", "random", "morton", "hilbert"};
     if (std::find(names.begin(), names.end(), s.ordering) == names.end())
@@ -31,9 +53,16 @@ State build(const Setup& s) {
     if (s.particles != "unsorted" && s.particles != "sorted" && s.particles != "dynamic")
         throw UsageError("unknown particle order '" + s.particles + "'; particle orders: " + particle_orders_accepted);
     if (s.sort_every < 0) throw UsageError("--sort-every=" + std::to_string(s.sort_every) + ": a whole number of steps >= 0 (0: sort at the start only)");
-    mesh::Mesh m = mesh::load_mesh(mesh::parse_mesh_spec(s.mesh));
-    if (m.dim != 3)
+    const mesh::MeshSpec spec = mesh::parse_mesh_spec(s.mesh);
+    const mesh::MeshCounts counts = mesh::mesh_counts(spec);
+    if (counts.dim != 3)
         throw UsageError("--mesh=" + s.mesh + ": the MPM background grid must be made of tetrahedra (e.g. box:NX,NY,NZ); this one has triangles");
+    const std::uint64_t need = state_bytes(counts, particles_bound(spec, counts, s.settings)), have = available_memory_bytes(MemoryPolicy{});
+    if (need > have)
+        throw UsageError("--mesh=" + s.mesh + " with " + std::to_string(s.settings.per_element) + " particles per element needs about " +
+                         format_bytes(need) + " for the grid and its particles, more than the " + format_bytes(have) +
+                         " of memory available; use a smaller grid or fewer particles per element");
+    mesh::Mesh m = mesh::load_mesh(spec);
     m = sfc::ordered(m, s.ordering, s.seed, sfc::max_depth(3));
     State st = make_state(make_grid(std::move(m)), s.settings, s.strategy, s.threads, s.force);
     if (s.particles == "unsorted") shuffle_particles(st, s.seed);

@@ -92,7 +92,7 @@ TEST(CommandFrame, TheOutputIsLockedWhileItLivesAndTheLockGoesWithIt) {
     const std::string dir = tmp.file("out"), file = tmp.file("r.json");
     {
         CommandFrame frame("suite");
-        const OutputDir& out = frame.claim_dir(dir, "--out");
+        const OutputDir& out = frame.claim_dir(dir, DirPolicy{"--out", "suite test", {}, false});
         EXPECT_TRUE(fs::exists(dir + "/.suite.lock"));
         EXPECT_THROW(OutputDir::claim(dir, "--out"), UsageError) << "a second run on the same directory refuses";
         EXPECT_THROW(frame.claim_file(file, "--out"), std::logic_error) << "a frame holds one output";

@@ -106,7 +106,8 @@ TEST(MpmCli, QuietPrintsNothingAndNoSnapshotsWithVtkEveryZero) {
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
-    EXPECT_EQ(names, (std::vector<std::string>{"front.csv", "mpm.json"}));
+    EXPECT_EQ(names, (std::vector<std::string>{".suite-files", "front.csv", "mpm.json"})) << "the run's files and their manifest";
+    EXPECT_EQ(slurp(dir + "/.suite-files"), "suite mpm\nfront.csv\nmpm.json\n");
     EXPECT_TRUE(read_json(dir + "/mpm.json")["files"]["collection"].is_null());
 }
 

@@ -22,12 +22,14 @@ using suite::test::slurp;
 
 namespace {
 
-std::vector<std::string> names(const TempDir& d) {
+std::vector<std::string> names_in(const std::string& dir) {
     std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(d.path())) out.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
     std::sort(out.begin(), out.end());
     return out;
 }
+
+std::vector<std::string> names(const TempDir& d) { return names_in(d.path()); }
 
 std::string message_of(const std::function<void()>& f) {
     try {
@@ -115,4 +117,42 @@ TEST(OutputDir, CreatesLocksAndWritesPlainNamesOnly) {
     EXPECT_THROW(OutputDir::claim(d.file("file"), "--out"), UsageError);
     EXPECT_THROW(OutputDir::claim(d.file("no/such/dir"), "--out"), UsageError);
     EXPECT_FALSE(fs::exists(d.file("no")));
+}
+
+TEST(OutputDir, AReplacementIsAllOrNothing) {
+    TempDir d;
+    const std::string dir = d.file("out");
+    const DirPolicy first{"--out", "suite test", {}, false};
+    {
+        OutputDir o = OutputDir::claim(dir, first);
+        o.write("a.txt", "a\n");
+        o.write("b.txt", "b\n");
+        o.commit();
+    }
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "a.txt", "b.txt"}));
+    EXPECT_THROW(OutputDir::claim(dir, first), UsageError) << "an earlier run's files, without replace";
+    const DirPolicy replace{"--out", "suite test", {}, true};
+    {
+        // Abandoned (an exception, no commit): the earlier set stays, the staging goes.
+        OutputDir o = OutputDir::claim(dir, replace);
+        EXPECT_NE(o.writing_path(), dir);
+        o.write("c.txt", "c\n");
+        EXPECT_FALSE(fs::exists(dir + "/c.txt"));
+    }
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "a.txt", "b.txt"}));
+    {
+        OutputDir o = OutputDir::claim(dir, replace);
+        o.write("c.txt", "c\n");
+        o.commit();
+    }
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "c.txt"}));
+    EXPECT_EQ(slurp(dir + "/.suite-files"), "suite test\nc.txt\n");
+    // A run killed while it wrote straight into a new directory leaves its files listed, so
+    // that a later --replace may take them: the manifest grows with every new file.
+    const std::string fresh = d.file("fresh");
+    {
+        OutputDir o = OutputDir::claim(fresh, first);
+        o.write("x.vtu", "x\n");
+        EXPECT_EQ(slurp(fresh + "/.suite-files"), "suite test\nx.vtu\n");
+    }
 }

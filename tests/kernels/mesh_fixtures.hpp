@@ -92,6 +92,7 @@ inline std::vector<BadMeshCase> bad_mesh_cases() {
         {"TextNoFaces", text("o.txt", edit_lines(t, 7, " 0 faces in the domain", false)), 7, "empty mesh"},
         {"TextVertexIdOutOfOrder", text("p.txt", edit_lines(t, 4, " 7 1 0")), 4, "vertex id 7 where 1 was expected"},
         {"TextNotANumber", text("q.txt", edit_lines(t, 4, " 1 one 0")), 4, "must be a number"},
+        {"TextDuplicateTriangle", text("r.txt", edit_lines(t, 10, " 2 0 1")), 10, "the triangle 2 0 1 again: line 9 has the same corners"},
         // Gmsh 2.2.
         {"Msh22Truncated", msh("a.msh", edit_lines(m, 23, "", true)), 23, "element 7 of 8"},
         {"Msh22NodeCountTooLarge", msh("b.msh", edit_lines(m, 9, "6")), 15, "after 5 of the 6 nodes"},
@@ -99,6 +100,7 @@ inline std::vector<BadMeshCase> bad_mesh_cases() {
         {"Msh22NodeOutOfRange", msh("d.msh", edit_lines(m, 25, "8 2 2 1 1 4 9 5")), 25, "node tag 9 is out of range"},
         {"Msh22NanCoordinate", msh("e.msh", edit_lines(m, 12, "3 1 NaN 0")), 12, "not a finite number"},
         {"Msh22Degenerate", msh("f.msh", edit_lines(m, 22, "5 2 2 1 1 1 2 2")), 22, "degenerate triangle"},
+        {"Msh22DuplicateTriangle", msh("r.msh", edit_lines(m, 23, "6 2 2 1 1 2 5 1")), 23, "again: line 22 has the same corners"},
         {"Msh22MixedTypes", msh("g.msh", edit_lines(m, 25, "8 3 2 1 1 1 2 3 4")), 25, "mixed element types"},
         {"Msh22OnlyLines", msh("h.msh", edit_lines(edit_lines(edit_lines(edit_lines(edit_lines(m, 25, ""), 24, ""), 23, ""), 22, ""), 17, "4")), 16, "no triangles or tetrahedra"},
         {"Msh22NotPlanar", msh("i.msh", edit_lines(m, 14, "5 0.5 0.5 0.1")), 14, "plane z = 0"},
