@@ -124,7 +124,7 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
         for (const auto& note : plan.notes) std::cerr << "suite-mpi: note: " << note << "\n";
     // Every rank stops at the same sample once any rank is asked to (the runner agrees on it),
     // so a second signal waits for that rather than leave the others in a collective.
-    CommandFrame frame("suite-mpi", CommandFrame::SecondSignal::waits);
+    CommandFrame frame("suite-mpi", CommandFrame::SecondSignal::waits_for_ranks);
     on_rank0(job, [&] {
         if (!plan.out_path.empty()) frame.claim_file(plan.out_path, "--out", run_inputs(opts));
     });
@@ -182,7 +182,7 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
                       << std::flush;
         }
     }
-    const int stopped_by = static_cast<int>(comm.max(interrupted ? frame.signal() : 0));  // the signal, as some rank got it
+    const int stopped_by = static_cast<int>(comm.max(interrupted ? frame.stop_signal() : 0));  // the signal, as some rank got it
     const int result = static_cast<int>(comm.max(interrupted ? 128 + stopped_by : status));
     if (job.rank == 0) {
         doc["complete"] = !interrupted;

@@ -167,7 +167,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
         throw UsageError("suite matrix needs " + missing + ", which this build did not find; install (scripts/install-deps.sh does) and rebuild");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
-    if (!o.out.empty()) OutputDir::check(o.out, DirPolicy{"--out", "suite matrix", inputs, o.replace});
+    if (!o.out.empty()) OutputDir::check(o.out, DirPolicy{.option = "--out", .command = "suite matrix", .inputs = inputs, .replace_earlier = o.replace});
     // The memory, from the mesh's counts, before the mesh is built.
     const mesh::MeshCounts counts = mesh::mesh_counts(spec);
     const std::uint64_t need = study_bytes(counts), have = available_memory_bytes(MemoryPolicy{});
@@ -195,7 +195,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
     }
     const Csr& a = mat.a;
     CommandFrame frame("suite");
-    const OutputDir* out = o.out.empty() ? nullptr : &frame.claim_dir(o.out, DirPolicy{"--out", "suite matrix", inputs, o.replace});
+    OutputDir* out = o.out.empty() ? nullptr : &frame.claim_dir(o.out, DirPolicy{.option = "--out", .command = "suite matrix", .inputs = inputs, .replace_earlier = o.replace});
 
     std::printf("mesh %s: %zu triangles, %lld rows, %llu nonzeros; A at δ = %g; SpMV on %d thread(s), medians of %d\n\n", o.mesh.c_str(), m.elements(),
                 static_cast<long long>(a.n), static_cast<unsigned long long>(a.nnz()), delta, o.threads, o.reps);
@@ -255,21 +255,21 @@ int cmd_matrix(const std::vector<std::string>& args) {
     const std::string done = std::to_string(rows.size()) + " of " + std::to_string(orderings.size()) + " ordering(s)";
     const bool complete = rows.size() == orderings.size();
     doc["complete"] = complete;
-    if (!out) return frame.finish(0, done);
+    if (!out) return frame.finish(0, done, complete);
     save(rows);
     if (!complete) {
         std::printf("\nwrote %s (matrix.json, matrix.md; %s, incomplete: interrupted)\n", o.out.c_str(), done.c_str());
-        return frame.finish(0, done);
+        return frame.finish(0, done, complete);
     }
     std::string pngs = "";
     if (!o.no_png) {
         const Plotter p = find_plotter("matrix.py");
-        const std::string why = p.reason.empty() ? draw(p, out->writing_path()) : p.reason;
+        const std::string why = p.reason.empty() ? out->with_writer([&p](const std::string& dir) { return draw(p, dir); }) : p.reason;
         if (why.empty()) pngs = ", spy-ORDERING.png, spy.png";
         else std::cerr << "suite: note: no spy plots: " << why << "\n";
     }
     std::printf("\nwrote %s (matrix.json, matrix.md%s%s)\n", o.out.c_str(), pngs.c_str(), o.exports.empty() ? "" : ", ORDERING.mtx");
-    return frame.finish(0, done);
+    return frame.finish(0, done, complete);
 }
 
 }  // namespace suite

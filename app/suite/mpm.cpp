@@ -288,10 +288,10 @@ int cmd_mpm(const std::vector<std::string>& args) {
     // Everything is checked, and the state built, before any file or directory is made.
     const mpm::Setup setup = setup_of(o, app);
     if (o.out.empty() && !o.dry_run) throw UsageError("suite mpm needs --out=DIR, the directory for its snapshots, front.csv, mpm.json and front.png (or --dry-run)");
-    const DirPolicy policy{"--out", "suite mpm", {}, o.replace};
-    if (!o.out.empty()) OutputDir::check(o.out, policy);
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
+    const DirPolicy policy{.option = "--out", .command = "suite mpm", .inputs = inputs, .replace_earlier = o.replace};
+    if (!o.out.empty()) OutputDir::check(o.out, policy);
     omp_set_num_threads(o.threads);
     mpm::State st = build_state(setup, o);
     const double stable = mpm::critical_step(st.grid, st.settings.material);
@@ -312,7 +312,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
         return 0;
     }
     CommandFrame frame("suite");
-    const OutputDir& out = frame.claim_dir(o.out, DirPolicy{"--out", "suite mpm", inputs, o.replace});
+    OutputDir& out = frame.claim_dir(o.out, policy);
 
     mpm::SimulationSettings run;
     run.steps = o.steps;
@@ -330,7 +330,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
     out.write("mpm.json", summary_json(report).dump(1) + "\n");
     if (!o.no_png) {
         const Plotter p = find_plotter("mpm_front.py");
-        report.png = p.reason.empty() ? draw(p, out.writing_path()) : p.reason;
+        report.png = p.reason.empty() ? out.with_writer([&p](const std::string& dir) { return draw(p, dir); }) : p.reason;
         if (!report.png.empty()) std::cerr << "suite: note: no front.png: " << report.png << "\n";
         out.write("mpm.json", summary_json(report).dump(1) + "\n");
     }
@@ -342,9 +342,9 @@ int cmd_mpm(const std::vector<std::string>& args) {
     std::fflush(stdout);
     if (!r.passed()) {
         std::cerr << "suite: error: mpm check failed: " << r.failure << "\n";
-        return frame.finish(1, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)");
+        return frame.finish(1, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", false);
     }
-    return frame.finish(0, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)");
+    return frame.finish(0, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", r.steps_done == o.steps);
 }
 
 }  // namespace suite

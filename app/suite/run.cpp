@@ -221,15 +221,16 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     }
     if (progress) std::fprintf(stderr, "\r\033[K");
     if (console_table) std::cout << stability_summary(doc.records) << std::flush;
-    const int sig = frame.signal();
+    // Complete when every point was measured, whenever a signal came.
+    const bool complete = doc.records.size() == total;
     if (to_file) {
-        out->write(doc.render(format, sig == 0));
+        out->write(doc.render(format, complete));
         if (!plan.quiet)
-            std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path << (sig ? " (incomplete: interrupted)" : "") << "\n";
+            std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path << (complete ? "" : " (incomplete: interrupted)") << "\n";
     } else if (plan.format != "table") {
-        std::cout << doc.render(format, sig == 0) << std::flush;
+        std::cout << doc.render(format, complete) << std::flush;
     }
-    return frame.finish(status, std::to_string(doc.records.size()) + " of " + std::to_string(total) + " point(s)");
+    return frame.finish(status, std::to_string(doc.records.size()) + " of " + std::to_string(total) + " point(s)", complete);
 }
 
 int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {

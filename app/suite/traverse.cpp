@@ -92,8 +92,9 @@ int cmd_traverse(const std::vector<std::string>& args) {
                                                                          std::to_string(counts.dim) + "D"));
     if (o.out.empty()) throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
+    const DirPolicy policy{.option = "--out", .command = "suite traverse", .inputs = inputs, .replace_earlier = o.replace};
     if (o.dry_run) {
-        OutputDir::check(o.out, DirPolicy{"--out", "suite traverse", {}, o.replace});
+        OutputDir::check(o.out, policy);
         std::printf("mesh %s: %llu %s; into %s: %zu .vtu file(s)%s and summary.json\n", o.mesh.c_str(),
                     static_cast<unsigned long long>(counts.elements), mesh::element_word(counts.dim, true).c_str(), o.out.c_str(),
                     orderings.size() * threads.size(), o.no_png ? "" : ", 6 .png snapshots each");
@@ -102,7 +103,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
         return 0;
     }
     CommandFrame frame("suite");
-    const OutputDir& out = frame.claim_dir(o.out, DirPolicy{"--out", "suite traverse", inputs, o.replace});
+    OutputDir& out = frame.claim_dir(o.out, policy);
 
     const mesh::Mesh base = mesh::load_mesh(spec);
     nlohmann::json summary = {{"mesh", o.mesh}, {"dim", base.dim}, {"elements", base.elements()}, {"vertices", base.vertices()},
@@ -144,7 +145,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     if (done < orderings.size()) {
         out.write("summary.json", summary.dump(1) + "\n");
         std::printf("\nwrote %s (%s, incomplete: interrupted)\n", o.out.c_str(), finished.c_str());
-        return frame.finish(0, finished);
+        return frame.finish(0, finished, false);
     }
     summary["complete"] = true;
     // Keys at depth d name cells of the same grid whatever the curve, so one curve gives the
@@ -162,7 +163,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
         summary["png"] = {{"available", false}, {"reason", "--no-png"}};
     } else {
         const Plotter p = find_plotter("traverse.py");
-        const std::string why = p.reason.empty() ? draw(p, out.writing_path()) : p.reason;
+        const std::string why = p.reason.empty() ? out.with_writer([&p](const std::string& dir) { return draw(p, dir); }) : p.reason;
         if (why.empty()) {
             summary["png"] = {{"available", true}, {"percent", {0, 20, 40, 60, 80, 100}}, {"pattern", "ORDERING-tT-PPP.png"}};
         } else {
@@ -173,7 +174,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
     out.write("summary.json", summary.dump(1) + "\n");
     std::printf("\nwrote %s (.vtu per ordering and thread count%s, summary.json)\n", o.out.c_str(),
                 summary["png"]["available"].get<bool>() ? ", .png snapshots" : "");
-    return frame.finish(0, finished);
+    return frame.finish(0, finished, true);
 }
 
 }  // namespace suite

@@ -1,12 +1,18 @@
-// OutputDir: a directory that holds one run's files (output_file.hpp has the policy).
+// OutputDir: a directory that holds one run's files (output_file.hpp has the policy). Nothing
+// here removes a file it cannot show to be a suite run's: one listed in the directory's
+// manifest, a temporary file of the suite's own naming in a directory that has a manifest, or
+// what is inside a staging directory this code made (a real directory, never followed through
+// a symlink).
 #include <dirent.h>
 #include <fcntl.h>
+#include <ftw.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <stdexcept>
 
@@ -25,19 +31,34 @@ const char* const lock_name = ".suite.lock";
 const char* const manifest_name = ".suite-files";
 const std::string staging_prefix = ".suite-new.";
 
-// The directory's own bookkeeping, never a run's output.
-bool bookkeeping(const std::string& name) {
-    return name == lock_name || name == manifest_name || name.rfind(staging_prefix, 0) == 0;
+bool is_real_directory(const std::string& path) {
+    struct stat st{};
+    return lstat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-// Every entry of `dir` but "." and ".." (and the bookkeeping unless `all`), sorted.
-std::vector<std::string> entries(const std::string& dir, bool all = false) {
+// A staging directory of this code's naming: `.suite-new.PID`, and a real directory.
+bool is_staging(const std::string& dir, const std::string& name) {
+    static const std::regex pattern(R"(\.suite-new\.[0-9]+)");
+    return std::regex_match(name, pattern) && is_real_directory(dir + "/" + name);
+}
+
+// What the suite's writers leave behind when a process dies mid-write: FILE.tmp.PID and
+// FILE.probe.PID (output_file.cpp), .plot-stderr (the plotter). The suite's only in a directory
+// that has a manifest.
+bool is_leftover(const std::string& name) {
+    static const std::regex pattern(R"(.+\.(tmp|probe)\.[0-9]+|\.plot-stderr)");
+    return std::regex_match(name, pattern);
+}
+
+// Every entry of `dir` but ".", "..", the lock, the manifest and staging directories, sorted.
+// Throws UsageError when the directory cannot be listed: an unreadable directory is not empty.
+std::vector<std::string> entries(const std::string& dir, const std::string& option) {
     std::vector<std::string> out;
     DIR* d = opendir(dir.c_str());
-    if (!d) return out;
+    if (!d) throw UsageError(option + "=" + dir + ": cannot list what the directory holds (" + errno_text(errno) + "); it must be readable");
     while (const dirent* e = readdir(d)) {
         const std::string name = e->d_name;
-        if (name == "." || name == ".." || (!all && bookkeeping(name))) continue;
+        if (name == "." || name == ".." || name == lock_name || name == manifest_name || is_staging(dir, name)) continue;
         out.push_back(name);
     }
     closedir(d);
@@ -63,7 +84,7 @@ Manifest read_manifest(const std::string& dir) {
     return m;
 }
 
-std::string manifest_text(const std::string& command, const std::vector<std::string>& files) {
+std::string manifest_text(const std::string& command, const std::set<std::string>& files) {
     std::string text = (command.empty() ? "suite" : command) + "\n";
     for (const auto& f : files) text += f + "\n";
     return text;
@@ -76,10 +97,23 @@ std::string some(const std::vector<std::string>& names) {
     return out;
 }
 
-// Removes `path` and what it holds (a staging directory: plain files only).
-void remove_tree(const std::string& path) {
-    for (const auto& name : entries(path, true)) unlink((path + "/" + name).c_str());
-    rmdir(path.c_str());
+// Removes a staging directory and everything in it, never following a symlink out of it.
+void remove_tree(const std::string& path) noexcept {
+    if (!is_real_directory(path)) return;
+    nftw(
+        path.c_str(),
+        [](const char* p, const struct stat*, int type, struct FTW*) {
+            if (type == FTW_DP) rmdir(p);
+            else unlink(p);
+            return 0;
+        },
+        16, FTW_DEPTH | FTW_PHYS);
+}
+
+// "out/" and "out" are the same directory; lstat("link/") would follow the link.
+std::string without_trailing_slashes(std::string dir) {
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    return dir;
 }
 
 // The directory itself: a directory (never a symlink to one), or a new name in an existing
@@ -93,8 +127,8 @@ void check_dir_itself(const std::string& dir, const std::string& option, bool cr
         if (!S_ISDIR(st.st_mode))
             throw UsageError(option + "=" + dir + " exists and is " + file_kind(st.st_mode) + ", not a directory; " + option +
                              " names a directory for several files");
-        if (faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
-            throw UsageError(option + "=" + dir + ": the directory is not writable by this user (" + errno_text(errno) + ")");
+        if (faccessat(AT_FDCWD, dir.c_str(), R_OK | W_OK | X_OK, AT_EACCESS) != 0)
+            throw UsageError(option + "=" + dir + ": the directory is not readable and writable by this user (" + errno_text(errno) + ")");
         return;
     }
     const std::string parent = output_detail::parent_of(dir);
@@ -106,12 +140,12 @@ void check_dir_itself(const std::string& dir, const std::string& option, bool cr
 
 // What the directory holds, against the policy; returns the earlier run's files (to replace).
 std::vector<std::string> check_contents(const std::string& dir, const DirPolicy& p) {
-    const std::vector<std::string> present = entries(dir);
+    const std::vector<std::string> present = entries(dir, p.option);
     if (present.empty()) return {};
     const Manifest m = read_manifest(dir);
     std::vector<std::string> unknown;
     for (const auto& name : present)
-        if (!m.files.count(name)) unknown.push_back(name);
+        if (!m.files.count(name) && !(m.found && is_leftover(name))) unknown.push_back(name);
     const std::string where = p.option + "=" + dir;
     if (!unknown.empty())
         throw UsageError(where + " holds " + std::to_string(unknown.size()) + " file(s) the suite did not write (" + some(unknown) +
@@ -122,7 +156,7 @@ std::vector<std::string> check_contents(const std::string& dir, const DirPolicy&
         if (lstat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
             throw UsageError(where + ": " + name + " is " + file_kind(st.st_mode) + " where a run's file was; remove it");
         for (const auto& in : p.inputs)
-            if (lstat(path.c_str(), &st) == 0 && in.dev == st.st_dev && in.ino == st.st_ino)
+            if (in.dev == st.st_dev && in.ino == st.st_ino)
                 throw UsageError(where + ": " + name + " is the input " + in.path + "; replacing the directory's files would destroy it");
     }
     if (!p.replace_earlier) {
@@ -133,31 +167,48 @@ std::vector<std::string> check_contents(const std::string& dir, const DirPolicy&
     return present;
 }
 
-}  // namespace
-
-void OutputDir::check(const std::string& dir, const DirPolicy& policy) {
-    check_dir_itself(dir, policy.option, false);
-    struct stat st{};
-    if (policy.fixed_files.empty() && stat(dir.c_str(), &st) == 0) check_contents(dir, policy);
+// A command's fixed files (history html): each, where it exists, a regular file.
+void check_fixed(const std::string& dir, const DirPolicy& p) {
+    for (const auto& name : p.fixed_files) {
+        struct stat st{};
+        if (lstat((dir + "/" + name).c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+            throw UsageError(p.option + "=" + dir + ": " + name + " is " + file_kind(st.st_mode) + ", where this command writes a file; remove it");
+    }
 }
 
-OutputDir OutputDir::claim(const std::string& dir, const DirPolicy& policy) {
+}  // namespace
+
+void OutputDir::check(const std::string& given, const DirPolicy& policy) {
+    const std::string dir = without_trailing_slashes(given);
+    check_dir_itself(dir, policy.option, false);
+    if (!is_real_directory(dir)) return;
+    if (policy.fixed_files.empty()) check_contents(dir, policy);
+    else check_fixed(dir, policy);
+}
+
+OutputDir OutputDir::claim(const std::string& given, const DirPolicy& policy) {
+    const std::string dir = without_trailing_slashes(given);
     check_dir_itself(dir, policy.option, true);
     OutputDir d;
     d.dir_ = dir;
     d.policy_ = policy;
-    d.command_ = policy.command;
     d.lock_ = OutputLock(dir + "/" + lock_name, output_detail::take_lock(dir + "/" + lock_name, policy.option + "=" + dir));
-    // Held: a staging directory left here is a dead run's, never anyone's work in progress.
-    for (const auto& name : entries(dir, true))
-        if (name.rfind(staging_prefix, 0) == 0) remove_tree(dir + "/" + name);
     d.writing_ = dir;
     if (!policy.fixed_files.empty()) {
+        check_fixed(dir, policy);
         d.committed_ = true;  // nothing to swap or list: each file is replaced where it is
         d.claimed_ = true;
         return d;
     }
     d.earlier_ = check_contents(dir, policy);  // a refusal drops the lock with d
+    // Held, and the directory is the suite's: a staging directory left in it is a dead run's.
+    if (DIR* h = opendir(dir.c_str())) {
+        std::vector<std::string> stale;
+        while (const dirent* e = readdir(h))
+            if (is_staging(dir, e->d_name)) stale.push_back(dir + "/" + e->d_name);
+        closedir(h);
+        for (const auto& s : stale) remove_tree(s);
+    }
     if (!d.earlier_.empty()) {
         d.staging_ = true;
         d.writing_ = dir + "/" + staging_prefix + std::to_string(getpid());
@@ -166,7 +217,7 @@ OutputDir OutputDir::claim(const std::string& dir, const DirPolicy& policy) {
     } else {
         // Straight into the directory: the manifest names each file as it is written, so that
         // even a run that is killed leaves files a later --replace knows as its own.
-        output_detail::replace_file(dir + "/" + manifest_name, manifest_text(d.command_, {}));
+        output_detail::replace_file(dir + "/" + manifest_name, manifest_text(policy.command, {}));
     }
     d.claimed_ = true;
     return d;
@@ -177,9 +228,9 @@ OutputDir& OutputDir::operator=(OutputDir&& other) noexcept {
         release();
         dir_ = std::move(other.dir_);
         writing_ = std::move(other.writing_);
-        command_ = std::move(other.command_);
         policy_ = std::move(other.policy_);
         earlier_ = std::move(other.earlier_);
+        written_ = std::move(other.written_);
         staging_ = other.staging_;
         committed_ = other.committed_;
         claimed_ = other.claimed_;
@@ -188,8 +239,8 @@ OutputDir& OutputDir::operator=(OutputDir&& other) noexcept {
     return *this;
 }
 
-void OutputDir::record(const std::string& name) const {
-    if (staging_) return;  // the staging directory's listing is the manifest at commit
+void OutputDir::record(const std::string& name) {
+    if (!written_.insert(name).second || staging_ || !policy_.fixed_files.empty()) return;
     const std::string path = dir_ + "/" + manifest_name;
     const int fd = open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC | O_NOFOLLOW);
     if (fd < 0) return;
@@ -198,34 +249,59 @@ void OutputDir::record(const std::string& name) const {
     close(fd);
 }
 
-void OutputDir::write(const std::string& name, const std::string& content) const {
+void OutputDir::write(const std::string& name, const std::string& content) {
     if (!lock_.held()) throw std::logic_error("OutputDir::write on a directory that was not claimed");
-    if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || bookkeeping(name))
+    if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name == lock_name || name == manifest_name ||
+        name.rfind(staging_prefix, 0) == 0)
         throw std::logic_error("OutputDir::write: '" + name + "' is not a plain file name of an output");
     if (!policy_.fixed_files.empty() && std::find(policy_.fixed_files.begin(), policy_.fixed_files.end(), name) == policy_.fixed_files.end())
         throw std::logic_error("OutputDir::write: '" + name + "' is not one of the files this command declared");
-    const std::string path = writing_ + "/" + name;
-    output_detail::check_target(path, policy_.option, policy_.inputs, false);
-    struct stat st{};
-    const bool is_new = lstat(path.c_str(), &st) != 0;
-    output_detail::replace_file(path, content);
-    if (is_new) record(name);
+    output_detail::check_target(writing_ + "/" + name, policy_.option, policy_.inputs, false);
+    output_detail::replace_file(writing_ + "/" + name, content);
+    record(name);
+}
+
+std::string OutputDir::with_writer(const std::function<std::string(const std::string& dir)>& writer) {
+    const std::vector<std::string> before = entries(writing_, policy_.option);
+    const std::string result = writer(writing_);
+    for (const auto& name : entries(writing_, policy_.option))
+        if (!std::binary_search(before.begin(), before.end(), name) && !is_leftover(name)) record(name);
+    return result;
 }
 
 void OutputDir::commit() {
     if (!lock_.held() || committed_) return;
-    const std::vector<std::string> mine = entries(writing_);
     if (staging_) {
-        for (const auto& name : earlier_)
-            if (unlink((dir_ + "/" + name).c_str()) != 0 && errno != ENOENT)
-                throw std::runtime_error("cannot remove " + dir_ + "/" + name + " of the earlier run: " + errno_text(errno) + "; this run's files are in " +
-                                         writing_);
-        for (const auto& name : mine)
-            if (rename((writing_ + "/" + name).c_str(), (dir_ + "/" + name).c_str()) != 0)
-                throw std::runtime_error("cannot move " + name + " into " + dir_ + ": " + errno_text(errno) + "; this run's files are in " + writing_);
+        // This run's files over the earlier ones first (each rename replaces atomically), then
+        // the earlier names this run did not write, then the manifest. A failure part way keeps
+        // the staging directory (what was not moved yet is still there) and lists every file
+        // the directory may now hold, earlier or new, so that a later --replace takes them all.
+        std::set<std::string> moved;
+        try {
+            for (const auto& name : entries(writing_, policy_.option)) {
+                if (rename((writing_ + "/" + name).c_str(), (dir_ + "/" + name).c_str()) != 0)
+                    throw std::runtime_error("cannot move " + name + " into " + dir_ + ": " + errno_text(errno));
+                moved.insert(name);
+            }
+            for (const auto& name : earlier_)
+                if (!moved.count(name) && unlink((dir_ + "/" + name).c_str()) != 0 && errno != ENOENT)
+                    throw std::runtime_error("cannot remove " + dir_ + "/" + name + " of the earlier run: " + errno_text(errno));
+        } catch (const std::runtime_error& e) {
+            std::set<std::string> all(earlier_.begin(), earlier_.end());
+            all.insert(moved.begin(), moved.end());
+            try {
+                output_detail::replace_file(dir_ + "/" + manifest_name, manifest_text(policy_.command, all));
+            } catch (...) {
+            }
+            committed_ = true;  // nothing more to undo: release() must not remove the staging directory
+            throw std::runtime_error(std::string(e.what()) + "; the files not moved are in " + writing_);
+        }
+        written_ = std::move(moved);
+        output_detail::replace_file(dir_ + "/" + manifest_name, manifest_text(policy_.command, written_));
+        rmdir(writing_.c_str());
+    } else {
+        output_detail::replace_file(dir_ + "/" + manifest_name, manifest_text(policy_.command, written_));
     }
-    output_detail::replace_file(dir_ + "/" + manifest_name, manifest_text(command_, mine));
-    if (staging_) rmdir(writing_.c_str());
     committed_ = true;
 }
 
@@ -236,7 +312,7 @@ void OutputDir::release() noexcept {
             remove_tree(writing_);  // the earlier run's files stay as they were
         } else {
             try {  // what was written is this run's: listed, so that --replace may take it later
-                output_detail::replace_file(dir_ + "/" + manifest_name, manifest_text(command_, entries(dir_)));
+                output_detail::replace_file(dir_ + "/" + manifest_name, manifest_text(policy_.command, written_));
             } catch (...) {
             }
         }

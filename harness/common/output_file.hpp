@@ -16,6 +16,8 @@
 // std::runtime_error (exit 1). The lock file is removed when the claim is released.
 #include <sys/types.h>
 
+#include <functional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +48,7 @@ public:
 
     bool held() const { return fd_ >= 0; }
     const std::string& path() const { return path_; }
+    int fd() const { return fd_; }
     void release() noexcept;
 
 private:
@@ -63,6 +66,7 @@ public:
     const std::string& path() const { return path_; }
     bool claimed() const { return lock_.held(); }
     const std::string& lock_path() const { return lock_.path(); }
+    int lock_fd() const { return lock_.fd(); }
     // Removes the lock file and drops the lock (the destructor does it too).
     void release() noexcept { lock_.release(); }
 
@@ -97,11 +101,11 @@ class OutputDir {
 public:
     static OutputDir claim(const std::string& dir, const DirPolicy& policy);
     static OutputDir claim(const std::string& dir, const std::string& option, const std::vector<FileIdentity>& inputs = {}) {
-        return claim(dir, DirPolicy{option, "", inputs, false});
+        return claim(dir, DirPolicy{.option = option, .inputs = inputs});
     }
     // The checks of claim() alone, creating and locking nothing (for --dry-run).
     static void check(const std::string& dir, const DirPolicy& policy);
-    static void check(const std::string& dir, const std::string& option) { check(dir, DirPolicy{option, "", {}, false}); }
+    static void check(const std::string& dir, const std::string& option) { check(dir, DirPolicy{.option = option}); }
 
     OutputDir() = default;
     OutputDir(OutputDir&&) noexcept = default;
@@ -111,26 +115,34 @@ public:
     ~OutputDir() { release(); }
 
     // Writes `name` (a plain file name, no '/') atomically, under the same policy.
-    void write(const std::string& name, const std::string& content) const;
+    void write(const std::string& name, const std::string& content);
+    // Runs `writer` on writing_path() (a program that writes files of its own there, such as a
+    // plot script); the files it made are this run's. Returns what the writer returns.
+    std::string with_writer(const std::function<std::string(const std::string& dir)>& writer);
     const std::string& path() const { return dir_; }
     const std::string& lock_path() const { return lock_.path(); }
+    int lock_fd() const { return lock_.fd(); }
     // Where this run's files go until commit(): the directory, or its staging directory while
     // an earlier run's files are being replaced. For programs that write files of their own there.
     const std::string& writing_path() const { return writing_; }
     // The run is over (finished, or stopped at a safe point): its files become the directory's,
     // the earlier run's removed, the manifest rewritten. Throws std::runtime_error when a file
-    // cannot be moved or removed.
+    // cannot be moved or removed; the staging directory then keeps what was not moved, and the
+    // manifest lists every file the directory may hold, so that a later --replace takes them.
     void commit();
+    // Whether this claim replaces an earlier run's files (they stay until commit()).
+    bool replacing() const { return staging_ && !committed_; }
     // Drops the claim. Without commit(), a replacement is abandoned (the staging directory
     // removed, the earlier files untouched); files written straight into the directory stay,
     // listed in its manifest.
     void release() noexcept;
 
 private:
-    void record(const std::string& name) const;
-    std::string dir_, writing_, command_;
+    void record(const std::string& name);
+    std::string dir_, writing_;
     DirPolicy policy_;
     std::vector<std::string> earlier_;   // the earlier run's files, removed at commit
+    std::set<std::string> written_;      // this run's files: write() and with_writer()'s
     bool staging_ = false, committed_ = false;
     bool claimed_ = false;  // claim() finished: what is in the directory is this run's
     OutputLock lock_;

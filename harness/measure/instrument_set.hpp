@@ -12,7 +12,15 @@
 
 namespace suite {
 
+// Move-only: the energy instrument keeps the readings of the point in progress, and two
+// copies would share one meter.
 struct Instruments {
+    Instruments() = default;
+    Instruments(Instruments&&) = default;
+    Instruments& operator=(Instruments&&) = default;
+    Instruments(const Instruments&) = delete;
+    Instruments& operator=(const Instruments&) = delete;
+
     PerfAccess access;
     CounterSelection counters;
     std::shared_ptr<EnergyInstrument> energy = energy_not_requested();  // never null

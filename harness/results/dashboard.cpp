@@ -150,7 +150,7 @@ std::string write_dashboard(const std::vector<Series>& series, const std::string
     const std::string page = dashboard_detail::page_html(series, options);
     // The page's two files, replaced by every `history html` into the same directory; what else
     // the directory holds (a site's CNAME) is left alone.
-    const OutputDir out = OutputDir::claim(out_dir, DirPolicy{"--out", "suite history html", {}, false, {"chart.min.js", "index.html"}});
+    OutputDir out = OutputDir::claim(out_dir, DirPolicy{.option = "--out", .command = "suite history html", .fixed_files = {"chart.min.js", "index.html"}});
     out.write("chart.min.js", library);
     out.write("index.html", page);
     std::string dir = out_dir;

@@ -4,6 +4,7 @@
 #include <signal.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -33,12 +34,12 @@ TEST(CommandFrame, ASignalAsksForAStopAndFinishSaysSo) {
         CommandFrame frame("suite");
         EXPECT_FALSE(frame.stop_requested());
         ::testing::internal::CaptureStderr();
-        EXPECT_EQ(frame.finish(3, "nothing"), 3) << "no signal: the command's own status";
+        EXPECT_EQ(frame.finish(3, "nothing", false), 3) << "no signal: the command's own status";
         raise(sig);  // the process survives it
         EXPECT_TRUE(frame.stop_requested());
-        EXPECT_EQ(frame.signal(), sig);
+        EXPECT_EQ(frame.stop_signal(), sig);
         EXPECT_EQ(frame.stop_flag()->load(), sig);
-        EXPECT_EQ(frame.finish(1, "2 of 5 point(s)"), 128 + sig);
+        EXPECT_EQ(frame.finish(1, "2 of 5 point(s)", false), 128 + sig);
         const std::string err = ::testing::internal::GetCapturedStderr();
         EXPECT_EQ(err, "suite: interrupted by signal " + std::to_string(sig) + " after 2 of 5 point(s)\n");
     }
@@ -49,13 +50,15 @@ TEST(CommandFrame, ASecondSignalEndsTheProcessUnlessTheFrameWaits) {
         CommandFrame frame("suite");
         raise(SIGINT);
         EXPECT_EQ(handler_of(SIGINT), SIG_DFL) << "the next Ctrl-C ends the program at once";
+        EXPECT_EQ(handler_of(SIGTERM), SIG_DFL) << "and so does a SIGTERM after a Ctrl-C";
+        EXPECT_EQ(frame.stop_signal(), SIGINT) << "the first signal is the one reported";
     }
     {
-        CommandFrame frame("suite-mpi", CommandFrame::SecondSignal::waits);
+        CommandFrame frame("suite-mpi", CommandFrame::SecondSignal::waits_for_ranks);
         raise(SIGINT);
         EXPECT_NE(handler_of(SIGINT), SIG_DFL) << "a rank keeps waiting for the others";
         raise(SIGINT);
-        EXPECT_EQ(frame.signal(), SIGINT);
+        EXPECT_EQ(frame.stop_signal(), SIGINT);
     }
 }
 
@@ -82,6 +85,36 @@ TEST(CommandFrame, TheHandlersItFoundArePutBackAndANewFrameStartsClear) {
     sigaction(SIGTERM, &old_term, nullptr);
 }
 
+TEST(CommandFrame, ASignalStartedIgnoredStaysIgnored) {
+    struct sigaction ignore {}, old {};
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGINT, &ignore, &old);
+    {
+        CommandFrame frame("suite");
+        EXPECT_EQ(handler_of(SIGINT), SIG_IGN) << "a background job's Ctrl-C is the foreground's";
+        EXPECT_NE(handler_of(SIGTERM), SIG_DFL);
+        raise(SIGINT);
+        EXPECT_FALSE(frame.stop_requested());
+    }
+    sigaction(SIGINT, &old, nullptr);
+}
+
+TEST(CommandFrame, ARankRemovesItsLockFileAtTheFirstSignalOnlyWhileItIsItsOwn) {
+    suite::test::TempDir tmp;
+    const std::string file = tmp.file("r.json");
+    CommandFrame frame("suite-mpi", CommandFrame::SecondSignal::waits_for_ranks);
+    frame.claim_file(file, "--out");
+    ASSERT_TRUE(fs::exists(file + ".lock"));
+    raise(SIGTERM);
+    EXPECT_FALSE(fs::exists(file + ".lock")) << "mpirun's SIGKILL may follow: no lock file outlives the rank";
+    // Another run takes the name meanwhile: a second signal does not remove its lock file.
+    { std::ofstream(file + ".lock") << "12345\n"; }
+    raise(SIGTERM);
+    EXPECT_TRUE(fs::exists(file + ".lock"));
+    fs::remove(file + ".lock");
+}
+
 TEST(CommandFrame, OneFrameAtATime) {
     CommandFrame frame("suite");
     EXPECT_THROW(CommandFrame("suite"), std::logic_error);
@@ -92,7 +125,7 @@ TEST(CommandFrame, TheOutputIsLockedWhileItLivesAndTheLockGoesWithIt) {
     const std::string dir = tmp.file("out"), file = tmp.file("r.json");
     {
         CommandFrame frame("suite");
-        const OutputDir& out = frame.claim_dir(dir, DirPolicy{"--out", "suite test", {}, false});
+        OutputDir& out = frame.claim_dir(dir, DirPolicy{.option = "--out", .command = "suite test"});
         EXPECT_TRUE(fs::exists(dir + "/.suite.lock"));
         EXPECT_THROW(OutputDir::claim(dir, "--out"), UsageError) << "a second run on the same directory refuses";
         EXPECT_THROW(frame.claim_file(file, "--out"), std::logic_error) << "a frame holds one output";

@@ -100,7 +100,7 @@ TEST(OutputDir, CreatesLocksAndWritesPlainNamesOnly) {
     TempDir d;
     const std::string dir = d.file("out");
     {
-        const OutputDir o = OutputDir::claim(dir, "--out");
+        OutputDir o = OutputDir::claim(dir, "--out");
         EXPECT_TRUE(fs::is_directory(dir));
         EXPECT_TRUE(fs::exists(dir + "/.suite.lock"));
         o.write("summary.json", "{}\n");
@@ -122,7 +122,7 @@ TEST(OutputDir, CreatesLocksAndWritesPlainNamesOnly) {
 TEST(OutputDir, AReplacementIsAllOrNothing) {
     TempDir d;
     const std::string dir = d.file("out");
-    const DirPolicy first{"--out", "suite test", {}, false};
+    const DirPolicy first{.option = "--out", .command = "suite test"};
     {
         OutputDir o = OutputDir::claim(dir, first);
         o.write("a.txt", "a\n");
@@ -131,7 +131,7 @@ TEST(OutputDir, AReplacementIsAllOrNothing) {
     }
     EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "a.txt", "b.txt"}));
     EXPECT_THROW(OutputDir::claim(dir, first), UsageError) << "an earlier run's files, without replace";
-    const DirPolicy replace{"--out", "suite test", {}, true};
+    const DirPolicy replace{.option = "--out", .command = "suite test", .replace_earlier = true};
     {
         // Abandoned (an exception, no commit): the earlier set stays, the staging goes.
         OutputDir o = OutputDir::claim(dir, replace);
