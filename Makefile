@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots test test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpi
+.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpi
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -34,6 +34,17 @@ configure:
 # Everything: the program, the tests, the x86-64-v3 twin for valgrind, suite-gbench, the fuzz targets.
 build: deps configure
 	cmake --build $(BUILD) -j $(JOBS)
+
+# Installs into $(PREFIX): bin/suite (and suite-mpi, the valgrind twin where built), share/suite
+# (plot scripts, JSON schema, Chart.js), the man page and the docs; see docs/install.md.
+PREFIX ?= /usr/local
+install: deps configure
+	@probe="$(PREFIX)/.suite-install-probe.$$$$"; \
+	  if ! mkdir -p "$(PREFIX)" 2>/dev/null || ! : > "$$probe" 2>/dev/null; then \
+	    echo "make install: PREFIX=$(PREFIX) cannot be written by this user; give a PREFIX you may write, e.g. PREFIX=$$HOME/.local, or run as root" >&2; exit 2; fi; \
+	  rm -f "$$probe"
+	cmake --build $(BUILD) -j $(JOBS) --target suite_installables
+	cmake --install $(BUILD) --prefix "$(PREFIX)"
 
 # The default sweep, its sizes taken from the caches this process really gets (--probe-caches): a
 # table on the console, results/latest.json, and its figures in $(PLOTS)/. Builds the program only.

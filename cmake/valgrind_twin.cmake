@@ -20,7 +20,8 @@ if(SUITE_VALGRIND_TWIN)
   configure_file(cmake/build_info.cpp.in ${CMAKE_BINARY_DIR}/generated/build_info_x86-64-v3.cpp @ONLY)
   set(SUITE_EFFECTIVE_FLAGS "${_main_flags}")
   add_executable(suite-x86-64-v3 app/suite/main.cpp ${SUITE_APP} ${SUITE_HARNESS} ${SUITE_STREAM} ${SUITE_KERNELS} ${SUITE_RAPL}
-                 ${CMAKE_BINARY_DIR}/generated/build_info_x86-64-v3.cpp ${CMAKE_BINARY_DIR}/generated/git_revision.cpp)
+                 ${CMAKE_BINARY_DIR}/generated/build_info_x86-64-v3.cpp ${CMAKE_BINARY_DIR}/generated/git_revision.cpp
+                 ${CMAKE_BINARY_DIR}/generated/build_parts.cpp)
   add_dependencies(suite-x86-64-v3 git_revision)
   target_include_directories(suite-x86-64-v3 PRIVATE ${CMAKE_SOURCE_DIR})
   target_compile_options(suite-x86-64-v3 PRIVATE -march=x86-64-v3 -Wall -Wextra)

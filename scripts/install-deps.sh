@@ -25,6 +25,8 @@ if [ "${1:-build}" = test ]; then
   want+=(python3-meshio)
   # suite-mpi, the MPI mode (optional in the build; tests/mpi_test.py runs it with mpirun -np 2).
   want+=(libopenmpi-dev openmpi-bin)
+  # tests/install_test.py: what the installed programs open, traced (nothing in the source tree).
+  want+=(strace)
 fi
 if [ "${1:-build}" = bench ]; then
   # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by

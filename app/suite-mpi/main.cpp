@@ -15,6 +15,7 @@
 #include <set>
 
 #include "app/suite/parse.hpp"
+#include "app/suite/data_dir.hpp"
 #include "app/suite/frame.hpp"
 #include "app/suite/run.hpp"
 #include "harness/common/output_file.hpp"
@@ -202,6 +203,16 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
 
 int main(int argc, char** argv) {
     using namespace suite;
+    if (argc == 2 && std::string(argv[1]) == "--version") {
+        // Before MPI_Init: the version needs no job (MPI_Get_library_version may be called first).
+        char library[MPI_MAX_LIBRARY_VERSION_STRING];
+        int length = 0;
+        MPI_Get_library_version(library, &length);
+        std::string mpi(library, static_cast<std::size_t>(length));
+        mpi = mpi.substr(0, mpi.find_first_of(",\n"));
+        std::cout << version_text("suite-mpi") << "MPI: " << mpi << "\n";
+        return 0;
+    }
     signal(SIGXFSZ, SIG_IGN);
     int provided = 0;
     MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);

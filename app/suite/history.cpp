@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/suite/commands.hpp"
+#include "app/suite/data_dir.hpp"
 #include "app/suite/parse.hpp"
 #include "harness/results/check.hpp"
 #include "harness/results/dashboard.hpp"
@@ -302,6 +303,13 @@ int history_html(const std::vector<std::string>& args) {
     for (const auto& s : series) steps += s.steps.size();
     DashboardOptions options;
     options.title = "suite history: " + h.path();
+    // An installed tree carries its own copy of Chart.js (copied from Debian's when installed).
+    if (data_dir().installed) {
+        std::string why;
+        options.chart_js = data_file("chart.min.js", why);
+        if (options.chart_js.empty())
+            throw UsageError(why + "; the history page needs this copy of Chart.js, which make install takes from Debian's libjs-chart.js");
+    }
     std::cout << "wrote " << write_dashboard(series, out, options) << " (" << series.size() << " series, " << steps << " step(s))\n" << std::flush;
     return 0;
 }

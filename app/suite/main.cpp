@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/suite/commands.hpp"
+#include "app/suite/data_dir.hpp"
 #include "harness/common/units.hpp"
 
 int main(int argc, char** argv) {
@@ -20,6 +21,10 @@ int main(int argc, char** argv) {
     signal(SIGXFSZ, SIG_IGN);
     std::vector<std::string> all(argv, argv + argc);
     std::vector<std::string> args(all.begin() + 1, all.end());
+    if (args.size() == 1 && args[0] == "--version") {
+        std::cout << version_text("suite");
+        return 0;
+    }
     std::string command = "run";
     if (!args.empty() && !args[0].empty() && args[0][0] != '-') {
         command = args[0];

@@ -165,6 +165,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
     if (!o.exports.empty() && o.out.empty()) throw UsageError("--export=mtx writes into the --out directory: give --out=DIR");
     if (const std::string missing = sparse_libs_missing(); !missing.empty())
         throw UsageError("suite matrix needs " + missing + ", which this build did not find; install (scripts/install-deps.sh does) and rebuild");
+    if (!o.no_png && !o.out.empty()) require_plotter("matrix.py", "--no-png");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
     if (!o.out.empty()) OutputDir::check(o.out, DirPolicy{.option = "--out", .command = "suite matrix", .inputs = inputs, .replace_earlier = o.replace});

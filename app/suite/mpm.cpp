@@ -287,6 +287,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
 
     // Everything is checked, and the state built, before any file or directory is made.
     const mpm::Setup setup = setup_of(o, app);
+    if (!o.no_png) require_plotter("mpm_front.py", "--no-png");
     if (o.out.empty() && !o.dry_run) throw UsageError("suite mpm needs --out=DIR, the directory for its snapshots, front.csv, mpm.json and front.png (or --dry-run)");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});

@@ -8,19 +8,32 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "app/suite/data_dir.hpp"
+#include "harness/common/units.hpp"
+
 namespace suite {
 
 Plotter find_plotter(const std::string& script) {
     Plotter p;
-    p.script = std::string(SUITE_PLOTS_DIR) + "/" + script;
-    if (access(p.script.c_str(), R_OK) != 0) {
-        p.reason = p.script + " is not readable (the source tree this suite was built from has moved)";
-        return p;
+    // The script and the modules it imports from beside it.
+    for (const std::string& name : {script, std::string("safe_output.py")}) {
+        std::string why;
+        const std::string path = data_file("plots/" + name, why);
+        if (path.empty()) {
+            p.reason = why;
+            return p;
+        }
+        if (name == script) p.script = path;
     }
     if (const char* env = std::getenv("SUITE_PYTHON"); env && *env) p.python = env;
     else if (access("/usr/bin/python3", X_OK) == 0) p.python = "/usr/bin/python3";  // Debian's, which has matplotlib
     else p.python = "python3";
     return p;
+}
+
+void require_plotter(const std::string& script, const std::string& skip) {
+    const Plotter p = find_plotter(script);
+    if (!p.reason.empty() && data_dir().installed) throw UsageError(p.reason + "; or give " + skip);
 }
 
 std::string draw(const Plotter& p, const std::string& dir) {

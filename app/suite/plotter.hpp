@@ -9,9 +9,14 @@ namespace suite {
 struct Plotter {
     std::string python, script, reason;
 };
-// `script` is a file name in this source tree's plots/. SUITE_PYTHON overrides the interpreter;
-// else Debian's /usr/bin/python3 (which has matplotlib), else python3 on PATH.
+// `script` is a file name in the data directory's plots/ (data_dir.hpp). SUITE_PYTHON overrides
+// the interpreter; else Debian's /usr/bin/python3 (which has matplotlib), else python3 on PATH.
 Plotter find_plotter(const std::string& script);
+
+// For a command about to draw: in an installed tree a missing script is a broken install, said
+// before any work (UsageError naming the file, where it was looked for, and `skip`, the option
+// that does without the figure); in a build tree the figure is only skipped, with a note.
+void require_plotter(const std::string& script, const std::string& skip);
 
 // Runs the plot script on DIR; "" on success, else why it failed (its last line of stderr).
 std::string draw(const Plotter& p, const std::string& dir);

@@ -90,6 +90,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
                                       : static_cast<int>(parse_whole(o.depth, "--depth", 1, static_cast<std::uint64_t>(deepest),
                                                                      "the key depth in bits per axis, at most " + std::to_string(deepest) + " in " +
                                                                          std::to_string(counts.dim) + "D"));
+    if (!o.no_png) require_plotter("traverse.py", "--no-png");
     if (o.out.empty()) throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
     const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
     const DirPolicy policy{.option = "--out", .command = "suite traverse", .inputs = inputs, .replace_earlier = o.replace};
