@@ -194,6 +194,14 @@ private:
 };
 
 // The whole content of the file at `path`, byte for byte ("" if it cannot be read).
+// The names in a directory, sorted.
+inline std::vector<std::string> names_in(const std::string& dir) {
+    std::vector<std::string> out;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
 inline std::string slurp(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::stringstream s;

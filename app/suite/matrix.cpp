@@ -175,8 +175,8 @@ int cmd_matrix(const std::vector<std::string>& args) {
     if (need > have)
         throw UsageError("--mesh=" + o.mesh + " (" + std::to_string(counts.elements) + " triangles) needs about " + format_bytes(need) +
                          " for the study, more than the " + format_bytes(have) + " of memory available; use a smaller mesh");
-    check_fem_spec(o.mesh);  // triangles, no isolated vertices, no inverted triangles
     if (o.dry_run) {
+        check_fem_spec(o.mesh);  // triangles, no isolated vertices, no inverted triangles (the run's load_fem_mesh checks the same)
         std::printf("mesh %s: %llu triangles, about %s of memory (%s available) besides each ordering's factor; orderings %s%s\n", o.mesh.c_str(),
                     static_cast<unsigned long long>(counts.elements), format_bytes(need).c_str(), format_bytes(have).c_str(), join(orderings, ", ").c_str(),
                     o.out.empty() ? "; the table on the console only" : ("; into " + o.out + ": matrix.json, matrix.md" + (o.no_png ? "" : ", spy plots") +

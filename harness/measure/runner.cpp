@@ -147,8 +147,8 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     Instruments* in = settings.instruments;
     TeamCounters counters;  // empty: counts nothing
     if (in && in->counters.requested) counters = TeamCounters(in->counters.events, point.threads, in->access);
-    NoEnergy no_energy;
-    EnergyInstrument& energy = in && in->energy->available() ? *in->energy : static_cast<EnergyInstrument&>(no_energy);
+    // An instrument that cannot measure here starts and stops as a no-op.
+    EnergyInstrument& energy = in ? *in->energy : *energy_not_requested();  // the latter is static
     // Outermost first: started in this order, stopped in the reverse.
     RepetitionInstrument* const around[] = {&energy, &counters};
 

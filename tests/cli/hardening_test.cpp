@@ -24,14 +24,6 @@ using namespace suite::test;
 
 namespace {
 
-// The names in `dir`, sorted.
-std::vector<std::string> listing(const std::string& dir) {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
 // One line on stderr, exit 2, holding every one of `words`.
 void expect_refused(const Outcome& r, const std::vector<std::string>& words) {
     EXPECT_EQ(r.status, 2) << describe(r);
@@ -52,18 +44,18 @@ TEST(DirectoryOfOutputs, ARerunIsRefusedAndReplaceSwapsTheWholeSet) {
     const std::string dir = tmp.file("dam");
     Outcome r = run_suite(mpm(dir, {"--steps=20", "--vtk-every=5"}), 120);
     ASSERT_EQ(r.status, 0) << describe(r);
-    const std::vector<std::string> first = listing(dir);
+    const std::vector<std::string> first = names_in(dir);
     const std::string json = slurp(dir + "/mpm.json");
     ASSERT_NE(std::find(first.begin(), first.end(), "particles_000005.vtu"), first.end());
 
     r = run_suite(mpm(dir, {"--steps=10", "--vtk-every=10"}), 120);
     expect_refused(r, {"--out=" + dir + " holds the files of an earlier `suite mpm` run", "--replace"});
-    EXPECT_EQ(listing(dir), first) << "nothing written or removed";
+    EXPECT_EQ(names_in(dir), first) << "nothing written or removed";
     EXPECT_EQ(slurp(dir + "/mpm.json"), json);
 
     r = run_suite(mpm(dir, {"--steps=10", "--vtk-every=10", "--replace"}), 120);
     ASSERT_EQ(r.status, 0) << describe(r);
-    EXPECT_EQ(listing(dir), (std::vector<std::string>{".suite-files", "front.csv", "mpm.json", "particles.pvd", "particles_000000.vtu",
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "front.csv", "mpm.json", "particles.pvd", "particles_000000.vtu",
                                                       "particles_000010.vtu"}))
         << "the earlier snapshots are gone, and no staging directory is left";
     EXPECT_EQ(slurp(dir + "/.suite-files"), "suite mpm\nfront.csv\nmpm.json\nparticles.pvd\nparticles_000000.vtu\nparticles_000010.vtu\n");
@@ -85,7 +77,7 @@ TEST(DirectoryOfOutputs, MatrixReplaceRemovesTheEarlierExports) {
     args.push_back("--replace");
     r = run_suite(args, 120);
     ASSERT_EQ(r.status, 0) << describe(r);
-    EXPECT_EQ(listing(dir), (std::vector<std::string>{".suite-files", "matrix.json", "matrix.md", "natural.mtx"}))
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "matrix.json", "matrix.md", "natural.mtx"}))
         << "rcm.mtx of the earlier run is not left beside a matrix.json that lists only natural";
 }
 
@@ -98,7 +90,7 @@ TEST(DirectoryOfOutputs, FilesTheSuiteDidNotWriteAreNeverReplaced) {
         std::vector<std::string> extra = {"--steps=2"};
         if (replace) extra.push_back("--replace");
         expect_refused(run_suite(mpm(dir, extra), 60), {"holds 1 file(s) the suite did not write (notes.txt)", "new or empty directory"});
-        EXPECT_EQ(listing(dir), std::vector<std::string>{"notes.txt"});
+        EXPECT_EQ(names_in(dir), std::vector<std::string>{"notes.txt"});
         EXPECT_EQ(slurp(dir + "/notes.txt"), "mine\n");
     }
 }
@@ -110,13 +102,13 @@ TEST(DirectoryOfOutputs, AFifoOrAnInputWhereAnOutputGoesIsRefusedBeforeTheWork) 
     ASSERT_EQ(mkfifo((dir + "/front.csv").c_str(), 0644), 0);
     // Refused when claimed, not after a simulation of 10^6 steps.
     expect_refused(run_suite(mpm(dir, {"--steps=1000000"}), 60), {"front.csv", "did not write"});
-    EXPECT_EQ(listing(dir), std::vector<std::string>{"front.csv"});
+    EXPECT_EQ(names_in(dir), std::vector<std::string>{"front.csv"});
 
     const std::string mdir = tmp.file("withmesh");
     fs::create_directory(mdir);
     fs::copy_file(std::string(SUITE_SOURCE_DIR) + "/../shared/meshes/unit_circle.txt", mdir + "/mesh.txt");
     expect_refused(run_suite({"matrix", "--mesh=file:" + mdir + "/mesh.txt", "--out=" + mdir}, 60), {"mesh.txt", "did not write"});
-    EXPECT_EQ(listing(mdir), std::vector<std::string>{"mesh.txt"});
+    EXPECT_EQ(names_in(mdir), std::vector<std::string>{"mesh.txt"});
 }
 
 TEST(DirectoryOfOutputs, ASymlinkOrARegularFileAsOutIsRefusedAndSaysWhatItIs) {
@@ -127,13 +119,13 @@ TEST(DirectoryOfOutputs, ASymlinkOrARegularFileAsOutIsRefusedAndSaysWhatItIs) {
     { std::ofstream(file) << "x\n"; }
     expect_refused(run_suite({"traverse", "--mesh=disk:refine=1", "--no-png", "--out=" + link}, 60), {"--out=" + link + " is a symlink"});
     expect_refused(run_suite(mpm(link, {"--steps=1"}), 60), {"is a symlink"});
-    EXPECT_TRUE(listing(real).empty()) << "nothing written through the link";
+    EXPECT_TRUE(names_in(real).empty()) << "nothing written through the link";
     // history html too, which wrote through such a link into the directory it named.
     const std::string db = tmp.file("h.sqlite");
     const Outcome added = run_suite({"history", "add", std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/vm-native.json", "--db=" + db});
     ASSERT_EQ(added.status, 0) << describe(added);
     expect_refused(run_suite({"history", "html", "--db=" + db, "--out=" + link}, 60), {"--out=" + link + " is a symlink"});
-    EXPECT_TRUE(listing(real).empty()) << "nothing written through the link";
+    EXPECT_TRUE(names_in(real).empty()) << "nothing written through the link";
     expect_refused(run_suite({"traverse", "--mesh=disk:refine=1", "--no-png", "--out=" + file}, 60),
                    {"--out=" + file + " exists and is a regular file, not a directory"});
     EXPECT_EQ(slurp(file), "x\n");

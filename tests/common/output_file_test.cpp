@@ -22,14 +22,7 @@ using suite::test::slurp;
 
 namespace {
 
-std::vector<std::string> names_in(const std::string& dir) {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
-std::vector<std::string> names(const TempDir& d) { return names_in(d.path()); }
+std::vector<std::string> names(const TempDir& d) { return suite::test::names_in(d.path()); }
 
 std::string message_of(const std::function<void()>& f) {
     try {
@@ -129,7 +122,7 @@ TEST(OutputDir, AReplacementIsAllOrNothing) {
         o.write("b.txt", "b\n");
         o.commit();
     }
-    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "a.txt", "b.txt"}));
+    EXPECT_EQ(suite::test::names_in(dir), (std::vector<std::string>{".suite-files", "a.txt", "b.txt"}));
     EXPECT_THROW(OutputDir::claim(dir, first), UsageError) << "an earlier run's files, without replace";
     const DirPolicy replace{.option = "--out", .command = "suite test", .replace_earlier = true};
     {
@@ -139,13 +132,13 @@ TEST(OutputDir, AReplacementIsAllOrNothing) {
         o.write("c.txt", "c\n");
         EXPECT_FALSE(fs::exists(dir + "/c.txt"));
     }
-    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "a.txt", "b.txt"}));
+    EXPECT_EQ(suite::test::names_in(dir), (std::vector<std::string>{".suite-files", "a.txt", "b.txt"}));
     {
         OutputDir o = OutputDir::claim(dir, replace);
         o.write("c.txt", "c\n");
         o.commit();
     }
-    EXPECT_EQ(names_in(dir), (std::vector<std::string>{".suite-files", "c.txt"}));
+    EXPECT_EQ(suite::test::names_in(dir), (std::vector<std::string>{".suite-files", "c.txt"}));
     EXPECT_EQ(slurp(dir + "/.suite-files"), "suite test\nc.txt\n");
     // A run killed while it wrote straight into a new directory leaves its files listed, so
     // that a later --replace may take them: the manifest grows with every new file.
