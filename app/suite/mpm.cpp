@@ -1,6 +1,5 @@
-// `suite mpm`: the explicit Material Point Method of kernels/mpm run as a simulation, the dam
-// collapse: a column of elastic material in the corner of the unit box falls and spreads under
-// gravity. Every option is checked (and the state built, which checks the library's own limits)
+// `suite mpm`: the explicit Material Point Method of kernels/mpm run as a simulation: an elastic
+// column's collapse or settlement, or a water column's dam break (--case). Every option is checked (and the state built, which checks the library's own limits)
 // before anything is written; then the steps, with their checks (kernels/mpm/simulation), and
 // into --out=DIR the particle snapshots (.vtu and a .pvd), front.csv, mpm.json and front.png
 // (plots/mpm_front.py; mpm_report.cpp renders the numbers).
@@ -35,12 +34,19 @@ namespace mpm_command {
 namespace {
 
 const char* const footer = R"(
-The dam collapse: the material fills [0,X]x[0,Y]x[0,Z] (--column) in the corner at the origin
-of the grid's box (box:NX,NY,NZ is the unit cube), at rest and unstressed, and falls under gravity (9.81 m/s² down z); the box's faces
-are slip walls. Explicit MPM, update stress last, linear tetrahedra, linear elasticity with the
-Jaumann rate (kernels/mpm/mpm.hpp). dt is --courant times the stable step (the smallest element
-altitude over the elastic wave speed) unless --dt gives one; a dt above the stable step is
-refused without --force. The front is the largest x of any particle.
+The cases (--case), each in the grid's box (box:NX,NY,NZ is the unit cube), at rest and
+unstressed at the start, under gravity (9.81 m/s² down z), the box's faces slip walls:
+  dam-collapse  an elastic column [0,X]x[0,Y]x[0,Z] (--column, default 0.4,0.4,0.8) in the
+                corner: it sags and rocks (--young, --poisson, --density)
+  dam-break     water [0,0.3]x[0,1]x[0,0.6] against the x = 0 wall: it runs along the floor,
+                hits the far wall and mixes; a weakly compressible Newtonian fluid (--sound-speed,
+                --viscosity, --density)
+  column        an elastic layer [0,1]x[0,1]x[0,Z] filling the box's width (--column=1,1,Z): the
+                one-dimensional settlement rho g Z^2 / (2 M) at its top (docs/mpm.md)
+Explicit MPM, update stress last, linear tetrahedra (kernels/mpm/mpm.hpp). dt is --courant times
+the stable step (the smallest element altitude over the wave speed; for the fluid over the sound
+speed plus the fastest particle's speed, again before every step) unless --dt gives one; a dt
+above the stable step is refused without --force. The front is the largest x of any particle.
 
 After every step each particle's position and velocity must be finite and inside the box, and
 the kinetic energy at most 1.5 times what gravity can release from the start (more was made by
@@ -50,6 +56,7 @@ initial one exactly, and a P2G of the final particles must put their total mass 
 
 Examples:
   ./suite mpm --case=dam-collapse --steps=1000 --vtk-every=50 --out=dam
+  ./suite mpm --case=dam-break --mesh=box:24,24,24 --steps=3000 --vtk-every=100 --out=water
   ./suite mpm --mesh=box:8,8,8 --steps=200 --vtk-every=20 --out=small        # a quick look
   ./suite mpm --mesh=box:24,24,24 --ordering=hilbert --particles=dynamic --threads=2 --out=dam24
   ./suite mpm --young=2e5 --poisson=0.25 --column=0.3,1,0.6 --steps=2000 --vtk-every=100 --out=wall
@@ -71,13 +78,14 @@ struct Options {
     std::string case_name = "dam-collapse";
     std::string mesh = "box:16,16,16";
     std::string ordering = "natural";
-    std::string particles = "unsorted";
+    std::string particles = "seeded";
     int sort_every = 5;
     std::string strategy;  // "": serial for 1 thread, partition for more
     int threads = 1;
     int ppe = 4;
     std::string young = "1e5", poisson = "0.3", density = "1000";
-    std::string column = "0.4,0.4,0.8";
+    std::string sound_speed = "35", viscosity = "1e-3";
+    std::string column;  // "": the case's
     std::string courant = "0.8", dt = "0";
     bool force = false;
     std::uint64_t seed = 1;
@@ -113,10 +121,19 @@ double material_value(const std::string& text, const char* option, const char* w
 
 // The setup the options ask for, every number checked; `given` tells which options were typed.
 mpm::Setup setup_of(const Options& o, const CLI::App& given) {
-    if (o.case_name != "dam-collapse") throw UsageError("--case=" + o.case_name + ": the one case is dam-collapse");
+    require_known({o.case_name}, {"dam-collapse", "dam-break", "column"}, "case");
     require_known({o.ordering}, {"natural", "random", "morton", "hilbert"}, "grid ordering");
-    require_known({o.particles}, {"unsorted", "sorted", "dynamic"}, "particle order");
+    if (o.particles == "unsorted")
+        throw UsageError("--particles=unsorted: now called shuffled; particle orders: " + std::string(mpm::particle_orders_accepted));
+    require_known({o.particles}, {"seeded", "shuffled", "sorted", "dynamic"}, "particle order");
+    const bool fluid = o.case_name == "dam-break";
+    // An option of another case's material or region is refused, not ignored.
+    for (const char* option : fluid ? std::vector<const char*>{"--young", "--poisson", "--column"} : std::vector<const char*>{"--sound-speed", "--viscosity"})
+        if (given.count(option) > 0)
+            throw UsageError(std::string(option) + " does not apply to --case=" + o.case_name + (fluid ? " (a fluid: it takes --sound-speed, --viscosity and --density)" :
+                                                                                               " (an elastic solid: it takes --young, --poisson and --density)"));
     mpm::Setup s;
+    s.settings = mpm::case_settings(o.case_name);
     s.mesh = o.mesh;
     s.ordering = o.ordering;
     s.particles = o.particles;
@@ -131,8 +148,8 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
         throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP allows at most " + std::to_string(omp_get_thread_limit()) +
                          " (OMP_THREAD_LIMIT); ask for fewer or unset it");
     // An option the run would not use is refused rather than recorded as if it had been.
-    if (given.count("--sort-every") > 0 && o.particles == "unsorted")
-        throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=unsorted never reorders; give --particles=sorted or dynamic, "
+    if (given.count("--sort-every") > 0 && o.particles != "sorted" && o.particles != "dynamic")
+        throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=" + o.particles + " never reorders; give --particles=sorted or dynamic, "
                          "or leave --sort-every out");
     if (given.count("--courant") > 0 && given.count("--dt") > 0 && parse_finite(o.dt, "--dt") != 0)
         throw UsageError("--courant=" + o.courant + " and --dt=" + o.dt + ": the step is --dt's when it is given; give one of them");
@@ -141,12 +158,19 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
                          " takes at most 64 threads (one bit each per node); give --strategy=atomic or colour, or fewer threads");
     mpm::Settings& m = s.settings;
     m.per_element = o.ppe;
-    m.material.young = material_value(o.young, "--young", "Young's modulus E must be > 0 (Pa)");
-    m.material.poisson = parse_finite(o.poisson, "--poisson");
-    if (!(m.material.poisson > -1 && m.material.poisson < 0.5))
-        throw UsageError("--poisson=" + o.poisson + ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+    if (fluid) {
+        m.material.sound_speed = material_value(o.sound_speed, "--sound-speed", "the fluid's sound speed must be > 0 (m/s)");
+        m.material.viscosity = parse_finite(o.viscosity, "--viscosity");
+        if (!(m.material.viscosity >= 0) || m.material.viscosity > 1e30)
+            throw UsageError("--viscosity=" + o.viscosity + ": the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
+    } else {
+        m.material.young = material_value(o.young, "--young", "Young's modulus E must be > 0 (Pa)");
+        m.material.poisson = parse_finite(o.poisson, "--poisson");
+        if (!(m.material.poisson > -1 && m.material.poisson < 0.5))
+            throw UsageError("--poisson=" + o.poisson + ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+    }
     m.material.density = material_value(o.density, "--density", "the density must be > 0 (kg/m³)");
-    parse_column(o.column, m.region.hi);
+    if (!o.column.empty()) parse_column(o.column, m.region.hi);
     m.courant = parse_finite(o.courant, "--courant");
     m.dt = parse_finite(o.dt, "--dt");
     if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
@@ -168,7 +192,10 @@ void check_step_resolves_the_fall(const mpm::State& st, const Options& o, double
     std::snprintf(numbers, sizeof numbers, "the step %.3g s is longer than the %.3g s the column takes to fall its %.3g m", st.dt, fall, height);
     if (m.dt > 0) throw UsageError("--dt=" + o.dt + ": " + numbers + "; give a smaller --dt");
     char wave[160];
-    std::snprintf(wave, sizeof wave, " (the elastic wave speed is %.3g m/s, so the stable step is %.3g s)", m.material.wave_speed(), stable);
+    std::snprintf(wave, sizeof wave, " (the wave speed is %.3g m/s, so the stable step is %.3g s)", m.material.wave_speed(), stable);
+    if (m.material.model == mpm::Material::Model::fluid)
+        throw UsageError("--sound-speed=" + o.sound_speed + " --viscosity=" + o.viscosity + ": " + numbers + wave +
+                         ": no step could resolve the fall; give a larger --sound-speed or a smaller --viscosity");
     throw UsageError("--young=" + o.young + " --density=" + o.density + ": " + numbers + wave +
                      ": no step could resolve the collapse; give a stiffer (larger --young) or lighter (smaller --density) material");
 }
@@ -179,7 +206,7 @@ mpm::State build_state(const mpm::Setup& s, const Options& o) {
         return mpm::build(s);
     } catch (const UsageError& e) {
         const std::string what = e.what();
-        if (what.rfind("the material's region", 0) == 0) throw UsageError("--column=" + o.column + ": " + what);
+        if (what.rfind("the material's region", 0) == 0 && !o.column.empty()) throw UsageError("--column=" + o.column + ": " + what);
         throw;
     }
 }
@@ -194,8 +221,11 @@ nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
             {"strategy", mpm::strategy_name(s.strategy)},
             {"threads", s.threads},
             {"ppe", m.per_element},
-            {"young", m.material.young},
-            {"poisson", m.material.poisson},
+            {"material", m.material.model == mpm::Material::Model::fluid ? "fluid" : "elastic"},
+            {"young", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr) : nlohmann::json(m.material.young)},
+            {"poisson", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr) : nlohmann::json(m.material.poisson)},
+            {"sound_speed", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.sound_speed) : nlohmann::json(nullptr)},
+            {"viscosity", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.viscosity) : nlohmann::json(nullptr)},
             {"density", m.material.density},
             {"column", {m.region.hi[0], m.region.hi[1], m.region.hi[2]}},
             {"gravity", {m.gravity[0], m.gravity[1], m.gravity[2]}},
@@ -253,25 +283,27 @@ private:
 
 int cmd_mpm(const std::vector<std::string>& args) {
     using namespace mpm_command;
-    CLI::App app{"suite mpm: the Material Point Method's dam collapse, with particle snapshots for ParaView and the front against time"};
+    CLI::App app{"suite mpm: the Material Point Method's dam collapse, dam break or settling column, with particle snapshots for ParaView, the front and the particles' order against time"};
     app.footer(footer);
     app.get_formatter()->column_width(30);
     Options o;
-    app.add_option("--case", o.case_name, "the simulation: dam-collapse (the one case)");
+    app.add_option("--case", o.case_name, "the simulation: dam-collapse (elastic), dam-break (water), column (elastic, the analytical settlement) (default dam-collapse)");
     app.add_option("--mesh", o.mesh, "the background grid, tetrahedra: box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default box:16,16,16)");
     app.add_option("--ordering", o.ordering, "the grid's element and node order, applied once: natural, random, morton, hilbert (default natural)");
     app.add_option("--particles", o.particles,
-                   "the particles' order: unsorted (shuffled once), sorted (along the curve every --sort-every steps), dynamic (sorted, "
-                   "and the grid renumbered active elements first) (default unsorted)");
+                   "the particles' order: seeded (as seeded, element by element, never reordered), shuffled (once), sorted (along the curve every "
+                   "--sort-every steps), dynamic (sorted, and the grid renumbered active elements first) (default seeded)");
     add_whole_option(app, "--sort-every", o.sort_every, 0, 1000000000, "steps between reorderings; 0: at the start only (default 5, the fastest measured; see docs/mpm.md)");
     app.add_option("--strategy", o.strategy,
                    "how threads share the scatters to nodes: serial, atomic, colour, partition (default serial for 1 thread, partition for more)");
     add_whole_option(app, "--threads,-t", o.threads, 1, 1024, "OpenMP threads, 1 to 1024 (default 1)");
     add_whole_option(app, "--ppe", o.ppe, 1, 1000, "particles seeded in each element of the column, 1 to 1000 (default 4)");
-    app.add_option("--young", o.young, "Young's modulus E in Pa, > 0 (default 1e5)");
-    app.add_option("--poisson", o.poisson, "Poisson's ratio ν, in (-1, 0.5) (default 0.3)");
+    app.add_option("--young", o.young, "Young's modulus E in Pa, > 0 (elastic cases; default 1e5)");
+    app.add_option("--poisson", o.poisson, "Poisson's ratio ν, in (-1, 0.5) (elastic cases; default 0.3)");
+    app.add_option("--sound-speed", o.sound_speed, "the fluid's sound speed c in m/s, > 0: bulk modulus ρ c² (dam-break; default 35, 8 times the fastest flow)");
+    app.add_option("--viscosity", o.viscosity, "the fluid's dynamic viscosity η in Pa s, >= 0 (dam-break; default 1e-3, water)");
     app.add_option("--density", o.density, "density ρ in kg/m³, > 0 (default 1000)");
-    app.add_option("--column", o.column, "X,Y,Z: the material fills [0,X]x[0,Y]x[0,Z], inside the box (default 0.4,0.4,0.8)");
+    app.add_option("--column", o.column, "X,Y,Z: the material fills [0,X]x[0,Y]x[0,Z], inside the box (dam-collapse: default 0.4,0.4,0.8; column: 1,1,0.5)");
     app.add_option("--courant", o.courant, "dt as a fraction of the stable step, in (0, 1] (default 0.8)");
     app.add_option("--dt", o.dt, "the time step in s, at most the stable one; 0: from --courant (default 0)");
     app.add_flag("--force", o.force, "run a dt or Courant number above the stable step anyway");
@@ -300,9 +332,9 @@ int cmd_mpm(const std::vector<std::string>& args) {
     const std::uint64_t snapshots = mpm::snapshot_count(o.steps, o.vtk_every);
     if (o.dry_run) {
         const std::uint64_t memory = mpm::state_bytes(mesh::mesh_counts(spec), st.particles.size());
-        std::printf("dam-collapse on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t = %.4g s; "
+        std::printf("%s on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t = %.4g s; "
                     "%s grid, %s particles, %s scatter, %d thread(s); about %s of memory (%s available)\n",
-                    o.mesh.c_str(), st.particles.size(), st.grid.elements(), st.grid.nodes(), st.dt, st.dt / stable, stable,
+                    o.case_name.c_str(), o.mesh.c_str(), st.particles.size(), st.grid.elements(), st.grid.nodes(), st.dt, st.dt / stable, stable,
                     static_cast<unsigned long long>(o.steps), st.dt * static_cast<double>(o.steps), setup.ordering.c_str(), setup.particles.c_str(),
                     mpm::strategy_name(setup.strategy), setup.threads, format_bytes(memory).c_str(),
                     format_bytes(available_memory_bytes(MemoryPolicy{})).c_str());

@@ -23,10 +23,11 @@ double particle_rate(const ReportInput& in) {
 }  // namespace
 
 std::string front_csv(const mpm::Outcome& r) {
-    std::string out = "step,time,front,kinetic_energy\n";
-    char line[128];
+    std::string out = "step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element\n";
+    char line[320];
     for (const auto& row : r.rows) {
-        std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(row.step), row.time, row.front, row.kinetic);
+        std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(row.step), row.time,
+                      row.front, row.kinetic, row.dt, row.potential, row.internal, row.order.mean_gap, row.order.same_element);
         out += line;
     }
     return out;
@@ -69,6 +70,18 @@ nlohmann::json summary_json(const ReportInput& in) {
           {"drift_relative", (r.mass_final - r.mass_initial) / r.mass_initial},
           {"nodal", r.nodal_mass},
           {"nodal_error_relative", r.nodal_error}}},
+        {"dt_range", {{"min", st.dt_min}, {"max", st.dt_max}}},
+        {"energy",
+         r.rows.empty() ? nlohmann::json(nullptr)
+                        : nlohmann::json{{"initial", r.rows.front().kinetic + r.rows.front().potential + r.rows.front().internal},
+                                         {"final", r.rows.back().kinetic + r.rows.back().potential + r.rows.back().internal},
+                                         {"detail", "kinetic + potential (above z = 0) + internal (mpm::energy), J"}}},
+        {"locality",
+         r.rows.empty() ? nlohmann::json(nullptr)
+                        : nlohmann::json{{"initial", {{"mean_curve_gap", r.rows.front().order.mean_gap}, {"same_element", r.rows.front().order.same_element}}},
+                                         {"final", {{"mean_curve_gap", r.rows.back().order.mean_gap}, {"same_element", r.rows.back().order.same_element}}},
+                                         {"detail", "mean_curve_gap: the mean distance along the element curve between consecutive particles' elements "
+                                                    "(elements); same_element: the share of consecutive particles in one element; each step in front.csv"}}},
         {"clamped", st.clamped},
         {"verification", {{"passed", r.passed()}, {"checks", checks}}},
         {"snapshots", snapshots},
@@ -93,11 +106,13 @@ std::string summary_text(const ReportInput& in) {
         std::snprintf(b, sizeof b, "  %-14s ", label.c_str());
         t += b + text + "\n";
     };
-    t += "suite mpm: dam-collapse on " + s.mesh + " (" + s.ordering + " grid, " + s.particles + " particles, " + mpm::strategy_name(s.strategy) +
+    t += "suite mpm: " + in.options.value("case", std::string("dam-collapse")) + " on " + s.mesh + " (" + s.ordering + " grid, " + s.particles + " particles, " + mpm::strategy_name(s.strategy) +
          " scatter, " + std::to_string(s.threads) + " thread" + (s.threads == 1 ? "" : "s") + ")\n";
     line("particles", std::to_string(st.particles.size()) + " (" + std::to_string(s.settings.per_element) + " per element of the column)");
     line("grid", std::to_string(st.grid.elements()) + " elements, " + std::to_string(st.grid.nodes()) + " nodes");
-    line("dt", fmt("%.4g s", st.dt) + " (" + fmt("%.3g", st.dt / in.stable_dt) + " of the stable " + fmt("%.4g s", in.stable_dt) + ")");
+    if (st.dt_max > st.dt_min)
+        line("dt", fmt("%.4g", st.dt_min) + fmt(" to %.4g s", st.dt_max) + " (following the fastest particle; at rest " + fmt("%.4g s", in.stable_dt) + " is stable)");
+    else line("dt", fmt("%.4g s", st.dt) + " (" + fmt("%.3g", st.dt / in.stable_dt) + " of the stable " + fmt("%.4g s", in.stable_dt) + ")");
     line("steps", std::to_string(r.steps_done) + (r.steps_done == in.run.steps ? "" : " of " + std::to_string(in.run.steps)) + ", simulated " +
                       fmt("%.4g s", st.time));
     line("wall", fmt("%.3f s", r.wall_s) + " (stepping " + fmt("%.3f s", r.stepping_s) + ")");
@@ -107,6 +122,9 @@ std::string summary_text(const ReportInput& in) {
     else
         line("mass drift", fmt("%.3g", (r.mass_final - r.mass_initial) / r.mass_initial) + " relative" +
                                fmt("; nodal mass of a final P2G within %.3g", r.nodal_error));
+    if (!r.rows.empty())
+        line("order", fmt("%.3g", r.rows.front().order.mean_gap) + fmt(" -> %.3g elements along the curve between neighbours", r.rows.back().order.mean_gap) +
+                          fmt(", %.0f", 100 * r.rows.front().order.same_element) + fmt(" -> %.0f %% in one element", 100 * r.rows.back().order.same_element));
     line("clamped", std::to_string(st.clamped) + " particle position(s) pulled back onto a wall, in all");
     for (const auto& c : r.checks) line(c.name == "finite and inside the box" ? "NaN check" : c.name, (c.passed ? "passed: " : "FAILED: ") + c.detail);
     return t;

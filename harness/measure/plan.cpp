@@ -100,7 +100,8 @@ Variants plan_variants(const KernelInfo& info, const std::string& stores_variant
         for (const auto& name : parse_name_list(text, "--" + option)) {
             auto it = std::find_if(choices.begin(), choices.end(), [&](const auto& c) { return c.first == name; });
             if (it == choices.end()) {
-                std::string hint = nearest(name, first_of(choices));
+                // A name a kernel has retired: its new one (MPM's unsorted particles are shuffled).
+                std::string hint = option == "particles" && name == "unsorted" ? std::string("shuffled") : nearest(name, first_of(choices));
                 throw UsageError("kernel '" + info.name + "' has no " + (option == "particles" ? "particle order" : option) + " '" + name + "'" +
                                  (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + plural(option) + ": " +
                                  join(first_of(choices), ", "));

@@ -12,9 +12,36 @@
 
 namespace suite::mpm {
 
-double Material::wave_speed() const { return std::sqrt(young * (1 - poisson) / ((1 + poisson) * (1 - 2 * poisson) * density)); }
+double Material::wave_speed() const {
+    if (model == Model::fluid) return sound_speed;
+    return std::sqrt(young * (1 - poisson) / ((1 + poisson) * (1 - 2 * poisson) * density));
+}
 
-double critical_step(const Grid& g, const Material& m) { return g.min_length / m.wave_speed(); }
+namespace {
+
+// The viscous limit of an explicit step, ρ0 l² / (6 η) (diffusion in three dimensions); none for a solid.
+double viscous_step(const Grid& g, const Material& m) {
+    if (m.model != Material::Model::fluid || !(m.viscosity > 0)) return std::numeric_limits<double>::infinity();
+    return m.density * g.min_length * g.min_length / (6 * m.viscosity);
+}
+
+}  // namespace
+
+double critical_step(const Grid& g, const Material& m) { return std::min(g.min_length / m.wave_speed(), viscous_step(g, m)); }
+
+double next_step(const State& st) {
+    const Settings& s = st.settings;
+    if (s.dt > 0) return s.dt;
+    const Material& m = s.material;
+    if (m.model != Material::Model::fluid) return s.courant * critical_step(st.grid, m);
+    // The fastest particle: information moves at c + |v| through the grid.
+    const Particles& p = st.particles;
+    const std::int64_t np = static_cast<std::int64_t>(p.size());
+    double v2 = 0;
+#pragma omp parallel for schedule(static) reduction(max : v2)
+    for (std::int64_t i = 0; i < np; ++i) v2 = std::max(v2, p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
+    return s.courant * std::min(st.grid.min_length / (m.sound_speed + std::sqrt(v2)), viscous_step(st.grid, m));
+}
 
 namespace {
 

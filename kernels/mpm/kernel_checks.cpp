@@ -66,7 +66,7 @@ std::string check_equivalence(const Setup& point) {
     Setup mine = point, ref = point;
     mine.sort_every = std::min(point.sort_every, 2);
     ref.ordering = "natural";
-    ref.particles = "unsorted";
+    ref.particles = "seeded";
     ref.strategy = Strategy::serial;
     State a = build(mine), b = build(ref);
     for (int k = 0; k < equivalence_steps; ++k) {

@@ -15,7 +15,7 @@ namespace suite::mpm {
 void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec);
 
 // The steps check_equivalence runs: the point's setup (reordering every 2 steps) and the
-// reference (natural grid, unsorted particles, serial scatters), each from the start.
+// reference (natural grid, seeded particles, serial scatters), each from the start.
 constexpr int equivalence_steps = 5;
 // "" when every particle's position agrees to 1e-10 (the box is 1 long), else the worst one.
 std::string check_equivalence(const Setup& point);

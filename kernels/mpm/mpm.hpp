@@ -1,6 +1,7 @@
 #pragma once
 // Explicit Material Point Method on an unstructured tetrahedral background grid, update stress
-// last (USL), linear shape functions, linear elastic material with the Jaumann stress rate.
+// last (USL), linear shape functions. Two materials: linear elastic with the Jaumann stress rate,
+// and a weakly compressible Newtonian fluid (the pressure from the volume ratio, no tension).
 // One step (step.cpp):
 //   locate    every particle's element (a walk through face neighbours from its last one) and
 //             its four shape function values w[i] = N_i(x_p), kept for the whole step
@@ -9,7 +10,12 @@
 //   G2P       v_p += dt Σ w f_n / m_n,  x_p += dt Σ w p_n / m_n
 //   velocity  q_n = Σ w m_p v_p (a second scatter), v_n = q_n / m_n, walls again
 //   stress    ∇v = Σ v_n ⊗ ∇N_i;  Δε, Δω its symmetric and skew parts times dt;
-//             σ += λ tr(Δε) I + 2μ Δε + Δω σ - σ Δω;  V_p *= 1 + tr(Δε)
+//             V_p *= 1 + tr(Δε), then
+//               elastic: σ += λ tr(Δε) I + 2μ Δε + Δω σ - σ Δω
+//               fluid:   σ = -p I + 2η dev(Δε / dt),  p = max(0, K (V0/V_p - 1)),  K = ρ0 c²,
+//                        V0 = m_p / ρ0 (the volume at rest: no stress history to carry)
+//   dt        fixed (elastic), or before every step courant · l / (c + max |v_p|) (fluid),
+//             and at most courant · ρ0 l² / (6 η) (the viscous limit)
 // The grid then returns to its original configuration (nodes are zeroed at the next step).
 // Nothing here prints, reads a clock or allocates inside a step.
 #include <array>
@@ -23,12 +29,19 @@
 
 namespace suite::mpm {
 
+struct State;
+
 struct Material {
-    double young = 1e5;      // E, Pa
-    double poisson = 0.3;    // ν
-    double density = 1000;   // ρ, kg/m³
-    // The speed of the pressure wave, sqrt(E (1 - ν) / ((1 + ν)(1 - 2ν) ρ)), m/s.
+    enum class Model { elastic, fluid };
+    Model model = Model::elastic;
+    double young = 1e5;       // E, Pa (elastic)
+    double poisson = 0.3;     // ν (elastic)
+    double density = 1000;    // ρ (at rest, for the fluid), kg/m³
+    double sound_speed = 35;  // c, m/s (fluid): the bulk modulus K = ρ c²
+    double viscosity = 1e-3;  // η, Pa s (fluid; water's at 20 °C)
+    // The speed of the pressure wave: sqrt(E (1 - ν) / ((1 + ν)(1 - 2ν) ρ)) (elastic), c (fluid), m/s.
     double wave_speed() const;
+    double bulk_modulus() const { return density * sound_speed * sound_speed; }
 };
 
 // What one node accumulates in a step: one cache line, so that a scatter to a corner touches
@@ -85,11 +98,25 @@ struct Settings {
     int per_element = 4;       // particles in each element whose centroid lies in the region
     double gravity[3] = {0, 0, -9.81};
     double courant = 0.8;      // dt = courant * min_length / wave_speed, unless dt is given
-    double dt = 0;             // 0: from the Courant number
+    double dt = 0;             // 0: from the Courant number (for a fluid, again before every step)
 };
 
-// The stable time step of a grid and material: min_length / wave_speed (Courant number 1).
+// The cases `suite mpm --case` and the kernels' `--case` run; each sets the material and the region.
+//   dam-collapse  an elastic column 0.4 x 0.4 x 0.8 in the corner (E = 1e5 Pa, ν = 0.3): it sags
+//                 and rocks; the particles stay near where they started
+//   dam-break     a water column 0.3 x 1 x 0.6 against the x = 0 wall, the box's whole width (c =
+//                 35 m/s, η = 1e-3 Pa s): it runs along the floor, hits the far wall and mixes
+//   column        an elastic layer 1 x 1 x 0.5 filling the box's width: the one-dimensional
+//                 settlement ρ g H² / (2 M) at its top, M = E (1 - ν) / ((1 + ν)(1 - 2ν))
+inline constexpr const char* cases_accepted = "dam-collapse, dam-break, column";
+Settings case_settings(const std::string& name);  // throws UsageError for an unknown name
+
+// The stable time step of a grid and material at rest: min_length / wave_speed (Courant number 1),
+// for a fluid also at most ρ0 l² / (6 η).
 double critical_step(const Grid& g, const Material& m);
+// The step a state takes next: the settings' dt when given; else the Courant number times the
+// stable step, for a fluid with l / (c + the largest particle speed) in place of l / c.
+double next_step(const State& st);
 
 // How the threads share the scatters to nodes (P2G and the velocity scatter).
 //   serial     one thread, particles in order
@@ -144,6 +171,7 @@ struct State {
     ScatterPlan plan;
     Settings settings;
     double dt = 0, time = 0;
+    double dt_min = 0, dt_max = 0;     // the smallest and largest step taken (they differ for a fluid)
     std::uint64_t steps = 0;
     std::uint64_t clamped = 0;         // particle positions pulled back into the box, in total
     std::uint32_t node_hi = 0;         // 1 + the largest node any particle's element has
@@ -188,11 +216,12 @@ void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vecto
 struct Setup {
     std::string mesh = "box:16,16,16";  // a --mesh spec of tetrahedra
     std::string ordering = "natural";   // of the grid: natural, random, morton, hilbert
-    // unsorted: the particles shuffled once (as a generator or a restart file may leave them)
-    //           and never reordered;
+    // seeded:   as the seeding left them, element by element in the grid's order, never
+    //           reordered: what a real code that seeds and never sorts has;
+    // shuffled: shuffled once and never reordered (the worst case: a restart file's order);
     // sorted:   sorted along the curve at the start and every sort_every steps;
     // dynamic:  sorted as above, and the grid renumbered (renumber_active) at the same steps.
-    std::string particles = "unsorted";
+    std::string particles = "seeded";
     int sort_every = 5;                 // steps between reorderings; 0: at the start only (5: fastest measured)
     Settings settings;
     Strategy strategy = Strategy::serial;
@@ -202,7 +231,9 @@ struct Setup {
 };
 // The accepted names, for messages and --help.
 inline constexpr const char* orderings_accepted = "natural, random, morton, hilbert";
-inline constexpr const char* particle_orders_accepted = "unsorted, sorted, dynamic";
+inline constexpr const char* particle_orders_accepted = "seeded, shuffled, sorted, dynamic";
+// Throws UsageError for a name that is not a particle order, naming the old name's new one.
+void check_particle_order(const std::string& name);
 // The memory a State takes at its peak while it is built, from the grid's counts alone: the grid
 // (shape functions, neighbours, keys), `particles` particles, and the mesh while it is loaded and
 // ordered; `copies` of the grid and particles (a kernel's verify keeps a second).
@@ -225,5 +256,24 @@ struct Totals {
 };
 Totals totals(const Particles& p);
 double front(const Particles& p);  // the largest x of any particle (the dam's front)
+
+// The energy of a state: kinetic; potential, Σ m (-g)·x; internal: elastic, ½ V σ : ε with ε
+// from σ through the isotropic compliance, or the fluid's Σ V0 K (J - 1 - ln J) for J = V/V0 < 1
+// (the work its pressure stores; none in tension, which it does not take).
+struct Energy {
+    double kinetic = 0, potential = 0, internal = 0;
+    double total() const { return kinetic + potential + internal; }
+};
+Energy energy(const State& st);
+
+// How far the particles' order is from the curve's, read from the order they are stored in:
+// the mean distance along the element curve (grid.curve) between consecutive particles'
+// elements, and the share of consecutive particles in the same element. Sorted: a distance
+// about 1 / (particles per element); shuffled: about a third of the elements.
+struct Locality {
+    double mean_gap = 0;      // elements along the curve
+    double same_element = 0;  // 0..1
+};
+Locality locality(const State& st);
 
 }  // namespace suite::mpm

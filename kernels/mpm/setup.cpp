@@ -50,8 +50,7 @@ State build(const Setup& s) {
     const auto& names = {"natural", "random", "morton", "hilbert"};
     if (std::find(names.begin(), names.end(), s.ordering) == names.end())
         throw UsageError("unknown MPM grid ordering '" + s.ordering + "'; orderings: " + orderings_accepted);
-    if (s.particles != "unsorted" && s.particles != "sorted" && s.particles != "dynamic")
-        throw UsageError("unknown particle order '" + s.particles + "'; particle orders: " + particle_orders_accepted);
+    check_particle_order(s.particles);
     if (s.sort_every < 0) throw UsageError("--sort-every=" + std::to_string(s.sort_every) + ": a whole number of steps >= 0 (0: sort at the start only)");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(s.mesh);
     const mesh::MeshCounts counts = mesh::mesh_counts(spec);
@@ -65,8 +64,8 @@ State build(const Setup& s) {
     mesh::Mesh m = mesh::load_mesh(spec);
     m = sfc::ordered(m, s.ordering, s.seed, sfc::max_depth(3));
     State st = make_state(make_grid(std::move(m)), s.settings, s.strategy, s.threads, s.force);
-    if (s.particles == "unsorted") shuffle_particles(st, s.seed);
-    else {
+    if (s.particles == "shuffled") shuffle_particles(st, s.seed);
+    else if (s.particles != "seeded") {
         if (s.particles == "dynamic") renumber_active(st);
         sort_particles(st);
     }
@@ -74,7 +73,7 @@ State build(const Setup& s) {
 }
 
 bool reorders_after(const Setup& s, std::uint64_t step) {
-    return s.particles != "unsorted" && s.sort_every > 0 && step % static_cast<std::uint64_t>(s.sort_every) == 0;
+    return (s.particles == "sorted" || s.particles == "dynamic") && s.sort_every > 0 && step % static_cast<std::uint64_t>(s.sort_every) == 0;
 }
 
 void advance(State& st, const Setup& s) {

@@ -2,7 +2,8 @@
 // The explicit MPM run as a simulation (what `suite mpm` runs, callable without it): the steps of
 // mpm::advance with the checks after each (every particle's position and velocity finite and
 // inside the box; the kinetic energy within what gravity can release: an unstable step shows
-// there first), the snapshots' schedule, and the checks at the end (each particle's mass what
+// there first; for a fluid also the total energy at most its start plus a margin, and the front
+// never ahead of Ritter's shallow-water front), the snapshots' schedule, and the checks at the end (each particle's mass what
 // it was at the start, bit for bit; a P2G of the final particles puts on the nodes the
 // particles' total mass to 1e-12). It writes nothing itself: snapshots and progress go to the
 // caller's hooks. It stops at the first failed check or when the caller's stop flag is raised,
@@ -36,6 +37,9 @@ struct SimulationHooks {
 struct FrontRow {
     std::uint64_t step = 0;
     double time = 0, front = 0, kinetic = 0;
+    double dt = 0;                        // the step that led here (0 at step 0)
+    double potential = 0, internal = 0;   // mpm::energy's other parts
+    Locality order;                       // how far the particles' order has decayed
 };
 
 struct Check {
@@ -55,7 +59,7 @@ struct Outcome {
     // whose checks passed.
     double mass_initial = NAN, mass_final = NAN;  // Σ mass over particles in id order
     double nodal_mass = NAN, nodal_error = NAN;   // Σ m_n of the final P2G; |Σ m_n - Σ m_p| / Σ m_p
-    std::vector<Check> checks;  // "finite and inside the box", "energy bound", "mass", "nodal mass"
+    std::vector<Check> checks;  // "finite and inside the box", "energy bound", ("total energy", "Ritter front": a fluid), "mass", "nodal mass"
     std::string failure;        // the first failed check, as one line; "" when all passed
     int signal = 0;             // the stop flag's value that ended the run early, else 0
     bool passed() const { return failure.empty(); }

@@ -83,9 +83,17 @@ std::string triple(const double* v) { return format_number(v[0]) + "," + format_
 void check_settings(const Grid& g, const Settings& s, bool force) {
     const Material& m = s.material;
     if (s.per_element < 1) throw UsageError("--ppe=" + std::to_string(s.per_element) + ": particles per element must be a whole number >= 1");
-    if (!(m.young > 0) || !std::isfinite(m.young)) throw UsageError("--young=" + format_number(m.young) + ": Young's modulus E must be > 0 (Pa)");
-    if (!(m.poisson > -1 && m.poisson < 0.5))
-        throw UsageError("--poisson=" + format_number(m.poisson) + ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+    if (m.model == Material::Model::fluid) {
+        if (!(m.sound_speed > 0) || !std::isfinite(m.sound_speed))
+            throw UsageError("--sound-speed=" + format_number(m.sound_speed) + ": the fluid's sound speed must be > 0 (m/s)");
+        if (!(m.viscosity >= 0) || !std::isfinite(m.viscosity))
+            throw UsageError("--viscosity=" + format_number(m.viscosity) + ": the fluid's dynamic viscosity must be >= 0 (Pa s)");
+    } else {
+        if (!(m.young > 0) || !std::isfinite(m.young)) throw UsageError("--young=" + format_number(m.young) + ": Young's modulus E must be > 0 (Pa)");
+        if (!(m.poisson > -1 && m.poisson < 0.5))
+            throw UsageError("--poisson=" + format_number(m.poisson) +
+                             ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+    }
     if (!(m.density > 0) || !std::isfinite(m.density)) throw UsageError("--density=" + format_number(m.density) + ": the density must be > 0 (kg/m³)");
     const Region& r = s.region;
     for (int a = 0; a < 3; ++a)
@@ -164,6 +172,66 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
     st.nodes.assign(st.grid.nodes(), NodeState{});
     locate(st);
     return st;
+}
+
+Settings case_settings(const std::string& name) {
+    Settings s;
+    if (name == "dam-collapse") return s;
+    if (name == "dam-break") {
+        s.material.model = Material::Model::fluid;
+        s.region = {{0, 0, 0}, {0.3, 1, 0.6}};
+        return s;
+    }
+    if (name == "column") {
+        s.region = {{0, 0, 0}, {1, 1, 0.5}};
+        return s;
+    }
+    throw UsageError("unknown MPM case '" + name + "'; cases: " + cases_accepted);
+}
+
+void check_particle_order(const std::string& name) {
+    if (name == "seeded" || name == "shuffled" || name == "sorted" || name == "dynamic") return;
+    throw UsageError("unknown particle order '" + name + "'" + (name == "unsorted" ? " (now called 'shuffled')" : "") +
+                     "; particle orders: " + particle_orders_accepted);
+}
+
+Energy energy(const State& st) {
+    const Particles& p = st.particles;
+    const Material& mat = st.settings.material;
+    const double* g = st.settings.gravity;
+    Energy e;
+    e.kinetic = totals(p).kinetic;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        e.potential -= p.mass[i] * (g[0] * p.x[i] + g[1] * p.y[i] + g[2] * p.z[i]);
+        if (mat.model == Material::Model::fluid) {
+            const double j = p.volume[i] * mat.density / p.mass[i];
+            if (j < 1) e.internal += p.mass[i] / mat.density * mat.bulk_modulus() * (j - 1 - std::log(j));
+            continue;
+        }
+        const double sx = p.stress[0][i], sy = p.stress[1][i], sz = p.stress[2][i];
+        const double shear = p.stress[3][i] * p.stress[3][i] + p.stress[4][i] * p.stress[4][i] + p.stress[5][i] * p.stress[5][i];
+        const double tr = sx + sy + sz, ss = sx * sx + sy * sy + sz * sz + 2 * shear;
+        e.internal += 0.5 * p.volume[i] * ((1 + mat.poisson) * ss - mat.poisson * tr * tr) / mat.young;
+    }
+    return e;
+}
+
+Locality locality(const State& st) {
+    const Particles& p = st.particles;
+    const std::uint32_t* curve = st.grid.curve.data();
+    Locality l;
+    if (p.size() < 2) return l;
+    double gap = 0;
+    std::size_t same = 0;
+    for (std::size_t i = 1; i < p.size(); ++i) {
+        const std::uint32_t a = curve[p.elem[i - 1]], b = curve[p.elem[i]];
+        gap += a > b ? a - b : b - a;
+        same += a == b ? 1 : 0;
+    }
+    const double pairs = static_cast<double>(p.size() - 1);
+    l.mean_gap = gap / pairs;
+    l.same_element = static_cast<double>(same) / pairs;
+    return l;
 }
 
 Totals totals(const Particles& p) {

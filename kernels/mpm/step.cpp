@@ -134,8 +134,10 @@ void update_stress(State& st) {
         clear_walls(wall[n], s.p);
     }
     const Material& mat = st.settings.material;
+    const bool fluid = mat.model == Material::Model::fluid;
     const double lambda = mat.young * mat.poisson / ((1 + mat.poisson) * (1 - 2 * mat.poisson));
     const double mu = mat.young / (2 * (1 + mat.poisson));
+    const double bulk = mat.bulk_modulus(), eta = mat.viscosity, rho0 = mat.density;
     const double dt = st.dt;
     const std::uint32_t* const conn = st.grid.mesh.conn.data();
     const double* const shape = st.grid.shape.data();
@@ -158,6 +160,21 @@ void update_stress(State& st) {
                 dw[a][b] = 0.5 * dt * (l[a][b] - l[b][a]);
             }
         const double tr = de[0][0] + de[1][1] + de[2][2];
+        pt.volume[p] *= 1 + tr;
+        if (fluid) {
+            // No history: the pressure from how far the particle is compressed, the viscous
+            // stress from the rate of deformation D = Δε / dt.
+            const double j = pt.volume[p] * rho0 / pt.mass[p];
+            const double pressure = std::max(0.0, bulk * (1 / j - 1));
+            const double mean = tr / 3, visc = 2 * eta / dt;
+            pt.stress[0][p] = -pressure + visc * (de[0][0] - mean);
+            pt.stress[1][p] = -pressure + visc * (de[1][1] - mean);
+            pt.stress[2][p] = -pressure + visc * (de[2][2] - mean);
+            pt.stress[3][p] = visc * de[0][1];
+            pt.stress[4][p] = visc * de[1][2];
+            pt.stress[5][p] = visc * de[2][0];
+            continue;
+        }
         double sg[3][3] = {{pt.stress[0][p], pt.stress[3][p], pt.stress[5][p]},
                            {pt.stress[3][p], pt.stress[1][p], pt.stress[4][p]},
                            {pt.stress[5][p], pt.stress[4][p], pt.stress[2][p]}};
@@ -174,11 +191,14 @@ void update_stress(State& st) {
         pt.stress[3][p] = 0.5 * (out[0][1] + out[1][0]);
         pt.stress[4][p] = 0.5 * (out[1][2] + out[2][1]);
         pt.stress[5][p] = 0.5 * (out[2][0] + out[0][2]);
-        pt.volume[p] *= 1 + tr;
     }
 }
 
 void step(State& st) {
+    // A fluid's step follows its fastest particle; an elastic material's is the same every step.
+    if (st.settings.material.model == Material::Model::fluid) st.dt = next_step(st);
+    st.dt_min = st.steps == 0 ? st.dt : std::min(st.dt_min, st.dt);
+    st.dt_max = std::max(st.dt_max, st.dt);
     p2g(st);
     update_grid(st);
     g2p(st);

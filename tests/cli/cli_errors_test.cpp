@@ -131,7 +131,7 @@ const std::vector<Case>& cases() {
         {"PlacementOfHeapArraysRefused", {"--kernel=mpm-step", "--mesh=box:6,6,6", "--placement=interleave", "--out={tmp}/r.json"},
          {"mpm-step", "heap memory", "--placement=interleave", "--placement=local"}},
         {"ParticleOrderUnknown", {"--kernel=mpm-step", "--mesh=box:6,6,6", "--particles=sortd", "--out={tmp}/r.json"},
-         {"no particle order 'sortd'", "did you mean 'sorted'", "unsorted, sorted, dynamic"}},
+         {"no particle order 'sortd'", "did you mean 'sorted'", "seeded, shuffled, sorted, dynamic"}},
         {"ParticlesOnAKernelWithout", {"--kernel=add", "--particles=sorted", "--out={tmp}/r.json"}, {"'add'", "no particle orders", "mpm-g2p, mpm-step"}},
         {"PlacementNodeNumberBeyondInt", {"--kernel=add", "--placement=node:99999999999", "--out={tmp}/r.json"}, {"no NUMA node 99999999999", "its nodes are"}},
 

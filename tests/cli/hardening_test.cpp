@@ -163,7 +163,7 @@ TEST(ValuesUsedSilently, EveryCommandRefusesATeamOpenMpWillNotGive) {
 }
 
 TEST(ValuesUsedSilently, OptionsTheRunWouldNotUseAndUnusableMaterialsAreRefusedAsTyped) {
-    expect_refused(run_suite({"mpm", "--sort-every=3", "--dry-run"}), {"--sort-every=3", "--particles=unsorted never reorders"});
+    expect_refused(run_suite({"mpm", "--sort-every=3", "--dry-run"}), {"--sort-every=3", "--particles=seeded never reorders"});
     expect_refused(run_suite({"mpm", "--courant=0.5", "--dt=1e-4", "--dry-run"}), {"--courant=0.5 and --dt=1e-4", "give one of them"});
     expect_refused(run_suite({"mpm", "--young=-0", "--dry-run"}), {"--young=-0:", "must be > 0"});
     expect_refused(run_suite({"mpm", "--young=1e-320", "--dry-run"}), {"--young=1e-320:"});

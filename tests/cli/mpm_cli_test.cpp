@@ -50,7 +50,7 @@ TEST(MpmCli, SmallRunWritesSnapshotsCsvJsonAndPngThatMeshioReadsBack) {
     EXPECT_FALSE(fs::exists(dir + "/particles_000010.vtu"));
     // front.csv: a header and one row a step from step 0.
     const std::string csv = slurp(dir + "/front.csv");
-    EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy\n", 0), 0u) << csv;
+    EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element\n", 0), 0u) << csv;
     EXPECT_EQ(count_lines(csv), 1u + 41u);
     // The PNG: there, a PNG, not empty.
     const std::string png = slurp(dir + "/front.png");
@@ -131,7 +131,13 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
         EXPECT_TRUE(r.out.empty()) << describe(r);
         EXPECT_FALSE(fs::exists(dir)) << join(args);
     };
-    refused({"--case=dam-break"}, "--case=dam-break: the one case is dam-collapse");
+    refused({"--case=dambreak"}, "unknown case 'dambreak' (did you mean 'dam-break'?); accepted: dam-collapse, dam-break, column");
+    refused({"--case=dam-break", "--column=0.3,1,0.6"}, "--column does not apply to --case=dam-break (a fluid: it takes --sound-speed, --viscosity and --density)");
+    refused({"--case=dam-break", "--young=1e6"}, "--young does not apply to --case=dam-break");
+    refused({"--case=column", "--sound-speed=40"}, "--sound-speed does not apply to --case=column (an elastic solid");
+    refused({"--particles=unsorted"}, "--particles=unsorted: now called shuffled; particle orders: seeded, shuffled, sorted, dynamic");
+    refused({"--case=dam-break", "--sound-speed=0"}, "--sound-speed=0: the fluid's sound speed must be > 0 (m/s)");
+    refused({"--case=dam-break", "--viscosity=-1"}, "--viscosity=-1: the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
     refused({"--poisson=0.5"}, "--poisson=0.5: Poisson's ratio must lie in (-1, 0.5)");
     refused({"--young=0"}, "--young=0: Young's modulus E must be > 0");
     refused({"--young=1e5x"}, "--young=1e5x: expected a finite number");
@@ -150,7 +156,7 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
     refused({"--threads=0"}, "--threads=0: expected a whole number from 1 to 1024");
     refused({"--threads=65"}, "--threads=65: the partition strategy (the default for more than one thread) takes at most 64 threads");
     refused({"--ordering=hilbrt"}, "unknown grid ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert");
-    refused({"--particles=sortd"}, "unknown particle order 'sortd' (did you mean 'sorted'?); accepted: unsorted, sorted, dynamic");
+    refused({"--particles=sortd"}, "unknown particle order 'sortd' (did you mean 'sorted'?); accepted: seeded, shuffled, sorted, dynamic");
     refused({"--strategy=locks"}, "unknown strategy 'locks'; accepted: serial, atomic, colour, partition");
     refused({"--seed=-3"}, "--seed=-3: expected a whole number");
     refused({"--young="}, "--young= has an empty value");
@@ -237,4 +243,23 @@ TEST(MpmCli, AnInterruptedRunKeepsItsFilesAndExits128PlusTheSignal) {
     EXPECT_EQ(doc["verification"]["passed"], true) << doc.dump(1);
     EXPECT_TRUE(fs::exists(dir + "/particles.pvd"));
     EXPECT_EQ(doc["snapshots"].back()["step"], doc["steps"]) << "the last state is kept";
+}
+
+TEST(MpmCli, TheDamBreakFlowsAndRecordsHowTheParticlesOrderDecays) {
+    TempDir tmp;
+    const std::string dir = tmp.file("water");
+    const Outcome r = run_suite({"mpm", "--case=dam-break", "--mesh=box:6,6,6", "--steps=300", "--vtk-every=0", "--no-png", "--out=" + dir}, 120);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const nlohmann::json doc = nlohmann::json::parse(slurp(dir + "/mpm.json"));
+    EXPECT_EQ(doc["settings"]["case"], "dam-break");
+    EXPECT_EQ(doc["settings"]["material"], "fluid");
+    EXPECT_TRUE(doc["settings"]["young"].is_null()) << "a fluid has no Young's modulus";
+    EXPECT_EQ(doc["settings"]["particles"], "seeded");
+    EXPECT_GT(doc["front"]["final"].get<double>(), 0.9) << "the water reached the far wall";
+    EXPECT_LT(doc["dt_range"]["min"].get<double>(), doc["dt_range"]["max"].get<double>());
+    EXPECT_GT(doc["locality"]["final"]["mean_curve_gap"].get<double>(), 5 * doc["locality"]["initial"]["mean_curve_gap"].get<double>());
+    std::vector<std::string> names;
+    for (const auto& c : doc["verification"]["checks"]) names.push_back(c["check"]);
+    EXPECT_EQ(names, (std::vector<std::string>{"finite and inside the box", "energy bound", "total energy", "Ritter front", "mass", "nodal mass"}));
+    EXPECT_NE(r.out.find("suite mpm: dam-break on box:6,6,6"), std::string::npos) << r.out;
 }

@@ -210,7 +210,7 @@ void expect_same_particle(const Particles& a, std::size_t i, const Particles& b,
 
 TEST(MpmReorder, SortParticlesOrdersThemAlongTheCurveAndKeepsEachOne) {
     Team team(1);
-    State st = moving_dam("unsorted");
+    State st = moving_dam("shuffled");
     const Particles before = st.particles;
     sort_particles(st);
     const Particles& p = st.particles;
@@ -228,7 +228,7 @@ TEST(MpmReorder, SortParticlesOrdersThemAlongTheCurveAndKeepsEachOne) {
 
 TEST(MpmReorder, RenumberActivePutsTheOccupiedElementsFirst) {
     Team team(1);
-    State st = moving_dam("unsorted");
+    State st = moving_dam("shuffled");
     const Particles before = st.particles;
     const std::size_t elements = st.grid.elements(), nodes = st.grid.nodes();
     renumber_active(st);
