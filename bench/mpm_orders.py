@@ -1,18 +1,24 @@
 #!/usr/bin/python3
-"""The MPM kernels by particle order and grid order: what sorting the particles buys, sort cost included.
+"""The MPM kernels by particle and grid order: what sorting the particles buys, sort cost included.
 
-Three parts, each from `suite` runs on this machine (nothing is timed here):
-  sort      R rounds of mpm-step on one thread, --particles=unsorted,sorted,dynamic on every grid
-            ordering in one run: per round each point's particle-steps/s against unsorted particles
-            on the natural grid; the median over the rounds. One repetition is K = --sort-every
+Four parts, each from `suite` runs on this machine (nothing is timed here):
+  flow      the dam break (`suite mpm --case=dam-break`), one thread, particles seeded (what a code
+            that seeds and never sorts has: the baseline), shuffled (the worst case), sorted every
+            K steps and dynamic, R rounds: particle-steps/s over the whole run and in windows of
+            the flow, sort cost included, and how the gain over seeded grows as the water mixes
+            (mpm_flow.png).
+  sort      R rounds of mpm-step on one thread (the elastic dam collapse: the particles barely
+            move), --particles=seeded,shuffled,sorted,dynamic on every grid ordering in one run:
+            per round each point's particle-steps/s against seeded particles on the natural grid;
+            the median over the rounds. One repetition is K = --sort-every
             steps and the sort (and the renumbering, for dynamic) that falls due after them, so the
             sort's cost is inside every timing.
   every     mpm-step, sorted particles on the Hilbert grid, at each K of --every: the K to choose.
   p2g       mpm-p2g's scatter strategies at every thread count and grid ordering, with the node
             updates each had to synchronise (the record's facts).
 
-Usage: bench/mpm_orders.py [--rounds 3] [--mesh box:56,56,56] [--out results/bench] [--quick]
-Writes OUT/mpm_orders.{json,md}; --quick: a small grid, one round, a check in a minute that it all runs.
+Usage: bench/mpm_orders.py [--rounds 3] [--mesh box:56,56,56] [--flow-mesh box:40,40,40] [--out results/bench] [--quick]
+Writes OUT/mpm_orders.{json,md} and OUT/mpm_flow.png; --quick: small grids, one round, a check in a minute that it all runs.
 """
 import argparse
 import datetime
@@ -37,11 +43,15 @@ p.add_argument("--orderings", default="natural,random,morton,hilbert")
 p.add_argument("--every", default="1,5,20,50,100", help="the K of the 'every' part")
 p.add_argument("--sort-every", default="5", help="K of the 'sort' part (5: the fastest of the 'every' part on the development VM)")
 p.add_argument("--threads", default="1,2", help="thread counts of the 'p2g' part")
-p.add_argument("--parts", default="sort,every,p2g")
+p.add_argument("--parts", default="flow,sort,every,p2g")
+p.add_argument("--flow-mesh", default="box:40,40,40", help="the dam break's grid (default: 0.28 M particles, 44 MB of particle arrays)")
+p.add_argument("--flow-steps", type=int, default=2500, help="steps of the dam break (default 2500: about 0.9 s, the water has hit the far wall and mixed)")
+p.add_argument("--flow-sort-every", default="20", help="K of the flow part's sorted and dynamic runs")
+p.add_argument("--windows", type=int, default=10, help="windows of the flow the rates are taken in")
 p.add_argument("--quick", action="store_true")
 a = p.parse_args()
 if a.quick:
-    a.rounds, a.mesh, a.every = 1, "box:12,12,12", "1,20"
+    a.rounds, a.mesh, a.every, a.flow_mesh, a.flow_steps = 1, "box:12,12,12", "1,20", "box:10,10,10", 400
 parts = a.parts.split(",")
 orderings = a.orderings.split(",")
 tmp = tempfile.mkdtemp(prefix="mpm-orders-")
@@ -70,6 +80,77 @@ def fact(rec, name):
 report = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "command": sys.argv, "rounds": a.rounds, "mesh": a.mesh}
 lines = [f"# MPM by particle and grid order ({report['date']}, {a.rounds} round(s), {a.mesh})", ""]
 
+def flow_run(particles, sort_every, directory):
+    """One dam break; returns the rows of its front.csv as dicts of floats and its mpm.json."""
+    import csv
+    argv = [a.suite, "mpm", "--case=dam-break", f"--mesh={a.flow_mesh}", f"--particles={particles}", f"--steps={a.flow_steps}", "--vtk-every=0",
+            "--no-png", "--quiet", "--threads=1", f"--out={directory}"] + ([f"--sort-every={sort_every}"] if particles in ("sorted", "dynamic") else [])
+    print("  " + " ".join(argv), file=sys.stderr, flush=True)
+    r = subprocess.run(argv, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"mpm_orders: {' '.join(argv)} failed ({r.returncode}): {r.stderr.strip()[-400:]}")
+    with open(os.path.join(directory, "front.csv"), newline="") as f:
+        rows = [{k: float(v) if v != "" else None for k, v in row.items()} for row in csv.DictReader(f)]
+    with open(os.path.join(directory, "mpm.json")) as f:
+        return rows, json.load(f)
+
+
+if "flow" in parts:
+    orders = ["seeded", "shuffled", "sorted", "dynamic"]
+    window_rates = {o: [] for o in orders}  # per round: the rate in each window
+    overall = {o: [] for o in orders}
+    order_decay = {}
+    edges = [round(i * a.flow_steps / a.windows) for i in range(a.windows + 1)]
+    for rnd in range(a.rounds):
+        for o in orders:
+            rows, doc = flow_run(o, a.flow_sort_every, os.path.join(tmp, f"flow-{o}-{rnd}"))
+            n = doc["counts"]["particles"]
+            overall[o].append(doc["timing"]["particle_steps_per_second"])
+            window_rates[o].append([n * (edges[i + 1] - edges[i]) / (rows[edges[i + 1]]["stepping_seconds"] - rows[edges[i]]["stepping_seconds"])
+                                    for i in range(a.windows)])
+            if rnd == 0:
+                order_decay[o] = [rows[e]["mean_curve_gap"] for e in edges]
+                if o == "seeded":
+                    report["flow_particles"] = n
+                    report["flow_time"] = [rows[e]["time"] for e in edges]
+                    report["flow_front"] = [rows[e]["front"] for e in edges]
+    # Gains against seeded: per round and window, then the median over the rounds.
+    gain = {o: [statistics.median(window_rates[o][r][w] / window_rates["seeded"][r][w] for r in range(a.rounds)) for w in range(a.windows)]
+            for o in orders}
+    total_gain = {o: statistics.median(overall[o][r] / overall["seeded"][r] for r in range(a.rounds)) for o in orders}
+    report["flow"] = {"mesh": a.flow_mesh, "steps": a.flow_steps, "sort_every": a.flow_sort_every, "window_edges": edges,
+                      "particle_steps_per_s": {o: statistics.median(overall[o]) for o in orders}, "gain_vs_seeded": total_gain,
+                      "window_gain_vs_seeded": gain, "mean_curve_gap_at_edges": order_decay}
+    lines += [f"## The dam break ({a.flow_mesh}, {report['flow_particles']} particles, {a.flow_steps} steps to "
+              f"t = {report['flow_time'][-1]:.2f} s, one thread, K = {a.flow_sort_every}, sort cost included)", "",
+              "| particles | particle-steps/s | against seeded | first tenth of the steps | last tenth |", "|---|---|---|---|---|"]
+    for o in orders:
+        label = o + (" (worst case)" if o == "shuffled" else " (the baseline)" if o == "seeded" else "")
+        lines.append(f"| {label} | {statistics.median(overall[o]) / 1e6:.2f} M | {total_gain[o]:.2f}x | {gain[o][0]:.2f}x | {gain[o][-1]:.2f}x |")
+    lines += ["", "How far the seeded order decays (the mean distance along the curve between consecutive particles' elements) at the windows' edges: "
+              + ", ".join(f"{v:.0f}" for v in order_decay["seeded"]) + "; the front at them (m): "
+              + ", ".join(f"{v:.2f}" for v in report["flow_front"]), ""]
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from safe_output import save_figure  # noqa: E402
+        mid = [(edges[i] + edges[i + 1]) / 2 for i in range(a.windows)]
+        fig, ax = plt.subplots(figsize=(7, 4.5), dpi=100)
+        for o, colour in (("sorted", "tab:green"), ("dynamic", "tab:blue"), ("shuffled", "tab:red")):
+            ax.plot(mid, gain[o], marker="o", color=colour, label=o + (f" every {a.flow_sort_every} steps" if o != "shuffled" else " (worst case)"))
+        ax.axhline(1, color="grey", linestyle="--", linewidth=1, label="seeded, never reordered (the baseline)")
+        ax.set_xlabel("step of the dam break")
+        ax.set_ylabel("particle-steps/s against seeded, in that window")
+        ax.set_title(f"Re-sorting as the water mixes: {a.flow_mesh}, {report['flow_particles']} particles, one thread", fontsize=10)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        os.makedirs(a.out, exist_ok=True)
+        save_figure(fig, os.path.join(a.out, "mpm_flow" + ("_quick" if a.quick else "") + ".png"))
+        plt.close(fig)
+    except ImportError as e:
+        print(f"mpm_orders: no figure: matplotlib is missing ({e.name})", file=sys.stderr)
+
 if "sort" in parts:
     ratio, rates, facts = {}, {}, {}
     for r in range(a.rounds):
@@ -78,22 +159,22 @@ if "sort" in parts:
         if r == 0:
             report["measured_llc_bytes"] = (res["context"].get("caches_measured") or {}).get("last_level_total_bytes")
         by = {(rec["ordering"], rec["variant"]): rec for rec in res["results"]}
-        base = rate(by[("natural", "unsorted")])
+        base = rate(by[("natural", "seeded")])
         for key, rec in by.items():
             ratio.setdefault(key, []).append(rate(rec) / base)
             rates.setdefault(key, []).append(rate(rec))
             facts[key] = {"particles": fact(rec, "particles"), "active_nodes": fact(rec, "active-nodes"), "footprint_bytes": rec["size"]["footprint_bytes"]}
-    report["sort"] = {f"{o}/{v}": {"speed_vs_unsorted_natural": statistics.median(ratio[(o, v)]), "per_round": ratio[(o, v)],
+    report["sort"] = {f"{o}/{v}": {"speed_vs_seeded_natural": statistics.median(ratio[(o, v)]), "per_round": ratio[(o, v)],
                                    "particle_steps_per_s": statistics.median(rates[(o, v)]), **facts[(o, v)]} for (o, v) in ratio}
     any_key = next(iter(facts))
     np_, fp = facts[any_key]["particles"], facts[any_key]["footprint_bytes"]
     llc = report.get("measured_llc_bytes")
-    lines += ["## mpm-step, one thread: speed against unsorted particles on the natural grid", "",
+    lines += ["## mpm-step (elastic dam collapse), one thread: speed against seeded particles on the natural grid", "",
               f"{np_:.0f} particles; all arrays {fp / 1e6:.0f} MB" + (f", {fp / llc:.0f}x the measured last level ({llc / 1e6:.1f} MB)" if llc else "")
               + f"; K = {a.sort_every}, sort cost included", "",
-              "| grid | unsorted | sorted | dynamic | sorted: particle-steps/s | sorted: node-steps/s |", "|---|---|---|---|---|---|"]
+              "| grid | seeded | shuffled (worst case) | sorted | dynamic | sorted: particle-steps/s | sorted: node-steps/s |", "|---|---|---|---|---|---|---|"]
     for o in orderings:
-        cells = [f"{statistics.median(ratio[(o, v)]):.2f}x" for v in ("unsorted", "sorted", "dynamic")]
+        cells = [f"{statistics.median(ratio[(o, v)]):.2f}x" for v in ("seeded", "shuffled", "sorted", "dynamic")]
         r, f = statistics.median(rates[(o, 'sorted')]), facts[(o, 'sorted')]
         nodes = f"{r * f['active_nodes'] / f['particles'] / 1e6:.2f} M" if f["active_nodes"] else "n/a"
         lines.append(f"| {o} | " + " | ".join(cells) + f" | {r / 1e6:.2f} M | {nodes} |")

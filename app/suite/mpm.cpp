@@ -57,6 +57,7 @@ initial one exactly, and a P2G of the final particles must put their total mass 
 Examples:
   ./suite mpm --case=dam-collapse --steps=1000 --vtk-every=50 --out=dam
   ./suite mpm --case=dam-break --mesh=box:24,24,24 --steps=3000 --vtk-every=100 --out=water
+  ./suite mpm --case=column --damping=10 --steps=1500 --vtk-every=0 --out=column     # the analytical check
   ./suite mpm --mesh=box:8,8,8 --steps=200 --vtk-every=20 --out=small        # a quick look
   ./suite mpm --mesh=box:24,24,24 --ordering=hilbert --particles=dynamic --threads=2 --out=dam24
   ./suite mpm --young=2e5 --poisson=0.25 --column=0.3,1,0.6 --steps=2000 --vtk-every=100 --out=wall
@@ -86,7 +87,8 @@ struct Options {
     std::string young = "1e5", poisson = "0.3", density = "1000";
     std::string sound_speed = "35", viscosity = "1e-3";
     std::string column;  // "": the case's
-    std::string courant = "0.8", dt = "0";
+    std::string courant = "0.8", dt = "0", damping = "0";
+    std::string integration = "mixed";
     bool force = false;
     std::uint64_t seed = 1;
     std::uint64_t steps = 1000, vtk_every = 50;
@@ -172,6 +174,10 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     m.material.density = material_value(o.density, "--density", "the density must be > 0 (kg/m³)");
     if (!o.column.empty()) parse_column(o.column, m.region.hi);
     m.courant = parse_finite(o.courant, "--courant");
+    require_known({o.integration}, {"mixed", "particle"}, "integration");
+    m.integration = o.integration == "mixed" ? mpm::Integration::mixed : mpm::Integration::particle;
+    m.damping = parse_finite(o.damping, "--damping");
+    if (m.damping < 0) throw UsageError("--damping=" + o.damping + ": the damping is a rate in 1/s, >= 0 (0, the default: none)");
     m.dt = parse_finite(o.dt, "--dt");
     if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
     return s;
@@ -230,6 +236,8 @@ nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
             {"column", {m.region.hi[0], m.region.hi[1], m.region.hi[2]}},
             {"gravity", {m.gravity[0], m.gravity[1], m.gravity[2]}},
             {"courant", m.courant},
+            {"damping", m.damping},
+            {"integration", m.integration == mpm::Integration::mixed ? "mixed" : "particle"},
             {"dt_given", m.dt},
             {"force", s.force},
             {"seed", s.seed},
@@ -305,6 +313,10 @@ int cmd_mpm(const std::vector<std::string>& args) {
     app.add_option("--density", o.density, "density ρ in kg/m³, > 0 (default 1000)");
     app.add_option("--column", o.column, "X,Y,Z: the material fills [0,X]x[0,Y]x[0,Z], inside the box (dam-collapse: default 0.4,0.4,0.8; column: 1,1,0.5)");
     app.add_option("--courant", o.courant, "dt as a fraction of the stable step, in (0, 1] (default 0.8)");
+    app.add_option("--integration", o.integration,
+                   "how P2G integrates the stress: mixed (an element inside the material over its own volume, as Anura3D), particle (over its particles "
+                   "alone, the grid-crossing error; see docs/mpm.md) (default mixed)");
+    app.add_option("--damping", o.damping, "c in 1/s: a nodal force -c m v that brings the material to rest, for a quasi-static answer (default 0: none)");
     app.add_option("--dt", o.dt, "the time step in s, at most the stable one; 0: from --courant (default 0)");
     app.add_flag("--force", o.force, "run a dt or Courant number above the stable step anyway");
     add_seed_option(app, o.seed, "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
@@ -349,6 +361,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
 
     mpm::SimulationSettings run;
     run.steps = o.steps;
+    run.column = o.case_name == "column";
     run.vtk_every = o.vtk_every;
     run.stop = frame.stop_flag();
     Progress progress(o.quiet, o.steps, st.particles.size());

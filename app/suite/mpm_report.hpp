@@ -21,7 +21,9 @@ struct ReportInput {
     std::string png;                 // "" when front.png was drawn, else why not
 };
 
-// step,time,front,kinetic_energy: one row a step from step 0, every number to 17 digits.
+// step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element,
+// top_settlement,stepping_seconds: one row a step from step 0, the numbers to 17 digits (the
+// seconds to 9), top_settlement empty outside the column case.
 std::string front_csv(const mpm::Outcome& r);
 nlohmann::json summary_json(const ReportInput& in);
 std::string summary_text(const ReportInput& in);

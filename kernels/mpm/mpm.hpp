@@ -6,7 +6,9 @@
 //   locate    every particle's element (a walk through face neighbours from its last one) and
 //             its four shape function values w[i] = N_i(x_p), kept for the whole step
 //   P2G       m_n += w m_p,  p_n += w m_p v_p,  f_n += w m_p g - V_p σ_p ∇N_i
-//   grid      p_n += dt f_n; the normal components of p_n and f_n zeroed on the box's faces
+//             (mixed integration: V_p scaled by |e| / Σ_{q in e} V_q in an element inside the material)
+//   grid      p_n += dt (f_n - c p_n) (c: the damping, 0 unless asked for); the normal
+//             components of p_n and f_n zeroed on the box's faces
 //   G2P       v_p += dt Σ w f_n / m_n,  x_p += dt Σ w p_n / m_n
 //   velocity  q_n = Σ w m_p v_p (a second scatter), v_n = q_n / m_n, walls again
 //   stress    ∇v = Σ v_n ⊗ ∇N_i;  Δε, Δω its symmetric and skew parts times dt;
@@ -92,11 +94,23 @@ struct Region {
     double hi[3] = {0.4, 0.4, 0.8};
 };
 
+// How P2G integrates the stress divergence over an element.
+//   particle  Σ_p V_p σ_p ∇N_i over the element's particles: the volume the element sees jumps
+//             whenever a particle crosses a face, the grid-crossing error that keeps linear MPM
+//             from converging under refinement (docs/mpm.md, "The column")
+//   mixed     as Anura3D's mixed integration: an element that holds particles and whose four
+//             face neighbours do too (or are the box's walls) is integrated over its own volume,
+//             |e| σ̄_e ∇N_i with σ̄_e the volume-weighted mean of its particles' stress; an element
+//             at the material's surface keeps the particle sum
+enum class Integration { particle, mixed };
+
 struct Settings {
     Material material;
+    Integration integration = Integration::particle;  // the kernels' (what P2G is measured as); the cases take mixed
     Region region;
     int per_element = 4;       // particles in each element whose centroid lies in the region
     double gravity[3] = {0, 0, -9.81};
+    double damping = 0;        // c, 1/s: a nodal force -c m_n v_n (mass-proportional), for a quasi-static answer; 0: none
     double courant = 0.8;      // dt = courant * min_length / wave_speed, unless dt is given
     double dt = 0;             // 0: from the Courant number (for a fluid, again before every step)
 };
@@ -175,6 +189,7 @@ struct State {
     std::uint64_t steps = 0;
     std::uint64_t clamped = 0;         // particle positions pulled back into the box, in total
     std::uint32_t node_hi = 0;         // 1 + the largest node any particle's element has
+    std::vector<double> element_volume;  // mixed integration's scratch: Σ V_p of each element's particles
 };
 
 // A state at time 0: the grid, particles seeded in the region (per_element at fixed points of

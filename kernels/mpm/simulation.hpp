@@ -21,6 +21,9 @@
 namespace suite::mpm {
 
 struct SimulationSettings {
+    // The column case: measure the settlement of the top particle layer and the stress against
+    // the one-dimensional answer (a check at the end; docs/mpm.md, "The column").
+    bool column = false;
     std::uint64_t steps = 1000;
     std::uint64_t vtk_every = 50;            // 0: no snapshots
     const std::atomic<int>* stop = nullptr;  // non-zero (a signal's number): stop before the next step
@@ -38,6 +41,8 @@ struct FrontRow {
     std::uint64_t step = 0;
     double time = 0, front = 0, kinetic = 0;
     double dt = 0;                        // the step that led here (0 at step 0)
+    double settlement = NAN;              // the column: the top particle layer's mean downward displacement
+    double stepping_s = 0;                // seconds of mpm::advance (steps and reorderings) up to here
     double potential = 0, internal = 0;   // mpm::energy's other parts
     Locality order;                       // how far the particles' order has decayed
 };
@@ -59,6 +64,12 @@ struct Outcome {
     // whose checks passed.
     double mass_initial = NAN, mass_final = NAN;  // Σ mass over particles in id order
     double nodal_mass = NAN, nodal_error = NAN;   // Σ m_n of the final P2G; |Σ m_n - Σ m_p| / Σ m_p
+    // The column (SimulationSettings::column): the analytical settlement of the top layer,
+    // ρ g (H z0 - z0²/2) / M averaged over its particles' starting heights z0; the measured one
+    // (the mean over the last tenth of the steps when damped, over all of them when not: the
+    // mean of the undamped oscillation); and, damped, the RMS of σzz - (-ρ g (H - z0)) over all
+    // particles at the end, relative to ρ g H.
+    double settlement_exact = NAN, settlement_measured = NAN, settlement_error = NAN, stress_rms = NAN;
     std::vector<Check> checks;  // "finite and inside the box", "energy bound", ("total energy", "Ritter front": a fluid), "mass", "nodal mass"
     std::string failure;        // the first failed check, as one line; "" when all passed
     int signal = 0;             // the stop flag's value that ended the run early, else 0

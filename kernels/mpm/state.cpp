@@ -100,6 +100,9 @@ void check_settings(const Grid& g, const Settings& s, bool force) {
         if (!(r.lo[a] < r.hi[a]) || r.lo[a] < g.lo[a] - 1e-12 || r.hi[a] > g.hi[a] + 1e-12)
             throw UsageError("the material's region [" + triple(r.lo) + "] to [" + triple(r.hi) + "] is not a box inside the grid's box [" +
                              triple(g.lo) + "] to [" + triple(g.hi) + "]");
+    if (!(s.damping >= 0) || !(s.damping * critical_step(g, m) <= 1))
+        throw UsageError("--damping=" + format_number(s.damping) + ": the damping c (1/s) must be >= 0 and at most 1 / the stable step (" +
+                         format_number(1 / critical_step(g, m)) + " here), beyond which one step would reverse a node's momentum");
     if (!(s.courant > 0) || (s.courant > 1 && !force))
         throw UsageError("--courant=" + format_number(s.courant) + ": the Courant number must lie in (0, 1] (above 1 the step is unstable; --force runs it anyway)");
     const double critical = critical_step(g, m);
@@ -176,6 +179,7 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
 
 Settings case_settings(const std::string& name) {
     Settings s;
+    s.integration = Integration::mixed;
     if (name == "dam-collapse") return s;
     if (name == "dam-break") {
         s.material.model = Material::Model::fluid;

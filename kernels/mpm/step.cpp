@@ -1,7 +1,10 @@
 // The phases of one explicit MPM step (mpm.hpp has the equations). Every particle loop runs on
 // static blocks of particles (blocks.hpp), the split the state's first touch used.
 #include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/mpm/scatter.hpp"
@@ -17,6 +20,33 @@ inline void clear_walls(std::uint8_t wall, double* v) {
     if (wall & 4) v[2] = 0;
 }
 
+// Mixed integration: Σ V_p of each element's particles (0 for an empty one).
+void sum_element_volumes(State& st) {
+    std::vector<double>& sum = st.element_volume;
+    const std::int64_t ne = static_cast<std::int64_t>(st.grid.elements());
+    if (sum.size() != static_cast<std::size_t>(ne)) sum.resize(static_cast<std::size_t>(ne));
+    double* const s = sum.data();
+#pragma omp parallel for schedule(static)
+    for (std::int64_t e = 0; e < ne; ++e) s[e] = 0;
+    const Particles& pt = st.particles;
+    const std::int64_t np = static_cast<std::int64_t>(pt.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t p = 0; p < np; ++p) std::atomic_ref<double>(s[pt.elem[p]]).fetch_add(pt.volume[p], std::memory_order_relaxed);
+}
+
+// The factor mixed integration puts on the volumes of element e's particles: |e| / Σ V_p when e
+// and its face neighbours (or the walls in their place) hold particles, else 1. |e| from the
+// shape functions: the gradients of λ1..λ3 are the rows of J⁻¹, so |e| = 1 / (6 |det|).
+inline double volume_scale(std::uint32_t e, const double* shape, const std::int32_t* nb, const double* sum) {
+    for (int i = 0; i < 4; ++i) {
+        const std::int32_t n = nb[4 * static_cast<std::size_t>(e) + i];
+        if (n >= 0 && !(sum[n] > 0)) return 1;
+    }
+    const double* s = shape + 16 * static_cast<std::size_t>(e);
+    const double det = s[5] * (s[10] * s[15] - s[11] * s[14]) - s[6] * (s[9] * s[15] - s[11] * s[13]) + s[7] * (s[9] * s[14] - s[10] * s[13]);
+    return 1 / (6 * std::fabs(det) * sum[e]);
+}
+
 }  // namespace
 
 void p2g(State& st) {
@@ -27,9 +57,15 @@ void p2g(State& st) {
     const Particles& pt = st.particles;
     const double* const shape = st.grid.shape.data();
     const double g[3] = {st.settings.gravity[0], st.settings.gravity[1], st.settings.gravity[2]};
+    const bool mixed = st.settings.integration == Integration::mixed;
+    if (mixed) sum_element_volumes(st);
+    const double* const evol = st.element_volume.data();
+    const std::int32_t* const nb = st.grid.neighbour.data();
     // c per corner: m, p (3), f (3).
     scatter<0, 7>(st, [&](std::size_t p, double* c) {
-        const double m = pt.mass[p], vol = pt.volume[p];
+        double vol = pt.volume[p];
+        if (mixed) vol *= volume_scale(pt.elem[p], shape, nb, evol);
+        const double m = pt.mass[p];
         const double v[3] = {pt.vx[p], pt.vy[p], pt.vz[p]};
         const double sxx = pt.stress[0][p], syy = pt.stress[1][p], szz = pt.stress[2][p];
         const double sxy = pt.stress[3][p], syz = pt.stress[4][p], szx = pt.stress[5][p];
@@ -52,14 +88,14 @@ void p2g(State& st) {
 void update_grid(State& st) {
     NodeState* const nodes = st.nodes.data();
     const std::uint8_t* const wall = st.grid.wall.data();
-    const double dt = st.dt;
+    const double dt = st.dt, damping = st.settings.damping;
     const std::int64_t nn = st.node_hi;
 #pragma omp parallel for schedule(static)
     for (std::int64_t n = 0; n < nn; ++n) {
         NodeState& s = nodes[n];
         if (!(s.m > 0)) continue;
         const double before[3] = {s.p[0], s.p[1], s.p[2]};
-        for (int k = 0; k < 3; ++k) s.p[k] += dt * s.f[k];
+        for (int k = 0; k < 3; ++k) s.p[k] += dt * (s.f[k] - damping * s.p[k]);
         clear_walls(wall[n], s.p);
         // The force G2P gives the particles is the whole change of the nodal momentum, the walls'
         // reaction included: zeroing only p's normal part left the particles moving into the

@@ -50,7 +50,7 @@ TEST(MpmCli, SmallRunWritesSnapshotsCsvJsonAndPngThatMeshioReadsBack) {
     EXPECT_FALSE(fs::exists(dir + "/particles_000010.vtu"));
     // front.csv: a header and one row a step from step 0.
     const std::string csv = slurp(dir + "/front.csv");
-    EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element\n", 0), 0u) << csv;
+    EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element,top_settlement,stepping_seconds\n", 0), 0u) << csv;
     EXPECT_EQ(count_lines(csv), 1u + 41u);
     // The PNG: there, a PNG, not empty.
     const std::string png = slurp(dir + "/front.png");
