@@ -1,17 +1,15 @@
-// `suite mpm`: the explicit Material Point Method of kernels/mpm run as a simulation: an elastic
-// column's collapse or settlement, or a water column's dam break (--case). Every option is checked (and the state built, which checks the library's own limits)
-// before anything is written; then the steps, with their checks (kernels/mpm/simulation), and
-// into --out=DIR the particle snapshots (.vtu and a .pvd), front.csv, mpm.json and front.png
-// (plots/mpm_front.py; mpm_report.cpp renders the numbers).
+// `suite mpm`: kernels/mpm run as a simulation (--case: an elastic column's collapse or settlement,
+// a water column's dam break). Every option is checked, and the state built (the library's own
+// limits), before anything is written; then the steps and their checks (kernels/mpm/simulation),
+// and into --out=DIR the snapshots (.vtu, .pvd), front.csv, mpm.json, front.png (mpm_report.cpp).
 #include <omp.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
-#include <limits>
-
 #include <cstdio>
 #include <iostream>
+#include <limits>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -91,7 +89,7 @@ struct Options {
     std::string integration = "mixed";
     bool force = false;
     std::uint64_t seed = 1;
-    std::uint64_t steps = 1000, vtk_every = 50;
+    std::uint64_t steps = 1000, vtk_every = 50, warm_steps = 0;
     std::string out;
     bool no_png = false, dry_run = false, quiet = false, replace = false;
 };
@@ -153,6 +151,9 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     if (given.count("--sort-every") > 0 && o.particles != "sorted" && o.particles != "dynamic")
         throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=" + o.particles + " never reorders; give --particles=sorted or dynamic, "
                          "or leave --sort-every out");
+    if (o.warm_steps > 0 && o.warm_steps >= o.steps)
+        throw UsageError("--warm-steps=" + std::to_string(o.warm_steps) + ": the rate is measured over the steps after the warm ones, and --steps=" +
+                         std::to_string(o.steps) + " leaves none; give fewer warm steps or more steps");
     if (given.count("--courant") > 0 && given.count("--dt") > 0 && parse_finite(o.dt, "--dt") != 0)
         throw UsageError("--courant=" + o.courant + " and --dt=" + o.dt + ": the step is --dt's when it is given; give one of them");
     if (s.strategy == mpm::Strategy::partition && o.threads > 64)
@@ -242,6 +243,7 @@ nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
             {"force", s.force},
             {"seed", s.seed},
             {"steps", o.steps},
+            {"warm_steps", o.warm_steps},
             {"vtk_every", o.vtk_every}};
 }
 
@@ -321,6 +323,8 @@ int cmd_mpm(const std::vector<std::string>& args) {
     app.add_flag("--force", o.force, "run a dt or Courant number above the stable step anyway");
     add_seed_option(app, o.seed, "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
     add_whole_option(app, "--steps", o.steps, 0, 1000000000, "time steps, 0 to 10^9 (default 1000)");
+    add_whole_option(app, "--warm-steps", o.warm_steps, 0, 1000000000,
+                     "steps before the measured rate starts (the mixed state of a flow); the whole run's rate is reported too (default 0)");
     add_whole_option(app, "--vtk-every", o.vtk_every, 0, 1000000000, "steps between particle snapshots; 0: none (default 50)");
     app.add_option("--out,-o", o.out, "directory for the snapshots, front.csv, mpm.json and front.png (created if missing; required unless --dry-run)");
     app.add_flag("--no-png", o.no_png, "do not draw front.png");
@@ -372,7 +376,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
     progress.finish();
     out.write("front.csv", front_csv(r));
     if (!r.snapshots.empty()) out.write("particles.pvd", mpm::collection_pvd(r.snapshots));
-    ReportInput report{st, setup, run, r, options_json(o, setup), stable, "--no-png"};
+    ReportInput report{st, setup, run, r, options_json(o, setup), stable, "--no-png", o.warm_steps};
     out.write("mpm.json", summary_json(report).dump(1) + "\n");
     if (!o.no_png) {
         const Plotter p = find_plotter("mpm_front.py");

@@ -20,6 +20,14 @@ double particle_rate(const ReportInput& in) {
     return r.stepping_s > 0 ? static_cast<double>(in.st.particles.size()) * static_cast<double>(r.steps_done) / r.stepping_s : 0;
 }
 
+// Over the steps after --warm-steps (rows[k] is after k steps); NaN when none ran after them.
+double rate_after_warm(const ReportInput& in) {
+    const mpm::Outcome& r = in.outcome;
+    if (in.warm_steps == 0 || r.steps_done <= in.warm_steps || r.rows.size() <= r.steps_done) return NAN;
+    const double s = r.rows[r.steps_done].stepping_s - r.rows[in.warm_steps].stepping_s;
+    return s > 0 ? static_cast<double>(in.st.particles.size()) * static_cast<double>(r.steps_done - in.warm_steps) / s : NAN;
+}
+
 }  // namespace
 
 std::string front_csv(const mpm::Outcome& r) {
@@ -61,6 +69,9 @@ nlohmann::json summary_json(const ReportInput& in) {
           {"stepping_seconds", r.stepping_s},
           {"particle_steps_per_second", rate},
           {"particle_steps_per_second_per_thread", rate / in.setup.threads},
+          {"particle_steps_per_second_after_warm",
+           std::isnan(rate_after_warm(in)) ? nlohmann::json(nullptr) : nlohmann::json(rate_after_warm(in))},
+          {"warm_steps", in.warm_steps},
           {"threads", in.setup.threads},
           {"detail", "stepping: mpm::advance alone (the steps and the reorderings due); wall: the loop with the checks, snapshots and progress"}}},
         {"front",
@@ -130,6 +141,9 @@ std::string summary_text(const ReportInput& in) {
                       fmt("%.4g s", st.time));
     line("wall", fmt("%.3f s", r.wall_s) + " (stepping " + fmt("%.3f s", r.stepping_s) + ")");
     line("rate", fmt("%.4g particle-steps/s", rate) + fmt(" (%.4g per thread)", rate / s.threads));
+    if (!std::isnan(rate_after_warm(in)))
+        line("after warm-up", fmt("%.4g particle-steps/s", rate_after_warm(in)) + " over steps " + std::to_string(in.warm_steps + 1) + " to " +
+                                  std::to_string(r.steps_done));
     line("front", fmt("%.6g m", front0) + " -> " + fmt("%.6g m", front1) + fmt(" (column width %g m)", s.settings.region.hi[0]));
     if (std::isnan(r.mass_final)) line("mass drift", "not checked (the run stopped at a failed check)");
     else

@@ -19,6 +19,7 @@ struct ReportInput {
     nlohmann::json options;          // every option's value as used (the settings of mpm.json)
     double stable_dt = 0;            // the grid's and material's stable step (Courant number 1)
     std::string png;                 // "" when front.png was drawn, else why not
+    std::uint64_t warm_steps = 0;    // the rate after them is reported beside the whole run's
 };
 
 // step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element,

@@ -89,7 +89,15 @@ void add_param_options(CLI::App& app, RunOptions& o) {
 
 std::string params_label(const std::map<std::string, double>& params) {
     std::string out;
-    for (const auto& [name, value] : params) out += " " + name + "=" + format_number(value);
+    for (const auto& [name, value] : params) {
+        // A named choice by its name (the record keeps its index).
+        std::string shown = format_number(value);
+        for (const auto& e : kernels())
+            for (const auto& p : e.info.params)
+                if (p.name == name && !p.choices.empty() && value >= 0 && value < static_cast<double>(p.choices.size()))
+                    shown = p.choices[static_cast<std::size_t>(value)];
+        out += " " + name + "=" + shown;
+    }
     return out;
 }
 

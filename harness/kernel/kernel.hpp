@@ -103,6 +103,9 @@ struct ParamInfo {
     std::string name;  // lower case, digits and '-': "delta", "tol"
     double default_value = 0;
     std::string help;  // one line for --help and ./suite list
+    // A named choice (--case=dam-break): one of these names, recorded as its index (the
+    // record's parameters are numbers); empty: a number.
+    std::vector<std::string> choices = {};
 };
 
 // Facts about a kernel, as data.
@@ -130,8 +133,9 @@ struct KernelInfo {
     double write_bytes_per_unit = 0;
     double flops_per_unit = 0;
     std::string notes;
-    // Its arrays are ordinary heap memory, not Arena arrays (the MPM kernels, so far): the harness
-    // cannot place them, so a --placement other than local is refused for it.
+    // Its arrays are ordinary heap memory, not Arena arrays (no kernel of the suite, now that the
+    // MPM kernels' are the arena's): the harness cannot place them, so a --placement other than
+    // local is refused for it.
     bool heap_arrays = false;
 };
 
@@ -163,6 +167,9 @@ const KernelEntry* find_kernel(const std::string& name);
 std::vector<std::string> kernel_names();
 // Every declared parameter of `info` at its default value.
 std::map<std::string, double> default_params(const KernelInfo& info);
+// --NAME=TEXT as the value a parameter keeps: a finite number, or a named choice's index
+// (ParamInfo::choices). Throws UsageError for anything else, naming what is accepted.
+double parse_param(const std::string& name, const std::string& text);
 // Whether `variant` of `info` runs on one thread only (KernelInfo::single_thread_variants).
 bool single_thread_only(const KernelInfo& info, const std::string& variant);
 

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
 
 namespace suite {
@@ -68,6 +69,19 @@ std::map<std::string, double> default_params(const KernelInfo& info) {
     std::map<std::string, double> out;
     for (const auto& p : info.params) out[p.name] = p.default_value;
     return out;
+}
+
+double parse_param(const std::string& name, const std::string& text) {
+    const std::vector<std::string>* choices = nullptr;
+    for (const auto& e : table())
+        for (const auto& p : e.info.params)
+            if (p.name == name && !p.choices.empty()) choices = &p.choices;
+    if (!choices) return parse_finite(text, "--" + name);
+    // A named choice: its index, as the record keeps numbers.
+    const auto it = std::find(choices->begin(), choices->end(), text);
+    if (it != choices->end()) return static_cast<double>(it - choices->begin());
+    const std::string hint = nearest(text, *choices);
+    throw UsageError("unknown --" + name + " '" + text + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + join(*choices, ", "));
 }
 
 bool single_thread_only(const KernelInfo& info, const std::string& variant) {

@@ -256,7 +256,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
             for (const auto& p : e.info.params)
                 if (p.name == name) takers.push_back(e.info.name);
         if (takers.empty()) throw UsageError("--" + name + ": no kernel takes a parameter of that name");
-        given_params[name] = parse_finite(text, "--" + name);
+        given_params[name] = parse_param(name, text);
         bool applies = false;
         std::vector<std::string> selected;
         for (const auto& [k, defaults] : ks) {

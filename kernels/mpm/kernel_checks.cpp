@@ -18,6 +18,11 @@ void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std:
         if (!(v >= 1) || v != std::floor(v) || v > 1e6)
             throw UsageError("--" + std::string(name) + "=" + format_number(v) + " for " + kernel + ": a whole number from 1 to 1000000");
     }
+    if (cfg.params.count("warm-steps")) {
+        const double v = cfg.param("warm-steps");
+        if (!(v >= 0) || v != std::floor(v) || v > 1e7)
+            throw UsageError("--warm-steps=" + format_number(v) + " for " + kernel + ": a whole number of untimed steps from 0 to 10000000");
+    }
     if (cfg.variant == "serial" && cfg.threads > 1)
         throw UsageError(kernel + "'s serial strategy runs on one thread, not " + std::to_string(cfg.threads) + "; the parallel ones: atomic, colour, partition");
     const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
@@ -83,7 +88,8 @@ std::string check_p2g_against_serial(State& st) {
     st.plan = plan_scatter(st.grid, Strategy::serial, 1);
     p2g(st);
     st.plan = plan;
-    std::swap(mine, st.nodes);  // st.nodes: the strategy's again; mine: the serial reference
+    // st.nodes: the strategy's again (value by value: placed nodes keep their pages); mine: the serial reference
+    std::swap_ranges(mine.begin(), mine.end(), st.nodes.begin());
     double scale[3] = {0, 0, 0}, worst[3] = {0, 0, 0};
     ExactSum nodal;
     for (std::uint32_t n = 0; n < st.node_hi; ++n) {

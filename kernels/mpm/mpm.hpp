@@ -28,6 +28,11 @@
 
 #include "kernels/mesh/mesh.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mpm/array.hpp"
+
+namespace suite {
+class Arena;
+}
 
 namespace suite::mpm {
 
@@ -76,16 +81,42 @@ struct Grid {
 // mesh that is not tetrahedral or has an inverted or flat element.
 Grid make_grid(mesh::Mesh m);
 
-// Structure of arrays, one entry per particle. stress: xx, yy, zz, xy, yz, zx.
-struct Particles {
-    std::vector<double> x, y, z, vx, vy, vz, mass, volume;
-    std::array<std::vector<double>, 6> stress;
-    std::vector<double> w;              // 4 per particle: N_i at x_p in its element
-    std::vector<std::uint32_t> elem;    // containing element
-    std::vector<std::uint32_t> id;      // rank of its position at creation (any grid order gives the same ids); kept through sorting
-    std::size_t size() const { return x.size(); }
-    void resize(std::size_t n);
+// Scratch that a copy does not take (a copy starts without it, and makes its own if it needs it).
+struct ReorderScratch {
+    Array<double> buf;
+    ReorderScratch() = default;
+    ReorderScratch(const ReorderScratch&) {}
+    ReorderScratch& operator=(const ReorderScratch&) { return *this; }
+    ReorderScratch(ReorderScratch&&) = default;
+    ReorderScratch& operator=(ReorderScratch&&) = default;
 };
+
+// Structure of arrays, one entry per particle. stress: xx, yy, zz, xy, yz, zx. Each array is
+// either the State's own memory or placed in a kernel's Arena (array.hpp); the loops see raw
+// pointers either way.
+struct Particles {
+    Array<double> x, y, z, vx, vy, vz, mass, volume;
+    std::array<Array<double>, 6> stress;
+    Array<double> w;            // 4 per particle: N_i at x_p in its element
+    Array<std::uint32_t> elem;  // containing element
+    Array<std::uint32_t> id;    // rank of its position at creation (any grid order gives the same ids); kept through sorting
+    // Placed particles only: 4 doubles per particle, where reorder_particles gathers before it
+    // writes back (thread t's part is the 32 B per particle of its own block).
+    ReorderScratch scratch;
+    std::size_t size() const { return x.size(); }
+    void resize(std::size_t n);  // own memory (a placed array keeps its length)
+    // `n` particles in `arena` (the length fixed from then on), named as the record lists them
+    // (particle_array_names, then "reorder-scratch"), each first touched by the particle loops'
+    // static split (blocks.hpp: thread t writes the zeros of particles [lo, hi), of w and the
+    // scratch [4 lo, 4 hi)), so that a thread's block lies where the policy puts it for that
+    // thread. The values are zero; make_state seeds them.
+    void place(std::size_t n, Arena& arena);
+    bool placed() const { return x.placed(); }
+};
+// The names of the placed particle arrays in the record's placement.arrays, in the order they
+// are allocated; then "reorder-scratch".
+inline constexpr const char* particle_array_names[] = {"x", "y", "z", "vx", "vy", "vz", "mass", "volume", "stress-xx", "stress-yy",
+                                                       "stress-zz", "stress-xy", "stress-yz", "stress-zx", "w", "elem", "id"};
 
 // The material's region: the axis-aligned box [lo, hi]. dam-collapse puts it in the corner at
 // the origin; tests put it elsewhere (free fall away from the walls).
@@ -148,7 +179,7 @@ const char* strategy_name(Strategy s);
 // Built by a counting sort after every locate (the colour and partition strategies use it).
 struct Bins {
     std::vector<std::uint32_t> start;  // elements + 1
-    std::vector<std::uint32_t> order;  // particles
+    Array<std::uint32_t> order;        // particles (placed with them: a per-particle array the scatters read)
     std::vector<std::uint32_t> next;   // scratch of the counting sort (elements)
 };
 
@@ -176,11 +207,20 @@ ScatterPlan plan_scatter(const Grid& g, Strategy s, int threads);
 void plan_colours(const Grid& g, ScatterPlan& plan);
 void plan_partition(const Grid& g, ScatterPlan& plan);
 
-// The state of a simulation.
+// The state of a simulation. Built with an Arena (build(setup, &arena): the kernels), the
+// particle arrays (with the bins' particle order, for the strategies that use bins), the nodes
+// and the element volume sums are placed in it and first touched by the threads of the loops
+// that compute on them; built without (suite mpm, the tests), they are the state's own memory,
+// as is everything in a copy. What stays the state's own memory either way, first touched where
+// it is built: the grid (shape functions, neighbours, connectivity, walls, curve), read-mostly
+// and rebuilt by permute(), the connectivity inside the mesh::Mesh that sfc::permuted returns (a
+// type the other mesh kernels share: placing it would mean an arena copy of the mesh kept in
+// step with it); the bins' per-element counts; and the scatter plan (colours, the partition's
+// per-node masks and slots), which permute() builds anew.
 struct State {
     Grid grid;
     Particles particles;
-    std::vector<NodeState> nodes;
+    Array<NodeState> nodes;
     Bins bins;
     ScatterPlan plan;
     Settings settings;
@@ -189,14 +229,31 @@ struct State {
     std::uint64_t steps = 0;
     std::uint64_t clamped = 0;         // particle positions pulled back into the box, in total
     std::uint32_t node_hi = 0;         // 1 + the largest node any particle's element has
-    std::vector<double> element_volume;  // mixed integration's scratch: Σ V_p of each element's particles
+    Array<double> element_volume;      // mixed integration's scratch: Σ V_p of each element's particles
 };
+
+// Places a located state's nodes (named "nodes") and, for mixed integration, element volume sums
+// ("element-volume") in `arena`, first touched as their loops split them (touch_nodes; the
+// elements by the static split of the zeroing loop). make_state calls it when given an arena,
+// and before locating, for the colour and partition strategies, places the bins' particle order
+// ("bins-order") as the particles are (Particles::place).
+void place_grid_arrays(State& st, Arena& arena);
+// Zeroes the nodes, thread t its static block of [0, node_hi) and then of [node_hi, nodes): the
+// split of the loops over nodes (p2g's zeroing, update_grid, the nodal velocities). With
+// `fresh`, placed nodes are first dropped (madvise MADV_DONTNEED), so that this is a new first
+// touch: their pages land as the policy puts them for the threads that compute on them now,
+// after the reorderings and motion since they were placed changed node_hi (a kernel does it at
+// the end of its set-up, not between timed steps, where the drop and the page faults would be
+// timed: a renumbering there keeps the nodes' pages, as it keeps the particles'). Own memory is
+// only zeroed. The nodes' values are lost either way (p2g zeroes them before use).
+void touch_nodes(State& st, bool fresh);
 
 // A state at time 0: the grid, particles seeded in the region (per_element at fixed points of
 // each element whose centroid lies inside it), located, at rest, unstressed. Throws UsageError
 // for a region outside the box, per_element < 1, E <= 0, ν outside (-1, 0.5), ρ <= 0, or a
 // given dt above the stable step (unless `force`).
-State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force = false);
+// With `arena`, the particles, nodes and element volume sums are placed in it (State).
+State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force = false, Arena* arena = nullptr);
 
 // The phases of a step, for the kernels that time one of them; step() runs them all.
 void locate(State& st);   // elements and w of the particles at their current positions; bins
@@ -213,6 +270,10 @@ void step(State& st);
 // order. Keeps them located.
 void sort_particles(State& st);
 // The particles in order `order` (particle i of the result = particle order[i]), located again.
+// Placed particles keep their storage: each thread gathers its static block of the result into
+// its own part of the reorder scratch and, after a barrier, copies it back into the same block
+// of the array, so every page stays where the policy and the first touch put it. Own memory is
+// gathered into a new vector that takes the array's place.
 void reorder_particles(State& st, const std::vector<std::uint32_t>& order);
 
 // Renumbers the grid so that the elements holding particles come first, in curve order, then
@@ -221,7 +282,8 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order);
 void renumber_active(State& st);
 
 // The grid with elements in order perm (element i of the result = element perm[i]) and node v
-// renumbered new_id[v]; particle elements remapped through the inverse.
+// renumbered new_id[v]; particle elements remapped through the inverse. The nodes are not
+// permuted: p2g zeroes them before use.
 void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vector<std::uint32_t>& new_id);
 
 // A simulation as the kernels and `suite mpm` set it up: which grid, in which order, how the
@@ -258,7 +320,9 @@ std::uint64_t state_bytes(const mesh::MeshCounts& c, std::uint64_t particles, in
 std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts& c, const Settings& s);
 // Throws UsageError for a bad mesh spec, ordering, particle order or setting, and for a state
 // larger than the memory available (estimated before anything is built).
-State build(const Setup& s);
+// With `arena` (which must outlive the state), the state's particle and node arrays are placed
+// in it (State): what the kernels do, so that the harness's --placement applies to them.
+State build(const Setup& s, Arena* arena = nullptr);
 void advance(State& st, const Setup& s);
 // Whether advance() reorders after step number `step` (1-based) under this setup.
 bool reorders_after(const Setup& s, std::uint64_t step);

@@ -1,6 +1,8 @@
-// mpm-p2g, mpm-g2p, mpm-step: the explicit MPM of mpm.hpp on the dam collapse (a column of
-// 0.4 x 0.4 x 0.8 in the corner of the unit box, E = 1e5 Pa, ν = 0.3, ρ = 1000 kg/m³, --ppe
-// particles per element), the grid in the point's --ordering, after a few untimed steps.
+// mpm-p2g, mpm-g2p, mpm-step: the explicit MPM of mpm.hpp on one of `suite mpm`'s cases (--case:
+// the elastic dam collapse, the default; the dam break, a fluid that flows and mixes; the
+// settling column), as suite mpm runs it (mixed integration), --ppe particles per element, the
+// grid in the point's --ordering, after --warm-steps untimed steps (default 5) that follow the
+// point's reordering schedule, so that a point can be timed in the mixed state of a flow.
 // One repetition:
 //   mpm-p2g   nodes zeroed; for p, corner i of elem[p]:
 //               m_n += w_i m_p;  p_n += w_i m_p v_p;  f_n += w_i m_p g - V_p σ_p ∇N_i
@@ -12,6 +14,9 @@
 //             scatters serial on one thread, partition on more
 // Rates count particles (particle-steps for mpm-step). Bytes follow the STREAM convention for
 // the particle arrays only: what the nodes cost depends on the order, which is the question.
+// The particle arrays, the nodes and the element volume sums are the point's arena's (mpm.hpp,
+// State), so --placement applies to them and the record's placement.arrays lists them; the grid
+// stays the state's own memory.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -31,12 +36,13 @@ namespace {
 enum class Phase { p2g, g2p, step };
 
 // Bytes of particle arrays per particle, by pass (mpm.hpp's loops; w is 32 B, stress 48 B).
-constexpr double p2g_bytes = 32 + 4 + 8 + 8 + 24 + 48;                  // w, elem, m, V, v, σ
+constexpr double p2g_bytes = 32 + 4 + 8 + 8 + 24 + 48                   // w, elem, m, V, v, σ
+                             + 4 + 8;                                   // mixed integration's element volume sums: elem, V
 constexpr double g2p_bytes = 4 + 32 + 24 + 24 + 24 + 24;                // elem, w, v, x read; v, x written
 constexpr double step_bytes = p2g_bytes + g2p_bytes + (32 + 8 + 24 + 4)  // the velocity scatter
                               + (4 + 56 + 56)                           // stress and volume, read and written
                               + (24 + 4 + 32 + 4);                      // locate: x, elem read; w, elem written
-constexpr int warm_steps = 5;
+constexpr const char* cases[] = {"dam-collapse", "dam-break", "column"};  // --case's choices, in the order of their indices
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // untimed steps before the first repetition: velocities and stresses not zero
 
 std::string box_spec_for(std::uint64_t elements) {
@@ -48,6 +54,9 @@ std::string box_spec_for(std::uint64_t elements) {
 class MpmKernel final : public Kernel {
 public:
     MpmKernel(const KernelConfig& cfg, Phase phase) : cfg_(cfg), phase_(phase) {
+        case_ = cases[static_cast<std::size_t>(cfg.param("case"))];
+        setup_.settings = case_settings(case_);
+        warm_steps_ = static_cast<long>(cfg.param("warm-steps"));
         setup_.mesh = cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh;
         setup_.ordering = cfg.access.name;
         setup_.particles = phase == Phase::p2g ? "sorted" : cfg.variant;
@@ -58,12 +67,23 @@ public:
         setup_.seed = cfg.seed;
     }
 
-    void setup(Arena&) override {
-        st_ = std::make_unique<State>(build(setup_));
-        // The reordering schedule runs from the start; the untimed steps reach a state
-        // with motion and stress, and leave it as the point's particle order has it.
-        for (int k = 0; k < warm_steps; ++k) step(*st_);
-        if (setup_.particles == "sorted" || setup_.particles == "dynamic") sort_particles(*st_);
+    void setup(Arena& arena) override {
+        // The particle arrays, the nodes and the element volume sums in the point's arena, first
+        // touched by the threads that compute on them (mpm.hpp, State); the reorderings write back
+        // into the same pages.
+        st_ = std::make_unique<State>(build(setup_, &arena));
+        // The untimed steps reach a state with motion and stress (a long warm-up: the mixed state
+        // of a flow), under the point's reordering schedule, as a simulation would; the timing
+        // then starts right after a reordering, as every later repetition does.
+        for (long k = 0; k < warm_steps_; ++k) advance(*st_, setup_);
+        if (setup_.particles == "sorted" || setup_.particles == "dynamic") {
+            if (setup_.particles == "dynamic") renumber_active(*st_);
+            sort_particles(*st_);
+        }
+        // The particle arrays kept their pages through the reorderings (each thread's block is
+        // the same range of particles); the nodes' split follows node_hi, which the warm-up and a
+        // renumbering moved: a fresh first touch for the split the timed steps start with.
+        touch_nodes(*st_, true);
         if (phase_ == Phase::step) equivalence_ = check_equivalence(setup_);
         if (phase_ == Phase::g2p) {
             p2g(*st_);
@@ -151,12 +171,14 @@ public:
 private:
     int steps_per_call() const { return std::max(setup_.sort_every, 1); }
     std::string describe() const {
-        return "box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " + std::to_string(st_->particles.size()) +
-               " particles), " + setup_.ordering + ", particles " + setup_.particles + ", " + strategy_name(st_->plan.strategy) + ": ";
+        return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " + std::to_string(st_->particles.size()) +
+               " particles, after " + std::to_string(warm_steps_) + " untimed steps), " + setup_.ordering + ", particles " + setup_.particles + ", " + strategy_name(st_->plan.strategy) + ": ";
     }
 
     KernelConfig cfg_;
     Phase phase_;
+    std::string case_;
+    long warm_steps_ = 5;
     Setup setup_;
     std::unique_ptr<State> st_, start_;
     std::string equivalence_;
@@ -188,13 +210,16 @@ void add(const std::string& name, Phase phase, const std::string& formula, const
         e.info.variant_option = "particles";
         e.info.default_variants = e.info.variants;
     }
-    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"}};
+    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
+                     {"case", 0, "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
+                      {cases[0], cases[1], cases[2]}},
+                     {"warm-steps", 5, "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
+                                       "(mpm kernels), 0 to 10000000"}};
     if (phase == Phase::step)
         e.info.params.push_back({"sort-every", 5, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
     e.info.size_kind = SizeKind::count;
     e.info.read_bytes_per_unit = phase == Phase::p2g ? p2g_bytes : phase == Phase::g2p ? 4 + 32 + 24 + 24 : step_bytes;
     e.info.notes = notes;
-    e.info.heap_arrays = true;  // docs/mpm.md, "Not yet"
     e.mesh_elements = mesh_elements;
     e.default_meshes = {"box:24,24,24"};
     e.test_size = 6 * 5 * 5 * 5;
@@ -209,7 +234,7 @@ const bool registered = [] {
     add("mpm-g2p", Phase::g2p, "v_p += dt Σ w f_n / m_n; x_p += dt Σ w p_n / m_n",
         "MPM grid-to-particle update; --particles=seeded,shuffled,sorted,dynamic (default all)");
     add("mpm-step", Phase::step, "K whole USL steps (locate, P2G, grid, G2P, velocity, stress), then the reordering due",
-        "explicit MPM dam collapse, --sort-every=K steps a repetition; --particles=seeded,shuffled,sorted,dynamic (default all)");
+        "explicit MPM (--case: dam-collapse, dam-break, column), --sort-every=K steps a repetition; --particles=seeded,shuffled,sorted,dynamic (default all)");
     return true;
 }();
 

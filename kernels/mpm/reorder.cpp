@@ -1,8 +1,10 @@
 // Reordering during a simulation: the particles sorted along the curve, and the grid renumbered
 // so that the elements holding particles (and their nodes) come first, in curve order.
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 
+#include "harness/kernel/blocks.hpp"
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/sfc/pipeline.hpp"
 
@@ -10,14 +12,31 @@ namespace suite::mpm {
 
 namespace {
 
-template <class T>
-void gather(std::vector<T>& v, const std::vector<std::uint32_t>& order, std::size_t width, std::vector<T>& scratch) {
+// Own memory: the gathered values in a new vector, which takes the array's place (V: a
+// std::vector or an Array that owns its storage).
+template <class V, class T = typename V::value_type>
+void gather(V& v, const std::vector<std::uint32_t>& order, std::size_t width, std::vector<T>& scratch) {
     scratch.resize(v.size());
     const std::int64_t n = static_cast<std::int64_t>(order.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t i = 0; i < n; ++i)
         for (std::size_t k = 0; k < width; ++k) scratch[width * static_cast<std::size_t>(i) + k] = v[width * order[i] + k];
     v.swap(scratch);
+}
+
+// Placed memory, inside a parallel region: this thread's block [b.lo, b.hi) of the result
+// gathered into its own part of the scratch (`mine`, 32 B per particle of the block, first
+// touched by this thread), then, once every thread has read the array, copied back into the
+// same block of it, so that no page of the array changes hands. The next array's gather may
+// start at once: it writes only this thread's part of the scratch, and reads an array nobody
+// writes before the next barrier.
+template <class T>
+void gather_back(T* v, const std::uint32_t* order, std::size_t width, Block b, void* mine) {
+    T* const s = static_cast<T*>(mine);
+    for (std::int64_t i = b.lo; i < b.hi; ++i)
+        for (std::size_t k = 0; k < width; ++k) s[width * static_cast<std::size_t>(i - b.lo) + k] = v[width * order[i] + k];
+#pragma omp barrier
+    std::memcpy(v + width * static_cast<std::size_t>(b.lo), s, width * static_cast<std::size_t>(b.hi - b.lo) * sizeof(T));
 }
 
 }  // namespace
@@ -35,6 +54,25 @@ void sort_particles(State& st) {
 
 void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
     Particles& pt = st.particles;
+    if (pt.placed()) {
+        const std::int64_t n = static_cast<std::int64_t>(pt.size());
+        double* const d[] = {pt.x.data(), pt.y.data(), pt.z.data(), pt.vx.data(), pt.vy.data(), pt.vz.data(), pt.mass.data(), pt.volume.data(),
+                             pt.stress[0].data(), pt.stress[1].data(), pt.stress[2].data(), pt.stress[3].data(), pt.stress[4].data(), pt.stress[5].data()};
+        double* const w = pt.w.data();
+        std::uint32_t* const u[] = {pt.elem.data(), pt.id.data()};
+        double* const scratch = pt.scratch.buf.data();
+        const std::uint32_t* const o = order.data();
+#pragma omp parallel
+        {
+            const Block b = my_block(n);
+            void* const mine = scratch + 4 * b.lo;
+            for (double* v : d) gather_back(v, o, 1, b, mine);
+            gather_back(w, o, 4, b, mine);
+            for (std::uint32_t* v : u) gather_back(v, o, 1, b, mine);
+        }
+        locate(st);  // the bins, in the new order
+        return;
+    }
     std::vector<double> scratch;
     for (auto* v : {&pt.x, &pt.y, &pt.z, &pt.vx, &pt.vy, &pt.vz, &pt.mass, &pt.volume}) gather(*v, order, 1, scratch);
     for (auto& s : pt.stress) gather(s, order, 1, scratch);

@@ -13,7 +13,7 @@
 
 namespace suite::mpm {
 
-inline double* node_doubles(std::vector<NodeState>& nodes, std::uint32_t n) { return &nodes[n].m; }
+inline double* node_doubles(Array<NodeState>& nodes, std::uint32_t n) { return &nodes[n].m; }
 
 // The colour and partition strategies (scatter_strategies.cpp), on per-particle callbacks
 // through a plain function pointer so that the strategies are compiled once.

@@ -46,7 +46,7 @@ std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts
     return std::min(all, static_cast<std::uint64_t>(share * static_cast<double>(all)) + 1);
 }
 
-State build(const Setup& s) {
+State build(const Setup& s, Arena* arena) {
     const auto& names = {"natural", "random", "morton", "hilbert"};
     if (std::find(names.begin(), names.end(), s.ordering) == names.end())
         throw UsageError("unknown MPM grid ordering '" + s.ordering + "'; orderings: " + orderings_accepted);
@@ -63,7 +63,7 @@ State build(const Setup& s) {
                          " of memory available; use a smaller grid or fewer particles per element");
     mesh::Mesh m = mesh::load_mesh(spec);
     m = sfc::ordered(m, s.ordering, s.seed, sfc::max_depth(3));
-    State st = make_state(make_grid(std::move(m)), s.settings, s.strategy, s.threads, s.force);
+    State st = make_state(make_grid(std::move(m)), s.settings, s.strategy, s.threads, s.force, arena);
     if (s.particles == "shuffled") shuffle_particles(st, s.seed);
     else if (s.particles != "seeded") {
         if (s.particles == "dynamic") renumber_active(st);

@@ -57,7 +57,7 @@ std::string first_bad_particle(const State& st) {
 double releasable_energy(const State& st) {
     const Particles& p = st.particles;
     const double* g = st.settings.gravity;
-    const std::vector<double>* axes[3] = {&p.x, &p.y, &p.z};
+    const Array<double>* axes[3] = {&p.x, &p.y, &p.z};
     double e = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
         for (int a = 0; a < 3; ++a) {

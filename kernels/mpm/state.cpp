@@ -1,10 +1,19 @@
 // A simulation's state at time 0 (the checks of its settings, the particles seeded in the
 // material's region), the strategies' names, and the sums the checks read.
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <iterator>
+#include <stdexcept>
 #include <string>
 
 #include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
+#include "harness/kernel/blocks.hpp"
 #include "kernels/mpm/mpm.hpp"
 
 namespace suite::mpm {
@@ -15,6 +24,67 @@ void Particles::resize(std::size_t n) {
     w.resize(4 * n);
     elem.resize(n);
     id.resize(n);
+}
+
+void Particles::place(std::size_t n, Arena& arena) {
+    Array<double>* const doubles[] = {&x, &y, &z, &vx, &vy, &vz, &mass, &volume, &stress[0], &stress[1], &stress[2], &stress[3], &stress[4], &stress[5]};
+    constexpr std::size_t nd = std::size(doubles);
+    static_assert(std::size(particle_array_names) == nd + 3, "a name for every particle array");
+    for (std::size_t k = 0; k < nd; ++k) *doubles[k] = Array<double>::placed(arena.allocate<double>(particle_array_names[k], n), n);
+    w = Array<double>::placed(arena.allocate<double>(particle_array_names[nd], 4 * n), 4 * n);
+    elem = Array<std::uint32_t>::placed(arena.allocate<std::uint32_t>(particle_array_names[nd + 1], n), n);
+    id = Array<std::uint32_t>::placed(arena.allocate<std::uint32_t>(particle_array_names[nd + 2], n), n);
+    scratch.buf = Array<double>::placed(arena.allocate<double>("reorder-scratch", 4 * n), 4 * n);
+    double* d[nd];
+    for (std::size_t k = 0; k < nd; ++k) d[k] = doubles[k]->data();
+    double* const wp = w.data();
+    double* const sp = scratch.buf.data();
+    std::uint32_t* const ep = elem.data();
+    std::uint32_t* const ip = id.data();
+    const std::int64_t count = static_cast<std::int64_t>(n);
+    // The first touch: the split of every `parallel for schedule(static)` over particles.
+#pragma omp parallel
+    {
+        const Block b = my_block(count);
+        for (std::size_t k = 0; k < nd; ++k) std::fill(d[k] + b.lo, d[k] + b.hi, 0.0);
+        std::fill(wp + 4 * b.lo, wp + 4 * b.hi, 0.0);
+        std::fill(sp + 4 * b.lo, sp + 4 * b.hi, 0.0);
+        std::fill(ep + b.lo, ep + b.hi, 0u);
+        std::fill(ip + b.lo, ip + b.hi, 0u);
+    }
+}
+
+void touch_nodes(State& st, bool fresh) {
+    Array<NodeState>& nodes = st.nodes;
+    const std::int64_t nn = static_cast<std::int64_t>(nodes.size());
+    const std::int64_t hi = std::min<std::int64_t>(st.node_hi, nn);
+    if (fresh && nodes.placed() && nn > 0) {
+        // The arena gave the nodes whole pages of their own (arena.hpp), page-aligned.
+        const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+        const std::size_t bytes = (static_cast<std::size_t>(nn) * sizeof(NodeState) + page - 1) / page * page;
+        if (madvise(nodes.data(), bytes, MADV_DONTNEED) != 0)
+            throw std::runtime_error(std::string("MPM: cannot drop the nodes' pages for a fresh first touch: madvise: ") + std::strerror(errno));
+    }
+    NodeState* const d = nodes.data();
+#pragma omp parallel
+    {
+        const Block a = my_block(hi), b = my_block(nn - hi);
+        for (std::int64_t n = a.lo; n < a.hi; ++n) d[n] = NodeState{};
+        for (std::int64_t n = hi + b.lo; n < hi + b.hi; ++n) d[n] = NodeState{};
+    }
+}
+
+void place_grid_arrays(State& st, Arena& arena) {
+    const std::size_t nn = st.grid.nodes(), ne = st.grid.elements();
+    st.nodes = Array<NodeState>::placed(arena.allocate<NodeState>("nodes", nn), nn);
+    touch_nodes(st, false);  // untouched pages: this is their first touch
+    if (st.settings.integration != Integration::mixed) return;
+    double* const ev = arena.allocate<double>("element-volume", ne);
+    const std::int64_t count = static_cast<std::int64_t>(ne);
+    // The split of sum_element_volumes' zeroing loop (step.cpp).
+#pragma omp parallel for schedule(static)
+    for (std::int64_t e = 0; e < count; ++e) ev[e] = 0;
+    st.element_volume = Array<double>::placed(ev, ne);
 }
 
 Strategy parse_strategy(const std::string& name) {
@@ -115,7 +185,7 @@ void check_settings(const Grid& g, const Settings& s, bool force) {
 
 }  // namespace
 
-State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force) {
+State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force, Arena* arena) {
     check_settings(grid, s, force);
     State st;
     st.settings = s;
@@ -136,7 +206,8 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
     const auto points = seed_points(s.per_element);
     const std::size_t per = points.size();
     Particles& pt = st.particles;
-    pt.resize(chosen.size() * per);
+    if (arena) pt.place(chosen.size() * per, *arena);
+    else pt.resize(chosen.size() * per);
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < chosen.size(); ++k) {
         const std::size_t e = chosen[k];
@@ -172,8 +243,26 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
     for (std::size_t r = 0; r < rank.size(); ++r) pt.id[rank[r]] = static_cast<std::uint32_t>(r);
     st.plan = plan_scatter(grid, strategy, threads);
     st.grid = std::move(grid);
-    st.nodes.assign(st.grid.nodes(), NodeState{});
-    locate(st);
+    if (arena) {
+        if (strategy == Strategy::colour || strategy == Strategy::partition) {
+            // Written by locate's serial counting sort, read by the scatters' element runs, which
+            // the partition balances by particles: about the particles' own split.
+            const std::size_t n = pt.size();
+            std::uint32_t* const order = arena->allocate<std::uint32_t>("bins-order", n);
+            const std::int64_t count = static_cast<std::int64_t>(n);
+#pragma omp parallel
+            {
+                const Block b = my_block(count);
+                std::fill(order + b.lo, order + b.hi, 0u);
+            }
+            st.bins.order = Array<std::uint32_t>::placed(order, n);
+        }
+        locate(st);  // node_hi, for the nodes' first touch
+        place_grid_arrays(st, *arena);
+    } else {
+        st.nodes.assign(st.grid.nodes(), NodeState{});
+        locate(st);
+    }
     return st;
 }
 

@@ -22,7 +22,7 @@ inline void clear_walls(std::uint8_t wall, double* v) {
 
 // Mixed integration: Σ V_p of each element's particles (0 for an empty one).
 void sum_element_volumes(State& st) {
-    std::vector<double>& sum = st.element_volume;
+    Array<double>& sum = st.element_volume;
     const std::int64_t ne = static_cast<std::int64_t>(st.grid.elements());
     if (sum.size() != static_cast<std::size_t>(ne)) sum.resize(static_cast<std::size_t>(ne));
     double* const s = sum.data();

@@ -36,9 +36,9 @@ constexpr const char* byte_order = std::endian::native == std::endian::little ? 
 
 // One inline binary DataArray: the UInt64 byte count and the values, base64 encoded together
 // (VTK's "binary" format with header_type="UInt64", no compression).
-template <class T>
-void data_array(std::string& out, const char* type, const std::string& attributes, const std::vector<T>& values) {
-    const std::uint64_t bytes = values.size() * sizeof(T);
+template <class V>
+void data_array(std::string& out, const char* type, const std::string& attributes, const V& values) {
+    const std::uint64_t bytes = values.size() * sizeof(typename V::value_type);
     std::string raw(sizeof bytes + bytes, '\0');
     std::memcpy(raw.data(), &bytes, sizeof bytes);
     if (bytes) std::memcpy(raw.data() + sizeof bytes, values.data(), bytes);
@@ -48,7 +48,7 @@ void data_array(std::string& out, const char* type, const std::string& attribute
 }
 
 // The components of `columns` interleaved: c0[0] c1[0] ... c0[1] c1[1] ...
-std::vector<double> interleave(const std::vector<const std::vector<double>*>& columns, std::size_t n) {
+std::vector<double> interleave(const std::vector<const Array<double>*>& columns, std::size_t n) {
     std::vector<double> out(columns.size() * n);
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t k = 0; k < columns.size(); ++k) out[columns.size() * i + k] = (*columns[k])[i];

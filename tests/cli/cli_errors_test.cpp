@@ -128,8 +128,6 @@ const std::vector<Case>& cases() {
         {"PlacementNodeDoesNotExist", {"--kernel=add", "--placement=node:7", "--out={tmp}/r.json"}, {"node:7", "no NUMA node 7"}, Needs::fewer_than_8_numa_nodes},
         {"PlacementRemoteOnOneNode", {"--kernel=add", "--placement=remote", "--out={tmp}/r.json"}, {"--placement=remote", "at least 2 NUMA nodes", "local", "interleave"}, Needs::one_numa_node},
         {"PlacementUnknown", {"--kernel=add", "--placement=nowhere", "--out={tmp}/r.json"}, {"'nowhere'", "local", "node:N", "remote", "interleave"}},
-        {"PlacementOfHeapArraysRefused", {"--kernel=mpm-step", "--mesh=box:6,6,6", "--placement=interleave", "--out={tmp}/r.json"},
-         {"mpm-step", "heap memory", "--placement=interleave", "--placement=local"}},
         {"ParticleOrderUnknown", {"--kernel=mpm-step", "--mesh=box:6,6,6", "--particles=sortd", "--out={tmp}/r.json"},
          {"no particle order 'sortd'", "did you mean 'sorted'", "seeded, shuffled, sorted, dynamic"}},
         {"ParticlesOnAKernelWithout", {"--kernel=add", "--particles=sorted", "--out={tmp}/r.json"}, {"'add'", "no particle orders", "mpm-g2p, mpm-step"}},

@@ -164,6 +164,13 @@ TEST(ValuesUsedSilently, EveryCommandRefusesATeamOpenMpWillNotGive) {
 
 TEST(ValuesUsedSilently, OptionsTheRunWouldNotUseAndUnusableMaterialsAreRefusedAsTyped) {
     expect_refused(run_suite({"mpm", "--sort-every=3", "--dry-run"}), {"--sort-every=3", "--particles=seeded never reorders"});
+    expect_refused(run_suite({"mpm", "--particles=shuffled", "--sort-every=3", "--dry-run"}), {"--particles=shuffled never reorders"});
+    expect_refused(run_suite({"mpm", "--case=dam-break", "--column=0.3,1,0.6", "--dry-run"}), {"--column does not apply to --case=dam-break"});
+    expect_refused(run_suite({"mpm", "--case=dam-collapse", "--viscosity=0.1", "--dry-run"}), {"--viscosity does not apply to --case=dam-collapse"});
+    expect_refused(run_suite({"mpm", "--steps=200", "--warm-steps=200", "--dry-run"}), {"--warm-steps=200", "--steps=200 leaves none"});
+    expect_refused(run_suite({"mpm", "--particles=unsorted", "--dry-run"}), {"--particles=unsorted: now called shuffled"});
+    expect_refused(run_suite({"--kernel=mpm-step", "--particles=unsorted", "--dry-run"}), {"no particle order 'unsorted' (did you mean 'shuffled'?)"});
+    expect_refused(run_suite({"--kernel=mpm-g2p", "--case=dambreak", "--dry-run"}), {"unknown --case 'dambreak' (did you mean 'dam-break'?)"});
     expect_refused(run_suite({"mpm", "--courant=0.5", "--dt=1e-4", "--dry-run"}), {"--courant=0.5 and --dt=1e-4", "give one of them"});
     expect_refused(run_suite({"mpm", "--young=-0", "--dry-run"}), {"--young=-0:", "must be > 0"});
     expect_refused(run_suite({"mpm", "--young=1e-320", "--dry-run"}), {"--young=1e-320:"});

@@ -263,3 +263,24 @@ TEST(MpmCli, TheDamBreakFlowsAndRecordsHowTheParticlesOrderDecays) {
     EXPECT_EQ(names, (std::vector<std::string>{"finite and inside the box", "energy bound", "total energy", "Ritter front", "mass", "nodal mass"}));
     EXPECT_NE(r.out.find("suite mpm: dam-break on box:6,6,6"), std::string::npos) << r.out;
 }
+
+TEST(MpmCli, TheKernelsTakeTheCaseAndAWarmUpThatReachesTheMixedFlow) {
+    TempDir tmp;
+    const std::string out = tmp.file("r.json");
+    const Outcome r = run_suite({"--kernel=mpm-step", "--case=dam-break", "--warm-steps=60", "--mesh=box:6,6,6", "--particles=seeded,sorted",
+                                 "--sort-every=5", "--threads=1", "--reps=2", "--quiet", "--out=" + out},
+                                120);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const nlohmann::json doc = read_json(out);
+    ASSERT_EQ(doc["results"].size(), 2u);
+    for (const auto& rec : doc["results"]) {
+        EXPECT_EQ(rec["parameters"]["case"], 1) << "dam-break, the second of dam-collapse, dam-break, column";
+        EXPECT_EQ(rec["parameters"]["warm-steps"], 60);
+        const std::string detail = rec["verification"]["detail"];
+        EXPECT_EQ(detail.rfind("dam-break on box grid box:6,6,6", 0), 0u) << detail;
+        EXPECT_NE(detail.find("after 60 untimed steps"), std::string::npos) << detail;
+        EXPECT_TRUE(rec["verification"]["passed"].get<bool>()) << detail;
+        // The water moved during the warm-up: 60 steps plus the timed ones, past 0.1 s.
+        EXPECT_GT(rec["facts"]["simulated"]["value"].get<double>(), 0.1);
+    }
+}
