@@ -105,18 +105,21 @@ std::string params_label(const std::map<std::string, double>& params) {
 }  // namespace run_command
 
 std::string param_users(const std::string& name) {
-    std::vector<std::string> users, with_defaults;
+    std::vector<std::string> users, with_defaults, shown;
     std::vector<double> defaults;
     for (const auto& e : kernels())
         for (const auto& p : e.info.params)
             if (p.name == name) {
                 users.push_back(e.info.name);
                 defaults.push_back(p.default_value);
-                with_defaults.push_back(e.info.name + " (default " + format_number(p.default_value) + ")");
+                // A named choice's default by its name, not its index.
+                const auto d = static_cast<std::size_t>(p.default_value);
+                shown.push_back(p.choices.empty() || d >= p.choices.size() ? format_number(p.default_value) : p.choices[d]);
+                with_defaults.push_back(e.info.name + " (default " + shown.back() + ")");
             }
     if (users.empty()) return "";
     if (std::all_of(defaults.begin(), defaults.end(), [&](double d) { return d == defaults.front(); }))
-        return "default " + format_number(defaults.front()) + " (" + join(users, ", ") + ")";
+        return "default " + shown.front() + " (" + join(users, ", ") + ")";
     return join(with_defaults, ", ");
 }
 
