@@ -137,7 +137,7 @@ enum class Integration { particle, mixed };
 
 struct Settings {
     Material material;
-    Integration integration = Integration::particle;  // the kernels' (what P2G is measured as); the cases take mixed
+    Integration integration = Integration::particle;  // a bare Settings; case_settings (suite mpm, the kernels) take mixed
     Region region;
     int per_element = 4;       // particles in each element whose centroid lies in the region
     double gravity[3] = {0, 0, -9.81};

@@ -32,9 +32,10 @@ void gather(V& v, const std::vector<std::uint32_t>& order, std::size_t width, st
 // writes before the next barrier.
 template <class T>
 void gather_back(T* v, const std::uint32_t* order, std::size_t width, Block b, void* mine) {
-    T* const s = static_cast<T*>(mine);
-    for (std::int64_t i = b.lo; i < b.hi; ++i)
-        for (std::size_t k = 0; k < width; ++k) s[width * static_cast<std::size_t>(i - b.lo) + k] = v[width * order[i] + k];
+    // Bytes, not T: the scratch serves arrays of several types (memcpy keeps that defined).
+    unsigned char* const s = static_cast<unsigned char*>(mine);
+    const std::size_t row = width * sizeof(T);
+    for (std::int64_t i = b.lo; i < b.hi; ++i) std::memcpy(s + row * static_cast<std::size_t>(i - b.lo), v + width * order[i], row);
 #pragma omp barrier
     std::memcpy(v + width * static_cast<std::size_t>(b.lo), s, width * static_cast<std::size_t>(b.hi - b.lo) * sizeof(T));
 }

@@ -135,6 +135,7 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
     refused({"--case=dam-break", "--column=0.3,1,0.6"}, "--column does not apply to --case=dam-break (a fluid: it takes --sound-speed, --viscosity and --density)");
     refused({"--case=dam-break", "--young=1e6"}, "--young does not apply to --case=dam-break");
     refused({"--case=column", "--sound-speed=40"}, "--sound-speed does not apply to --case=column (an elastic solid");
+    refused({"--case=column", "--column=0.5,1,0.5"}, "--column=0.5,1,0.5 with --case=column: the one-dimensional answer needs the layer to fill the box's width");
     refused({"--particles=unsorted"}, "--particles=unsorted: now called shuffled; particle orders: seeded, shuffled, sorted, dynamic");
     refused({"--case=dam-break", "--sound-speed=0"}, "--sound-speed=0: the fluid's sound speed must be > 0 (m/s)");
     refused({"--case=dam-break", "--viscosity=-1"}, "--viscosity=-1: the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
