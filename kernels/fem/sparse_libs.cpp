@@ -1,5 +1,6 @@
 #include "kernels/fem/sparse_libs.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -27,6 +28,7 @@ std::vector<std::uint32_t> nested_dissection_order(const Csr&) { absent(); }
 Symbolic analyse(const Csr&) { absent(); }
 Factorisation factorise(const Csr&, int) { absent(); }
 void check_definite(const Csr&) { absent(); }
+std::vector<double> cholesky_solve(const Csr&, const std::vector<double>&) { absent(); }
 
 #else
 
@@ -194,6 +196,32 @@ Factorisation factorise(const Csr& a, int reps) {
     cholmod_l_free_factor(&l, &ch.c);
     cholmod_l_free_sparse(&s, &ch.c);
     return f;
+}
+
+std::vector<double> cholesky_solve(const Csr& a, const std::vector<double>& b) {
+    Cholmod ch(true);
+    cholmod_sparse* s = upper(a, &ch.c);
+    cholmod_factor* l = cholmod_l_analyze(s, &ch.c);
+    ch.ok("analyze");
+    cholmod_l_factorize(s, l, &ch.c);
+    if (ch.c.status == CHOLMOD_NOT_POSDEF) {
+        const std::int64_t minor = static_cast<std::int64_t>(l->minor);
+        cholmod_l_free_factor(&l, &ch.c);
+        cholmod_l_free_sparse(&s, &ch.c);
+        throw NotDefinite(minor, "the matrix is not positive definite (CHOLMOD met a non-positive pivot)");
+    }
+    ch.ok("factorize");
+    cholmod_dense* rhs = cholmod_l_zeros(static_cast<std::size_t>(a.n), 1, CHOLMOD_REAL, &ch.c);
+    std::copy(b.begin(), b.end(), static_cast<double*>(rhs->x));
+    cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, l, rhs, &ch.c);
+    ch.ok("solve");
+    const double* xv = static_cast<const double*>(x->x);
+    std::vector<double> out(xv, xv + a.n);
+    cholmod_l_free_dense(&x, &ch.c);
+    cholmod_l_free_dense(&rhs, &ch.c);
+    cholmod_l_free_factor(&l, &ch.c);
+    cholmod_l_free_sparse(&s, &ch.c);
+    return out;
 }
 
 void check_definite(const Csr& a) {

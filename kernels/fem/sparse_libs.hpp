@@ -46,6 +46,10 @@ struct NotDefinite : std::runtime_error {
 };
 Factorisation factorise(const Csr& a, int reps);
 
+// Solves a x = b by CHOLMOD's supernodal LLᵀ in its own default ordering (the implicit MPM's
+// reference solve). Throws NotDefinite.
+std::vector<double> cholesky_solve(const Csr& a, const std::vector<double>& b);
+
 // CHOLMOD with its own default ordering: whether a is positive definite, for the check made
 // before anything is written. Throws NotDefinite.
 void check_definite(const Csr& a);

@@ -29,6 +29,7 @@
 #include "kernels/mesh/mesh.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/mpm/array.hpp"
+#include "kernels/mpm/implicit_system.hpp"
 
 namespace suite {
 class Arena;
@@ -100,6 +101,7 @@ struct Particles {
     Array<double> w;            // 4 per particle: N_i at x_p in its element
     Array<std::uint32_t> elem;  // containing element
     Array<std::uint32_t> id;    // rank of its position at creation (any grid order gives the same ids); kept through sorting
+    std::array<Array<double>, 3> accel;  // the implicit integrator's a_p (implicit.hpp); empty for the others
     // Placed particles only: 4 doubles per particle, where reorder_particles gathers before it
     // writes back (thread t's part is the 32 B per particle of its own block).
     ReorderScratch scratch;
@@ -112,6 +114,9 @@ struct Particles {
     // thread. The values are zero; make_state seeds them.
     void place(std::size_t n, Arena& arena);
     bool placed() const { return x.placed(); }
+    // The implicit integrators' accelerations, zero: in `arena` ("ax", "ay", "az", touched as
+    // place() touches), or own memory without one.
+    void add_accelerations(Arena* arena);
 };
 // The names of the placed particle arrays in the record's placement.arrays, in the order they
 // are allocated; then "reorder-scratch".
@@ -144,6 +149,8 @@ struct Settings {
     double damping = 0;        // c, 1/s: a nodal force -c m_n v_n (mass-proportional), for a quasi-static answer; 0: none
     double courant = 0.8;      // dt = courant * min_length / wave_speed, unless dt is given
     double dt = 0;             // 0: from the Courant number (for a fluid, again before every step)
+    Integrator integrator = Integrator::explicit_step;  // implicit and static: implicit.hpp (elastic only)
+    ImplicitSettings implicit;
 };
 
 // The cases `suite mpm --case` and the kernels' `--case` run; each sets the material and the region.
@@ -230,6 +237,8 @@ struct State {
     std::uint64_t clamped = 0;         // particle positions pulled back into the box, in total
     std::uint32_t node_hi = 0;         // 1 + the largest node any particle's element has
     Array<double> element_volume;      // mixed integration's scratch: Σ V_p of each element's particles
+    ActiveSystem system;               // the implicit integrator's (implicit.hpp)
+    ImplicitStats implicit;
 };
 
 // Places a located state's nodes (named "nodes") and, for mixed integration, element volume sums

@@ -70,6 +70,8 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
             for (double* v : d) gather_back(v, o, 1, b, mine);
             gather_back(w, o, 4, b, mine);
             for (std::uint32_t* v : u) gather_back(v, o, 1, b, mine);
+            for (auto& acc : pt.accel)
+                if (acc.size() == static_cast<std::size_t>(n)) gather_back(acc.data(), o, 1, b, mine);
         }
         locate(st);  // the bins, in the new order
         return;
@@ -77,6 +79,8 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
     std::vector<double> scratch;
     for (auto* v : {&pt.x, &pt.y, &pt.z, &pt.vx, &pt.vy, &pt.vz, &pt.mass, &pt.volume}) gather(*v, order, 1, scratch);
     for (auto& s : pt.stress) gather(s, order, 1, scratch);
+    for (auto& acc : pt.accel)
+        if (acc.size() == pt.size()) gather(acc, order, 1, scratch);
     gather(pt.w, order, 4, scratch);
     std::vector<std::uint32_t> iscratch;
     gather(pt.elem, order, 1, iscratch);

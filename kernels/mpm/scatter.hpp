@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 
 #include "harness/kernel/blocks.hpp"
@@ -20,6 +21,23 @@ inline double* node_doubles(Array<NodeState>& nodes, std::uint32_t n) { return &
 using ContributionFn = void (*)(const State& st, std::size_t p, double* c, void* ctx);
 void scatter_colour(State& st, int offset, int width, ContributionFn fn, void* ctx);
 void scatter_partition(State& st, int offset, int width, ContributionFn fn, void* ctx);
+
+// Mixed integration (mpm.hpp, Integration): Σ V_p of each element's particles into
+// st.element_volume (0 for an empty element).
+void sum_element_volumes(State& st);
+
+// The factor mixed integration puts on the volumes of element e's particles: |e| / Σ V_p when e
+// and its face neighbours (or the walls in their place) hold particles, else 1. |e| from the
+// shape functions: the gradients of λ1..λ3 are the rows of J⁻¹, so |e| = 1 / (6 |det|).
+inline double volume_scale(std::uint32_t e, const double* shape, const std::int32_t* nb, const double* sum) {
+    for (int i = 0; i < 4; ++i) {
+        const std::int32_t n = nb[4 * static_cast<std::size_t>(e) + i];
+        if (n >= 0 && !(sum[n] > 0)) return 1;
+    }
+    const double* s = shape + 16 * static_cast<std::size_t>(e);
+    const double det = s[5] * (s[10] * s[15] - s[11] * s[14]) - s[6] * (s[9] * s[15] - s[11] * s[13]) + s[7] * (s[9] * s[14] - s[10] * s[13]);
+    return 1 / (6 * std::fabs(det) * sum[e]);
+}
 
 template <int Offset, int Width, class Contribution>
 void scatter(State& st, const Contribution& contribution) {

@@ -14,6 +14,7 @@
 #include "harness/common/units.hpp"
 #include "harness/kernel/arena.hpp"
 #include "harness/kernel/blocks.hpp"
+#include "kernels/mpm/implicit.hpp"
 #include "kernels/mpm/mpm.hpp"
 
 namespace suite::mpm {
@@ -24,6 +25,22 @@ void Particles::resize(std::size_t n) {
     w.resize(4 * n);
     elem.resize(n);
     id.resize(n);
+}
+
+void Particles::add_accelerations(Arena* arena) {
+    const std::size_t n = size();
+    constexpr const char* names[] = {"ax", "ay", "az"};
+    for (int k = 0; k < 3; ++k) {
+        if (arena) accel[k] = Array<double>::placed(arena->allocate<double>(names[k], n), n);
+        else accel[k].resize(n);
+    }
+    double* const d[] = {accel[0].data(), accel[1].data(), accel[2].data()};
+    const std::int64_t count = static_cast<std::int64_t>(n);
+#pragma omp parallel
+    {
+        const Block b = my_block(count);  // the particle loops' split, as place() touches
+        for (double* v : d) std::fill(v + b.lo, v + b.hi, 0.0);
+    }
 }
 
 void Particles::place(std::size_t n, Arena& arena) {
@@ -178,7 +195,7 @@ void check_settings(const Grid& g, const Settings& s, bool force) {
     const double critical = critical_step(g, m);
     if (!(s.dt >= 0) || !std::isfinite(s.dt))
         throw UsageError("--dt=" + format_number(s.dt) + ": the time step must be a finite number of seconds > 0 (or 0: from the Courant number)");
-    if (s.dt > critical && !force)
+    if (s.dt > critical && !force && s.integrator == Integrator::explicit_step)
         throw UsageError("--dt=" + format_number(s.dt) + ": above the stable time step " + format_number(critical) +
                          " s (smallest element altitude / elastic wave speed); give a smaller one, or --force to run it anyway");
 }
@@ -187,9 +204,11 @@ void check_settings(const Grid& g, const Settings& s, bool force) {
 
 State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force, Arena* arena) {
     check_settings(grid, s, force);
+    check_implicit(s);
     State st;
     st.settings = s;
-    st.dt = s.dt > 0 ? s.dt : s.courant * critical_step(grid, s.material);
+    const double stable = critical_step(grid, s.material);
+    st.dt = s.dt > 0 ? s.dt : s.integrator == Integrator::explicit_step ? s.courant * stable : implicit_default_multiple * stable;
     const mesh::Mesh& m = grid.mesh;
     const std::size_t ne = grid.elements();
     std::vector<std::uint32_t> chosen;
@@ -208,6 +227,7 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
     Particles& pt = st.particles;
     if (arena) pt.place(chosen.size() * per, *arena);
     else pt.resize(chosen.size() * per);
+    if (s.integrator != Integrator::explicit_step) pt.add_accelerations(arena);
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < chosen.size(); ++k) {
         const std::size_t e = chosen[k];

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <vector>
 
+#include "kernels/mpm/implicit.hpp"
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/mpm/scatter.hpp"
 
@@ -20,6 +21,8 @@ inline void clear_walls(std::uint8_t wall, double* v) {
     if (wall & 4) v[2] = 0;
 }
 
+}  // namespace
+
 // Mixed integration: Σ V_p of each element's particles (0 for an empty one).
 void sum_element_volumes(State& st) {
     Array<double>& sum = st.element_volume;
@@ -33,21 +36,6 @@ void sum_element_volumes(State& st) {
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = 0; p < np; ++p) std::atomic_ref<double>(s[pt.elem[p]]).fetch_add(pt.volume[p], std::memory_order_relaxed);
 }
-
-// The factor mixed integration puts on the volumes of element e's particles: |e| / Σ V_p when e
-// and its face neighbours (or the walls in their place) hold particles, else 1. |e| from the
-// shape functions: the gradients of λ1..λ3 are the rows of J⁻¹, so |e| = 1 / (6 |det|).
-inline double volume_scale(std::uint32_t e, const double* shape, const std::int32_t* nb, const double* sum) {
-    for (int i = 0; i < 4; ++i) {
-        const std::int32_t n = nb[4 * static_cast<std::size_t>(e) + i];
-        if (n >= 0 && !(sum[n] > 0)) return 1;
-    }
-    const double* s = shape + 16 * static_cast<std::size_t>(e);
-    const double det = s[5] * (s[10] * s[15] - s[11] * s[14]) - s[6] * (s[9] * s[15] - s[11] * s[13]) + s[7] * (s[9] * s[14] - s[10] * s[13]);
-    return 1 / (6 * std::fabs(det) * sum[e]);
-}
-
-}  // namespace
 
 void p2g(State& st) {
     NodeState* const nodes = st.nodes.data();
@@ -231,6 +219,16 @@ void update_stress(State& st) {
 }
 
 void step(State& st) {
+    if (st.settings.integrator != Integrator::explicit_step) {
+        // Newmark and Newton (implicit.hpp); a failed step leaves the state where it was.
+        implicit_step(st);
+        if (!st.implicit.failure.empty()) return;
+        st.dt_min = st.steps == 0 ? st.dt : std::min(st.dt_min, st.dt);
+        st.dt_max = std::max(st.dt_max, st.dt);
+        st.time += st.dt;
+        ++st.steps;
+        return;
+    }
     // A fluid's step follows its fastest particle; an elastic material's is the same every step.
     if (st.settings.material.model == Material::Model::fluid) st.dt = next_step(st);
     st.dt_min = st.steps == 0 ? st.dt : std::min(st.dt_min, st.dt);

@@ -1,0 +1,110 @@
+// The linear solve of a Newton iteration (implicit.hpp): K δ = r on the active system.
+//   cg       conjugate gradients preconditioned by K's diagonal (Jacobi), from δ = 0, until
+//            ||r - K δ|| <= cg_tol ||r|| (the recursive residual); a direction with pᵀKp <= 0
+//            means K is not positive definite
+//   cholmod  CHOLMOD's supernodal LLᵀ in its own fill-reducing order, factorised anew (the
+//            reference: a library's direct solve, and the fallback where CG does not converge)
+#include <cmath>
+#include <string>
+
+#include "harness/common/units.hpp"
+#include "kernels/fem/sparse_libs.hpp"
+#include "kernels/mpm/implicit.hpp"
+
+namespace suite::mpm {
+
+namespace {
+
+long solve_cg(ActiveSystem& sys, const ImplicitSettings& im, std::string& why) {
+    const std::int64_t n = static_cast<std::int64_t>(sys.rows());
+    for (auto* v : {&sys.cg_z, &sys.cg_p, &sys.cg_q, &sys.cg_diag}) v->resize(static_cast<std::size_t>(n));
+    std::vector<double> res(sys.r);  // the CG residual, r - K δ
+    double* const x = sys.delta.data();
+    double* const rr = res.data();
+    double* const z = sys.cg_z.data();
+    double* const p = sys.cg_p.data();
+    double* const q = sys.cg_q.data();
+    double* const d = sys.cg_diag.data();
+    const std::uint32_t* const rp = sys.row_ptr.data();
+    const std::uint32_t* const col = sys.col.data();
+    const double* const val = sys.val.data();
+    double rz = 0, bb = 0;
+#pragma omp parallel for schedule(static) reduction(+ : rz, bb)
+    for (std::int64_t i = 0; i < n; ++i) {
+        double diag = 0;
+        for (std::uint32_t k = rp[i]; k < rp[i + 1]; ++k)
+            if (col[k] == static_cast<std::uint32_t>(i)) diag = val[k];
+        d[i] = diag > 0 ? 1 / diag : 1;
+        x[i] = 0;
+        z[i] = d[i] * rr[i];
+        p[i] = z[i];
+        rz += rr[i] * z[i];
+        bb += rr[i] * rr[i];
+    }
+    const double goal = im.cg_tol * im.cg_tol * bb;
+    if (bb == 0) return 0;
+    for (long it = 1; it <= im.cg_max; ++it) {
+        double pq = 0;
+#pragma omp parallel for schedule(static) reduction(+ : pq)
+        for (std::int64_t i = 0; i < n; ++i) {
+            double s = 0;
+            for (std::uint32_t k = rp[i]; k < rp[i + 1]; ++k) s += val[k] * p[col[k]];
+            q[i] = s;
+            pq += p[i] * s;
+        }
+        if (!(pq > 0)) {
+            why = "the tangent is not positive definite (CG met pᵀKp = " + format_number(pq) +
+                  " at iteration " + std::to_string(it) + "): the system is singular or the step too large; give a smaller --dt";
+            return -1;
+        }
+        const double alpha = rz / pq;
+        double rnorm = 0, rz_new = 0;
+#pragma omp parallel for schedule(static) reduction(+ : rnorm, rz_new)
+        for (std::int64_t i = 0; i < n; ++i) {
+            x[i] += alpha * p[i];
+            rr[i] -= alpha * q[i];
+            z[i] = d[i] * rr[i];
+            rnorm += rr[i] * rr[i];
+            rz_new += rr[i] * z[i];
+        }
+        if (rnorm <= goal) return it;
+        const double beta = rz_new / rz;
+        rz = rz_new;
+#pragma omp parallel for schedule(static)
+        for (std::int64_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+    }
+    why = "CG did not converge in " + std::to_string(im.cg_max) + " iterations (tolerance " + format_number(im.cg_tol) +
+          "); try --solver=cholmod or a smaller --dt";
+    return -1;
+}
+
+long solve_cholmod(ActiveSystem& sys, std::string& why) {
+    const std::string missing = fem::sparse_libs_missing();
+    if (!missing.empty()) {
+        why = "--solver=cholmod: built without " + missing;
+        return -1;
+    }
+    fem::Csr a;
+    a.n = static_cast<std::int64_t>(sys.rows());
+    a.row_ptr = sys.row_ptr;
+    a.col = sys.col;
+    a.val = sys.val;
+    try {
+        sys.delta = fem::cholesky_solve(a, sys.r);
+    } catch (const fem::NotDefinite& e) {
+        why = "the tangent is not positive definite (CHOLMOD met a non-positive pivot at column " + std::to_string(e.minor) +
+              "): the system is singular or the step too large; give a smaller --dt";
+        return -1;
+    }
+    return 0;
+}
+
+}  // namespace
+
+long implicit_solve(State& st, std::string& why) {
+    ActiveSystem& sys = st.system;
+    sys.delta.assign(sys.rows(), 0);
+    return st.settings.implicit.solver == LinearSolver::cg ? solve_cg(sys, st.settings.implicit, why) : solve_cholmod(sys, why);
+}
+
+}  // namespace suite::mpm
