@@ -16,6 +16,7 @@
 
 #include "app/suite/commands.hpp"
 #include "app/suite/frame.hpp"
+#include "app/suite/mpm_options.hpp"
 #include "app/suite/mpm_report.hpp"
 #include "app/suite/parse.hpp"
 #include "app/suite/plotter.hpp"
@@ -45,6 +46,10 @@ Explicit MPM, update stress last, linear tetrahedra (kernels/mpm/mpm.hpp). dt is
 the stable step (the smallest element altitude over the wave speed; for the fluid over the sound
 speed plus the fastest particle's speed, again before every step) unless --dt gives one; a dt
 above the stable step is refused without --force. The front is the largest x of any particle.
+--integrator=implicit: Newmark (--newmark) on the active nodes' displacement increment, Newton's
+method with the consistent tangent (--strain), each linear solve by --solver, any --dt (default
+10 times the stable step); static: no inertia, each step an equilibrium under gravity. Elastic
+cases only; docs/mpm.md, "Implicit MPM". Their runs check the total energy too.
 
 After every step each particle's position and velocity must be finite and inside the box, and
 the kinetic energy at most 1.5 times what gravity can release from the start (more was made by
@@ -56,6 +61,8 @@ Examples:
   ./suite mpm --case=dam-collapse --steps=1000 --vtk-every=50 --out=dam
   ./suite mpm --case=dam-break --mesh=box:24,24,24 --steps=3000 --vtk-every=100 --out=water
   ./suite mpm --case=column --damping=10 --steps=1600 --vtk-every=0 --out=column     # the analytical check
+  ./suite mpm --case=column --integrator=static --strain=small --steps=2 --vtk-every=0 --out=col   # the same, static
+  ./suite mpm --integrator=implicit --dt=0.05 --steps=40 --out=dam-implicit           # 20x the stable step
   ./suite mpm --mesh=box:8,8,8 --steps=200 --vtk-every=20 --out=small        # a quick look
   ./suite mpm --mesh=box:24,24,24 --ordering=hilbert --particles=dynamic --threads=2 --out=dam24
   ./suite mpm --young=2e5 --poisson=0.25 --column=0.3,1,0.6 --steps=2000 --vtk-every=100 --out=wall
@@ -69,30 +76,11 @@ A progress line goes to stderr (rewritten in place on a terminal, else a line ev
 
 Exit status: 0 ok; 1 a check failed (a NaN or infinite position or velocity, a particle outside
 the box, kinetic energy beyond the bound, mass not conserved) or a file could not be written; 2 bad usage (one line on stderr,
-nothing written); 130/143 interrupted (the files of the steps done are written, mpm.json says
+nothing written); 3 an implicit step failed (Newton did not converge in its limit, a linear solve
+did not, a singular system: mpm.json's Newton check says which); 130/143 interrupted (the files of the steps done are written, mpm.json says
 "complete": false).
 )";
 
-struct Options {
-    std::string case_name = "dam-collapse";
-    std::string mesh = "box:16,16,16";
-    std::string ordering = "natural";
-    std::string particles = "seeded";
-    int sort_every = 5;
-    std::string strategy;  // "": serial for 1 thread, partition for more
-    int threads = 1;
-    int ppe = 4;
-    std::string young = "1e5", poisson = "0.3", density = "1000";
-    std::string sound_speed = "35", viscosity = "1e-3";
-    std::string column;  // "": the case's
-    std::string courant = "0.8", dt = "0", damping = "0";
-    std::string integration = "mixed";
-    bool force = false;
-    std::uint64_t seed = 1;
-    std::uint64_t steps = 1000, vtk_every = 50, warm_steps = 0;
-    std::string out;
-    bool no_png = false, dry_run = false, quiet = false, replace = false;
-};
 
 // --column=X,Y,Z: three finite numbers > 0.
 void parse_column(const std::string& text, double* hi) {
@@ -181,6 +169,19 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     if (m.damping < 0) throw UsageError("--damping=" + o.damping + ": the damping is a rate in 1/s, >= 0 (0, the default: none)");
     m.dt = parse_finite(o.dt, "--dt");
     if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
+    m.integrator = mpm::parse_integrator(o.integrator);
+    const bool implicit = m.integrator != mpm::Integrator::explicit_step;
+    for (const char* option : {"--solver", "--newmark", "--strain"})
+        if (!implicit && given.count(option) > 0) throw UsageError(std::string(option) + " applies to --integrator=implicit or static, not explicit");
+    if (implicit && given.count("--courant") > 0) throw UsageError("--courant applies to --integrator=explicit; an implicit step is --dt (default 10 times the stable step)");
+    m.implicit.solver = mpm::parse_linear_solver(o.solver);
+    require_known({o.strain}, {"large", "small"}, "strain");
+    m.implicit.large_strain = o.strain == "large";
+    const std::vector<std::string> nm = split(o.newmark, ',');
+    if (nm.size() != 2) throw UsageError("--newmark=" + o.newmark + ": Newmark's BETA,GAMMA, two numbers (default 0.25,0.5, average acceleration)");
+    m.implicit.beta = parse_finite(nm[0], "--newmark");
+    m.implicit.gamma = parse_finite(nm[1], "--newmark");
+    if (m.integrator == mpm::Integrator::quasi_static && given.count("--newmark") > 0) throw UsageError("--newmark applies to --integrator=implicit (static has no inertia)");
     return s;
 }
 
@@ -216,35 +217,6 @@ mpm::State build_state(const mpm::Setup& s, const Options& o) {
         if (what.rfind("the material's region", 0) == 0 && !o.column.empty()) throw UsageError("--column=" + o.column + ": " + what);
         throw;
     }
-}
-
-nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
-    const mpm::Settings& m = s.settings;
-    return {{"case", o.case_name},
-            {"mesh", s.mesh},
-            {"ordering", s.ordering},
-            {"particles", s.particles},
-            {"sort_every", s.sort_every},
-            {"strategy", mpm::strategy_name(s.strategy)},
-            {"threads", s.threads},
-            {"ppe", m.per_element},
-            {"material", m.material.model == mpm::Material::Model::fluid ? "fluid" : "elastic"},
-            {"young", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr) : nlohmann::json(m.material.young)},
-            {"poisson", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr) : nlohmann::json(m.material.poisson)},
-            {"sound_speed", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.sound_speed) : nlohmann::json(nullptr)},
-            {"viscosity", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.viscosity) : nlohmann::json(nullptr)},
-            {"density", m.material.density},
-            {"column", {m.region.hi[0], m.region.hi[1], m.region.hi[2]}},
-            {"gravity", {m.gravity[0], m.gravity[1], m.gravity[2]}},
-            {"courant", m.courant},
-            {"damping", m.damping},
-            {"integration", m.integration == mpm::Integration::mixed ? "mixed" : "particle"},
-            {"dt_given", m.dt},
-            {"force", s.force},
-            {"seed", s.seed},
-            {"steps", o.steps},
-            {"warm_steps", o.warm_steps},
-            {"vtk_every", o.vtk_every}};
 }
 
 using Clock = std::chrono::steady_clock;
@@ -321,6 +293,11 @@ int cmd_mpm(const std::vector<std::string>& args) {
     app.add_option("--damping", o.damping, "c in 1/s: a nodal force -c m v that brings the material to rest, for a quasi-static answer (default 0: none)");
     app.add_option("--dt", o.dt, "the time step in s, at most the stable one; 0: from --courant (default 0)");
     app.add_flag("--force", o.force, "run a dt or Courant number above the stable step anyway");
+    app.add_option("--integrator", o.integrator,
+                   "explicit (USL), implicit (Newmark and Newton, any --dt; default 10x the stable step), static (each step an equilibrium) (elastic cases; default explicit)");
+    app.add_option("--solver", o.solver, "the implicit linear solve: cg (own, Jacobi-preconditioned), cholmod (SuiteSparse) (default cg)");
+    app.add_option("--newmark", o.newmark, "BETA,GAMMA with 1/2 <= GAMMA <= 2 BETA <= 1 (implicit; default 0.25,0.5, average acceleration)");
+    app.add_option("--strain", o.strain, "the implicit step's strain: large (Green-Lagrange, geometric stiffness), small (linear) (default large)");
     add_seed_option(app, o.seed, "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
     add_whole_option(app, "--steps", o.steps, 0, 1000000000, "time steps, 0 to 10^9 (default 1000)");
     add_whole_option(app, "--warm-steps", o.warm_steps, 0, 1000000000,
@@ -392,7 +369,8 @@ int cmd_mpm(const std::vector<std::string>& args) {
     std::fflush(stdout);
     if (!r.passed()) {
         std::cerr << "suite: error: mpm check failed: " << r.failure << "\n";
-        return frame.finish(1, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", false);
+        // The solver's own status, as suite fem's: Newton or a linear solve failed, not the physics.
+        return frame.finish(r.solver_failed ? 3 : 1, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", false);
     }
     return frame.finish(0, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", r.steps_done == o.steps);
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/suite/mpm_options.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite::mpm_command {
@@ -107,6 +108,18 @@ nlohmann::json summary_json(const ReportInput& in) {
                                          "of the steps and the RMS of szz + rho g (H - z0) over all particles relative to rho g H; undamped: the mean "
                                          "over the run, stress not compared"}}},
         {"clamped", st.clamped},
+        {"implicit", st.settings.integrator == mpm::Integrator::explicit_step
+                         ? nlohmann::json(nullptr)
+                         : nlohmann::json{{"newton_iterations", st.implicit.newton},
+                                          {"newton_max_per_step", st.implicit.max_newton},
+                                          {"cg_iterations", st.implicit.solver_iterations},
+                                          {"backtracks", st.implicit.backtracks},
+                                          {"worst_final_residual", st.implicit.worst_residual},
+                                          {"last_residuals", st.implicit.last_residuals},
+                                          {"active_rows", st.implicit.active_rows},
+                                          {"nonzeros", st.implicit.nonzeros},
+                                          {"patterns_built", st.system.patterns},
+                                          {"detail", "Newton iterations and CG iterations over all steps; residuals ||r_k|| / max(||r_0||, ||m g||) of the last step"}}},
         {"verification", {{"passed", r.passed()}, {"checks", checks}}},
         {"snapshots", snapshots},
         {"files", {{"front_csv", "front.csv"}, {"collection", r.snapshots.empty() ? nlohmann::json(nullptr) : nlohmann::json("particles.pvd")}}},
@@ -134,6 +147,10 @@ std::string summary_text(const ReportInput& in) {
          " scatter, " + std::to_string(s.threads) + " thread" + (s.threads == 1 ? "" : "s") + ")\n";
     line("particles", std::to_string(st.particles.size()) + " (" + std::to_string(s.settings.per_element) + " per element of the column)");
     line("grid", std::to_string(st.grid.elements()) + " elements, " + std::to_string(st.grid.nodes()) + " nodes");
+    if (s.settings.integrator != mpm::Integrator::explicit_step)
+        line("integrator", std::string(mpm::integrator_name(s.settings.integrator)) + ", " + (s.settings.implicit.large_strain ? "large" : "small") + " strain, " +
+                               mpm::linear_solver_name(s.settings.implicit.solver) + "; the last system " + std::to_string(st.implicit.active_rows) + " rows, " +
+                               std::to_string(st.implicit.nonzeros) + " nonzeros");
     if (st.dt_max > st.dt_min)
         line("dt", fmt("%.4g", st.dt_min) + fmt(" to %.4g s", st.dt_max) + " (following the fastest particle; at rest " + fmt("%.4g s", in.stable_dt) + " is stable)");
     else line("dt", fmt("%.4g s", st.dt) + " (" + fmt("%.3g", st.dt / in.stable_dt) + " of the stable " + fmt("%.4g s", in.stable_dt) + ")");
@@ -155,6 +172,39 @@ std::string summary_text(const ReportInput& in) {
     line("clamped", std::to_string(st.clamped) + " particle position(s) pulled back onto a wall, in all");
     for (const auto& c : r.checks) line(c.name == "finite and inside the box" ? "NaN check" : c.name, (c.passed ? "passed: " : "FAILED: ") + c.detail);
     return t;
+}
+
+nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
+    const mpm::Settings& m = s.settings;
+    return {{"case", o.case_name},
+            {"mesh", s.mesh},
+            {"ordering", s.ordering},
+            {"particles", s.particles},
+            {"sort_every", s.sort_every},
+            {"strategy", mpm::strategy_name(s.strategy)},
+            {"threads", s.threads},
+            {"ppe", m.per_element},
+            {"material", m.material.model == mpm::Material::Model::fluid ? "fluid" : "elastic"},
+            {"young", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr) : nlohmann::json(m.material.young)},
+            {"poisson", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr) : nlohmann::json(m.material.poisson)},
+            {"sound_speed", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.sound_speed) : nlohmann::json(nullptr)},
+            {"viscosity", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.viscosity) : nlohmann::json(nullptr)},
+            {"density", m.material.density},
+            {"column", {m.region.hi[0], m.region.hi[1], m.region.hi[2]}},
+            {"gravity", {m.gravity[0], m.gravity[1], m.gravity[2]}},
+            {"courant", m.courant},
+            {"damping", m.damping},
+            {"integration", m.integration == mpm::Integration::mixed ? "mixed" : "particle"},
+            {"integrator", mpm::integrator_name(m.integrator)},
+            {"solver", m.integrator == mpm::Integrator::explicit_step ? nlohmann::json(nullptr) : nlohmann::json(mpm::linear_solver_name(m.implicit.solver))},
+            {"newmark", m.integrator == mpm::Integrator::implicit ? nlohmann::json{m.implicit.beta, m.implicit.gamma} : nlohmann::json(nullptr)},
+            {"strain", m.integrator == mpm::Integrator::explicit_step ? nlohmann::json(nullptr) : nlohmann::json(m.implicit.large_strain ? "large" : "small")},
+            {"dt_given", m.dt},
+            {"force", s.force},
+            {"seed", s.seed},
+            {"steps", o.steps},
+            {"warm_steps", o.warm_steps},
+            {"vtk_every", o.vtk_every}};
 }
 
 }  // namespace suite::mpm_command

@@ -11,6 +11,18 @@
 
 namespace suite::mpm {
 
+std::string box_spec_for(std::uint64_t elements) {
+    const auto n = static_cast<std::uint64_t>(std::ceil(std::cbrt(static_cast<double>(elements) / 6.0)));
+    const std::string k = std::to_string(std::max<std::uint64_t>(n, 2));
+    return "box:" + k + "," + k + "," + k;
+}
+
+std::uint64_t mesh_elements(const std::string& spec) {
+    const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
+    if (c.dim != 3) throw UsageError("--mesh=" + spec + ": the MPM kernels need a tetrahedral grid, e.g. box:24,24,24");
+    return c.elements;
+}
+
 void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec) {
     for (const char* name : {"ppe", "sort-every"}) {
         if (!cfg.params.count(name)) continue;

@@ -10,6 +10,11 @@
 
 namespace suite::mpm {
 
+// The box grid of about `elements` tetrahedra (6 a cube): a point's grid when --mesh is not given.
+std::string box_spec_for(std::uint64_t elements);
+// The tetrahedra of a --mesh spec; UsageError for a grid that is not tetrahedral.
+std::uint64_t mesh_elements(const std::string& spec);
+
 // Throws UsageError for a grid spec that is not tetrahedral, --ppe or --sort-every that is not a
 // whole number >= 1, the serial strategy on more than one thread, or more memory than there is.
 void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec);

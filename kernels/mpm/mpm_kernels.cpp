@@ -45,11 +45,6 @@ constexpr double step_bytes = p2g_bytes + g2p_bytes + (32 + 8 + 24 + 4)  // the 
 constexpr const char* cases[] = {"dam-collapse", "dam-break", "column"};  // --case's choices, in the order of their indices
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // untimed steps before the first repetition: velocities and stresses not zero
 
-std::string box_spec_for(std::uint64_t elements) {
-    const auto n = static_cast<std::uint64_t>(std::ceil(std::cbrt(static_cast<double>(elements) / 6.0)));
-    const std::string k = std::to_string(std::max<std::uint64_t>(n, 2));
-    return "box:" + k + "," + k + "," + k;
-}
 
 class MpmKernel final : public Kernel {
 public:
@@ -186,11 +181,6 @@ private:
     long calls_ = 0;
 };
 
-std::uint64_t mesh_elements(const std::string& spec) {
-    const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
-    if (c.dim != 3) throw UsageError("--mesh=" + spec + ": the MPM kernels need a tetrahedral grid, e.g. box:24,24,24");
-    return c.elements;
-}
 
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
     KernelEntry e;

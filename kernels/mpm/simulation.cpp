@@ -128,7 +128,7 @@ void column_check(const State& st, double top_z, const std::vector<double>& z0, 
         r.stress_rms = std::sqrt(ss / static_cast<double>(p.size())) / (rho * g * h);
     }
     Check c{"column", std::fabs(r.settlement_error) <= column_tolerance, ""};
-    c.detail = std::string(damped ? "settled (damped; the mean of the last tenth of the steps)" : "the mean over the run (undamped)") +
+    c.detail = std::string(damped ? (st.settings.damping > 0 ? "settled (damped; the mean of the last tenth of the steps)" : "static (the mean of the last tenth of the steps)") : "the mean over the run (undamped)") +
                ", the top layer sank " + g6(r.settlement_measured) + " m against the one-dimensional " + g6(r.settlement_exact) + " m: " +
                g6(100 * r.settlement_error) + " % (at most " + g6(100 * column_tolerance) + " %)" +
                (damped ? "; σzz against -ρ g (H - z0): RMS " + g6(100 * r.stress_rms) + " % of ρ g H" : "");

@@ -1,0 +1,37 @@
+#pragma once
+// `suite mpm`'s options as given (mpm.cpp parses them; mpm_report.cpp records them in mpm.json).
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "kernels/mpm/mpm.hpp"
+
+namespace suite::mpm_command {
+
+struct Options {
+    std::string case_name = "dam-collapse";
+    std::string mesh = "box:16,16,16";
+    std::string ordering = "natural";
+    std::string particles = "seeded";
+    int sort_every = 5;
+    std::string strategy;  // "": serial for 1 thread, partition for more
+    int threads = 1;
+    int ppe = 4;
+    std::string young = "1e5", poisson = "0.3", density = "1000";
+    std::string sound_speed = "35", viscosity = "1e-3";
+    std::string column;  // "": the case's
+    std::string courant = "0.8", dt = "0", damping = "0";
+    std::string integration = "mixed";
+    std::string integrator = "explicit", solver = "cg", newmark = "0.25,0.5", strain = "large";
+    bool force = false;
+    std::uint64_t seed = 1;
+    std::uint64_t steps = 1000, vtk_every = 50, warm_steps = 0;
+    std::string out;
+    bool no_png = false, dry_run = false, quiet = false, replace = false;
+};
+
+// Every option's value as used: the "settings" of mpm.json.
+nlohmann::json options_json(const Options& o, const mpm::Setup& s);
+
+}  // namespace suite::mpm_command

@@ -1,0 +1,316 @@
+// mpm-implicit-assembly, mpm-implicit-solve, mpm-implicit-step: the implicit MPM of implicit.hpp
+// on `suite mpm`'s elastic cases (--case: dam-collapse, the default, or column), the step
+// --dt-multiple times the explicit stable step (default 10), the grid in the point's --ordering,
+// after --warm-steps untimed implicit steps (default 5). One repetition:
+//   mpm-implicit-assembly  f_int and the tangent ∂f_int/∂Δu of the first Newton iterate (Δu = 0):
+//                          for p, corners i, j of elem[p]: f_i += V_p P ∇N_i, K_ij += V_p (...);
+//                          --strategy: serial, atomic, colour, partition (particles sorted)
+//   mpm-implicit-solve     one Newton system K δ = r by the Jacobi-preconditioned CG, from δ = 0;
+//                          --particles: seeded, shuffled, sorted, dynamic (dynamic renumbers the
+//                          grid, and so the system); verified against CHOLMOD's solve
+//   mpm-implicit-step      K = --sort-every whole implicit steps, then the reordering due;
+//                          --particles: seeded, shuffled, sorted, dynamic
+// Rates count particles (assembly), CG iterations (solve), particle-steps (step). Bytes follow
+// the STREAM convention: the particle arrays a pass reads and writes, the tangent's values
+// written once and the CG's matrix and vectors each pass; flops are counted from the loops.
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "harness/common/units.hpp"
+#include "harness/kernel/kernel.hpp"
+#include "kernels/fem/sparse_libs.hpp"
+#include "kernels/mpm/implicit.hpp"
+#include "kernels/mpm/kernel_checks.hpp"
+
+namespace suite::mpm {
+
+namespace {
+
+enum class Phase { assembly, solve, step };
+
+constexpr const char* cases[] = {"dam-collapse", "dam-break", "column"};  // as the explicit kernels' --case
+// Per particle: elem, V, σ read (the tangent's values are counted by the matrix).
+constexpr double assembly_particle_bytes = 4 + 8 + 48;
+// The large-strain loop, counted: F, E, S, P and the forces (about 250), and per corner pair
+// the 3x3 block (about 122).
+constexpr double assembly_flops = 250 + 16 * 122;
+// A step's passes over the particle arrays besides the assemblies: the projection (w, elem, m,
+// v, a), the update (elem, w, σ, V, x, v, a read; σ, V, x, v, a written), locate (x, elem read;
+// w, elem written).
+constexpr double step_particle_bytes = (32 + 4 + 8 + 24 + 24) + (4 + 32 + 48 + 8 + 24 + 24 + 24) + (48 + 8 + 24 + 24 + 24) + (24 + 4 + 32 + 4);
+// One CG iteration: the product (values, columns, p gathered, q written) and the vector updates
+// (x, r, z, p read and written, q and the diagonal read).
+double cg_bytes(double nnz, double rows) { return 12 * nnz + rows * 8 * (2 + 8 + 2); }
+double cg_flops(double nnz, double rows) { return 2 * nnz + 12 * rows; }
+
+class ImplicitKernel final : public Kernel {
+public:
+    ImplicitKernel(const KernelConfig& cfg, Phase phase) : phase_(phase) {
+        case_ = cases[static_cast<std::size_t>(cfg.param("case"))];
+        setup_.settings = case_settings(case_);
+        setup_.settings.integrator = Integrator::implicit;
+        warm_steps_ = static_cast<long>(cfg.param("warm-steps"));
+        multiple_ = cfg.param("dt-multiple");
+        setup_.mesh = cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh;
+        setup_.ordering = cfg.access.name;
+        setup_.particles = phase == Phase::assembly ? "sorted" : cfg.variant;
+        setup_.sort_every = phase == Phase::step ? static_cast<int>(cfg.param("sort-every")) : 0;
+        setup_.settings.per_element = static_cast<int>(cfg.param("ppe"));
+        setup_.strategy = phase == Phase::assembly ? parse_strategy(cfg.variant) : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
+        setup_.threads = cfg.threads;
+        setup_.seed = cfg.seed;
+    }
+
+    void setup(Arena& arena) override {
+        {
+            Setup probe = setup_;
+            probe.settings.integrator = Integrator::explicit_step;
+            const State p = build(probe);
+            setup_.settings.dt = multiple_ * critical_step(p.grid, p.settings.material);
+        }
+        st_ = std::make_unique<State>(build(setup_, &arena));
+        for (long k = 0; k < warm_steps_; ++k) advance(*st_, setup_);
+        if (setup_.particles == "sorted" || setup_.particles == "dynamic") {
+            if (setup_.particles == "dynamic") renumber_active(*st_);
+            sort_particles(*st_);
+        }
+        touch_nodes(*st_, true);
+        if (phase_ == Phase::step) equivalence_ = check_equivalence(setup_);
+        if (phase_ != Phase::step) {
+            // The first Newton system of the next step.
+            implicit_project(*st_);
+            implicit_assemble(*st_, true);
+            implicit_residual(*st_);
+            implicit_finish_tangent(*st_);
+        }
+        mass_ = mass_by_id(st_->particles);
+        start_newton_ = st_->implicit.newton;
+        start_cg_ = st_->implicit.solver_iterations;
+        calls_ = 0;
+    }
+
+    void run(int calls) override {
+        State& st = *st_;
+        for (int c = 0; c < calls; ++c) {
+            switch (phase_) {
+                case Phase::assembly: implicit_assemble(st, true); break;
+                case Phase::solve: last_iterations_ = implicit_solve(st, why_); break;
+                case Phase::step:
+                    for (int k = 0; k < steps_per_call(); ++k) advance(st, setup_);
+                    break;
+            }
+        }
+        calls_ += calls;
+    }
+
+    Verification verify() override {
+        std::string failed, what;
+        Verification v;
+        if (calls_ == 0) failed = "no repetition ran";
+        else switch (phase_) {
+            case Phase::assembly:
+                what = "f_int and the tangent equal a serial assembly of the same particles (1e-12 of the largest)";
+                failed = against_serial();
+                break;
+            case Phase::solve:
+                what = "||r - K δ|| <= " + format_number(st_->settings.implicit.cg_tol) + " ||r|| recomputed, δ equal to CHOLMOD's solve (1e-8 of its largest)";
+                if (last_iterations_ < 0) {
+                    failed = why_;
+                    v.solver_failed = true;
+                } else failed = against_cholmod();
+                break;
+            case Phase::step:
+                what = "the first " + std::to_string(equivalence_steps) + " steps equal natural order, serial, seeded (1e-10); every Newton converged; after " +
+                       std::to_string(st_->steps) + " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
+                if (!st_->implicit.failure.empty()) {
+                    failed = st_->implicit.failure;
+                    v.solver_failed = true;
+                }
+                if (failed.empty()) failed = equivalence_;
+                if (failed.empty()) failed = check_state(*st_, mass_);
+                break;
+        }
+        v.passed = failed.empty();
+        v.detail = describe() + (failed.empty() ? what : "FAILED: " + failed);
+        return v;
+    }
+
+    std::vector<Fact> facts() const override {
+        const State& st = *st_;
+        std::vector<Fact> f{{"particles", static_cast<double>(st.particles.size()), ""},
+                            {"rows", static_cast<double>(st.system.rows()), "unknowns"},
+                            {"nonzeros", static_cast<double>(st.system.val.size()), ""},
+                            {"dt", st.dt, "s"}};
+        if (phase_ == Phase::solve) {
+            f.push_back({"cg-iterations", static_cast<double>(last_iterations_), "iterations"});
+            if (cholmod_s_ > 0) f.push_back({"cholmod-seconds", cholmod_s_, "s (analyse, factorise, solve: verify's reference)"});
+        }
+        if (phase_ == Phase::step) {
+            const double steps = static_cast<double>(st.steps);
+            f.push_back({"newton-per-step", static_cast<double>(st.implicit.newton - start_newton_) / std::max(1.0, static_cast<double>(calls_ * steps_per_call())), "iterations"});
+            f.push_back({"cg-per-newton", static_cast<double>(st.implicit.solver_iterations - start_cg_) / std::max<double>(1, static_cast<double>(st.implicit.newton - start_newton_)), "iterations"});
+            f.push_back({"simulated", st.time, "s"});
+            (void)steps;
+        }
+        if (phase_ == Phase::assembly && st.plan.strategy == Strategy::colour) f.push_back({"colours", static_cast<double>(st.plan.colours()), "barriers"});
+        return f;
+    }
+
+    Work work() const override {
+        const State& st = *st_;
+        const double np = static_cast<double>(st.particles.size());
+        const double nnz = static_cast<double>(st.system.val.size()), rows = static_cast<double>(st.system.rows());
+        Work w;
+        switch (phase_) {
+            case Phase::assembly:
+                w.units = np;
+                w.stream_bytes = np * assembly_particle_bytes + 8 * (nnz + rows);
+                w.flops = np * assembly_flops;
+                break;
+            case Phase::solve: {
+                const double its = static_cast<double>(std::max<long>(last_iterations_, 1));
+                w.units = its;
+                w.stream_bytes = its * cg_bytes(nnz, rows);
+                w.flops = its * cg_flops(nnz, rows);
+                break;
+            }
+            case Phase::step: {
+                // Per step, from what the timed steps did: the Newton iterations (an assembly
+                // each, one more to confirm) and the CG iterations, as averages.
+                const double steps = std::max(1.0, static_cast<double>(calls_ * steps_per_call()));
+                const double newton = static_cast<double>(st.implicit.newton - start_newton_) / steps;
+                const double cg = static_cast<double>(st.implicit.solver_iterations - start_cg_) / steps;
+                const double k = steps_per_call();
+                w.units = np * k;
+                w.stream_bytes = k * (np * (step_particle_bytes + (newton + 1) * assembly_particle_bytes) + (newton + 1) * 8 * (nnz + rows) + cg * cg_bytes(nnz, rows));
+                w.flops = k * (np * (newton + 1) * assembly_flops + cg * cg_flops(nnz, rows));
+                break;
+            }
+        }
+        w.hardware_bytes = w.stream_bytes;
+        w.footprint_bytes = footprint(st) + static_cast<std::uint64_t>(12 * nnz + 8 * 16 * rows);
+        return w;
+    }
+
+private:
+    int steps_per_call() const { return std::max(setup_.sort_every, 1); }
+    std::string describe() const {
+        return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " + std::to_string(st_->particles.size()) +
+               " particles, " + std::to_string(st_->system.rows()) + " rows, dt " + format_number(st_->dt) + " s = " + format_number(multiple_) +
+               "x the explicit step, after " + std::to_string(warm_steps_) + " untimed steps), " + setup_.ordering + ", particles " + setup_.particles + ", " +
+               strategy_name(st_->plan.strategy) + ": ";
+    }
+
+    std::string against_serial() {
+        State& st = *st_;
+        const std::vector<double> f = st.system.fint, k = st.system.val;
+        const ScatterPlan plan = st.plan;
+        st.plan = plan_scatter(st.grid, Strategy::serial, 1);
+        implicit_assemble(st, true);
+        st.plan = plan;
+        double fs = 0, ks = 0, fe = 0, ke = 0;
+        for (std::size_t i = 0; i < f.size(); ++i) fs = std::max(fs, std::fabs(st.system.fint[i])), fe = std::max(fe, std::fabs(f[i] - st.system.fint[i]));
+        for (std::size_t i = 0; i < k.size(); ++i) ks = std::max(ks, std::fabs(st.system.val[i])), ke = std::max(ke, std::fabs(k[i] - st.system.val[i]));
+        if (!(fe <= 1e-12 * fs) || !(ke <= 1e-12 * ks))
+            return "the strategy's force or tangent differs from the serial one by " + format_number(fe / fs) + ", " + format_number(ke / ks) + " of the largest";
+        return "";
+    }
+
+    std::string against_cholmod() {
+        State& st = *st_;
+        const ActiveSystem& s = st.system;
+        double rr = 0, bb = 0;
+        for (std::size_t i = 0; i < s.rows(); ++i) {
+            double y = 0;
+            for (std::uint32_t k = s.row_ptr[i]; k < s.row_ptr[i + 1]; ++k) y += s.val[k] * s.delta[s.col[k]];
+            rr += (s.r[i] - y) * (s.r[i] - y);
+            bb += s.r[i] * s.r[i];
+        }
+        if (!(std::sqrt(rr) <= 1.0001 * st.settings.implicit.cg_tol * std::sqrt(bb)))
+            return "the recomputed residual ||r - K δ|| / ||r|| is " + format_number(std::sqrt(rr / bb));
+        if (!fem::sparse_libs_missing().empty()) return "";
+        const std::vector<double> cg = s.delta;
+        const LinearSolver saved = st.settings.implicit.solver;
+        st.settings.implicit.solver = LinearSolver::cholmod;
+        std::string why;
+        const auto t0 = std::chrono::steady_clock::now();
+        const long ok = implicit_solve(st, why);
+        cholmod_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        st.settings.implicit.solver = saved;
+        if (ok < 0) return "CHOLMOD's reference solve failed: " + why;
+        double scale = 0, err = 0;
+        for (std::size_t i = 0; i < cg.size(); ++i) scale = std::max(scale, std::fabs(s.delta[i])), err = std::max(err, std::fabs(s.delta[i] - cg[i]));
+        if (!(err <= 1e-8 * scale)) return "CG's δ differs from CHOLMOD's by " + format_number(err / scale) + " of its largest";
+        return "";
+    }
+
+    Phase phase_;
+    std::string case_;
+    long warm_steps_ = 5;
+    double multiple_ = 10;
+    Setup setup_;
+    std::unique_ptr<State> st_;
+    std::string equivalence_, why_;
+    double mass_ = 0, cholmod_s_ = 0;
+    long calls_ = 0, last_iterations_ = 0;
+    std::uint64_t start_newton_ = 0, start_cg_ = 0;
+};
+
+void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
+    KernelEntry e;
+    e.info.name = name;
+    e.info.group = "mpm";
+    e.info.formula = formula;
+    e.info.unit = phase == Phase::step ? "particle-step" : phase == Phase::solve ? "cg-iteration" : "particle";
+    e.info.axis = AccessAxis::ordering;
+    e.info.accesses = {"natural", "random", "morton", "hilbert"};
+    if (phase == Phase::assembly) {
+        e.info.variants = {"serial", "atomic", "colour", "partition"};
+        e.info.variant_option = "strategy";
+        e.info.default_variants = e.info.variants;
+        e.info.single_thread_variants = {"serial"};
+    } else {
+        e.info.variants = {"seeded", "shuffled", "sorted", "dynamic"};
+        e.info.variant_option = "particles";
+        e.info.default_variants = e.info.variants;
+    }
+    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
+                     {"case", 0, "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
+                      {cases[0], cases[1], cases[2]}},
+                     {"warm-steps", 5, "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
+                                       "(mpm kernels), 0 to 10000000"},
+                     {"dt-multiple", 10, "the implicit MPM step as a multiple of the explicit stable step, > 0 (mpm-implicit kernels)"}};
+    if (phase == Phase::step)
+        e.info.params.push_back({"sort-every", 5, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
+    e.info.size_kind = SizeKind::count;
+    e.info.read_bytes_per_unit = phase == Phase::assembly ? assembly_particle_bytes : phase == Phase::step ? step_particle_bytes : 0;
+    e.info.notes = notes;
+    e.mesh_elements = mesh_elements;
+    e.default_meshes = {"box:16,16,16"};
+    e.test_size = 6 * 5 * 5 * 5;
+    e.make = [phase](const KernelConfig& cfg) { return std::make_unique<ImplicitKernel>(cfg, phase); };
+    e.validate = [name](const KernelConfig& cfg) {
+        validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh);
+        if (cases[static_cast<std::size_t>(cfg.param("case"))] == std::string("dam-break"))
+            throw UsageError(name + " --case=dam-break: the implicit integrator has the elastic material only; give --case=dam-collapse or column");
+        const double m = cfg.param("dt-multiple");
+        if (!(m > 0) || m > 1e4) throw UsageError("--dt-multiple=" + format_number(m) + " for " + name + ": a number of explicit stable steps, > 0 and at most 10000");
+    };
+    register_kernel(std::move(e));
+}
+
+const bool registered = [] {
+    add("mpm-implicit-assembly", Phase::assembly, "f_i += V_p P ∇N_i; K_ij += V_p (∇N_i·S∇N_j I + λ G_i⊗G_j + μ (∇N_i·∇N_j) F Fᵀ + μ G_j⊗G_i)",
+        "implicit MPM: internal force and consistent tangent on the active grid; --strategy=serial,atomic,colour,partition (default all; serial on one thread)");
+    add("mpm-implicit-solve", Phase::solve, "K δ = r by Jacobi-preconditioned CG, from δ = 0",
+        "implicit MPM: one Newton system's linear solve; --particles=seeded,shuffled,sorted,dynamic (dynamic renumbers the grid and the system)");
+    add("mpm-implicit-step", Phase::step, "K whole implicit steps (projection, Newton: assembly and CG, update, locate), then the reordering due",
+        "implicit MPM (Newmark, Newton; --case: dam-collapse, column), --dt-multiple, --sort-every=K steps a repetition; --particles=seeded,shuffled,sorted,dynamic");
+    return true;
+}();
+
+}  // namespace
+
+}  // namespace suite::mpm
