@@ -130,7 +130,7 @@ const std::vector<Case>& cases() {
         {"PlacementUnknown", {"--kernel=add", "--placement=nowhere", "--out={tmp}/r.json"}, {"'nowhere'", "local", "node:N", "remote", "interleave"}},
         {"ParticleOrderUnknown", {"--kernel=mpm-step", "--mesh=box:6,6,6", "--particles=sortd", "--out={tmp}/r.json"},
          {"no particle order 'sortd'", "did you mean 'sorted'", "seeded, shuffled, sorted, dynamic"}},
-        {"ParticlesOnAKernelWithout", {"--kernel=add", "--particles=sorted", "--out={tmp}/r.json"}, {"'add'", "no particle orders", "mpm-g2p, mpm-step"}},
+        {"ParticlesOnAKernelWithout", {"--kernel=add", "--particles=sorted", "--out={tmp}/r.json"}, {"'add'", "no particle orders", "mpm-g2p, mpm-implicit-solve, mpm-implicit-step, mpm-step"}},
         {"PlacementNodeNumberBeyondInt", {"--kernel=add", "--placement=node:99999999999", "--out={tmp}/r.json"}, {"no NUMA node 99999999999", "its nodes are"}},
 
         // Repetitions.
