@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpi
+.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -107,6 +107,11 @@ bench-fem: build
 # window, then the kernels): results/bench/mpm_orders.{json,md} and mpm_flow.png.
 bench-mpm: build
 	/usr/bin/python3 bench/mpm_orders.py --out results/bench $(BENCH_FLAGS)
+
+# Implicit MPM by grid order (about 20 minutes: a step split into assembly, CG solve and the rest,
+# CHOLMOD beside CG): results/bench/mpm_implicit.{json,md}.
+bench-mpm-implicit: build
+	/usr/bin/python3 bench/mpm_implicit.py --out results/bench $(BENCH_FLAGS)
 
 # Distributed SpMV (suite-mpi, 1 and 2 ranks) against the threaded one on the same cores, curve and
 # METIS partitions (a few minutes): results/bench/fem_dist.{json,md}.

@@ -76,3 +76,28 @@ TEST(Bench, AaNoiseQuickMeasuresEachProgramAgainstItself) {
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("--reps must be at least 1"), std::string::npos) << r.err;
 }
+
+// bench/mpm_implicit.py --quick: a step of implicit MPM split into assembly, solve and the rest,
+// for every grid ordering and both particle orders, from the three kernels' records. No speed is
+// asserted; that each part was found and is consistent with the step's counts is.
+TEST(Bench, MpmImplicitQuickSplitsAStepIntoItsParts) {
+    TempDir dir;
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/mpm_implicit.py", "--quick", "--suite", SUITE_BINARY, "--out",
+                             dir.path().string()},
+                            300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json doc = json::parse(slurp(dir.file("mpm_implicit.json")));
+    ASSERT_EQ(doc["points"].size(), 6u) << doc.dump(1);
+    for (const char* key : {"natural/seeded", "natural/dynamic", "morton/seeded", "morton/dynamic", "hilbert/seeded", "hilbert/dynamic"}) {
+        const json& p = doc["points"][key];
+        EXPECT_GT(p["step"].get<double>(), 0) << key;
+        EXPECT_GT(p["assembly"].get<double>(), 0) << key;
+        EXPECT_GT(p["solve"].get<double>(), 0) << key;
+        EXPECT_NEAR(p["rest"].get<double>(), p["step"].get<double>() - p["assembly"].get<double>() - p["solve"].get<double>(), 1e-12) << key;
+        EXPECT_GE(p["newton"].get<double>(), 1) << key;
+        EXPECT_GT(p["cg"].get<double>(), p["newton"].get<double>()) << key;  // more than one CG iteration a Newton step
+        if (!p["cholmod"].is_null()) EXPECT_GT(p["cholmod"].get<double>(), 0) << key;  // null where built without CHOLMOD
+    }
+    const std::string md = slurp(dir.file("mpm_implicit.md"));
+    EXPECT_NE(md.find("| grid / particles | step | assembly | solve (CG) | rest |"), std::string::npos) << md;
+}

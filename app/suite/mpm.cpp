@@ -171,12 +171,13 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
     m.integrator = mpm::parse_integrator(o.integrator);
     const bool implicit = m.integrator != mpm::Integrator::explicit_step;
-    for (const char* option : {"--solver", "--newmark", "--strain"})
+    for (const char* option : {"--solver", "--newmark", "--strain", "--newton-max"})
         if (!implicit && given.count(option) > 0) throw UsageError(std::string(option) + " applies to --integrator=implicit or static, not explicit");
     if (implicit && given.count("--courant") > 0) throw UsageError("--courant applies to --integrator=explicit; an implicit step is --dt (default 10 times the stable step)");
     m.implicit.solver = mpm::parse_linear_solver(o.solver);
-    require_known({o.strain}, {"large", "small"}, "strain");
+    require_known({o.strain}, {"large", "small"}, "--strain");
     m.implicit.large_strain = o.strain == "large";
+    m.implicit.newton_max = o.newton_max;
     const std::vector<std::string> nm = split(o.newmark, ',');
     if (nm.size() != 2) throw UsageError("--newmark=" + o.newmark + ": Newmark's BETA,GAMMA, two numbers (default 0.25,0.5, average acceleration)");
     m.implicit.beta = parse_finite(nm[0], "--newmark");
@@ -297,6 +298,7 @@ int cmd_mpm(const std::vector<std::string>& args) {
                    "explicit (USL), implicit (Newmark and Newton, any --dt; default 10x the stable step), static (each step an equilibrium) (elastic cases; default explicit)");
     app.add_option("--solver", o.solver, "the implicit linear solve: cg (own, Jacobi-preconditioned), cholmod (SuiteSparse) (default cg)");
     app.add_option("--newmark", o.newmark, "BETA,GAMMA with 1/2 <= GAMMA <= 2 BETA <= 1 (implicit; default 0.25,0.5, average acceleration)");
+    add_whole_option(app, "--newton-max", o.newton_max, 1, 1000, "Newton iterations a step may take, 1 to 1000; beyond it the run stops with status 3 (implicit; default 25)");
     app.add_option("--strain", o.strain, "the implicit step's strain: large (Green-Lagrange, geometric stiffness), small (linear) (default large)");
     add_seed_option(app, o.seed, "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
     add_whole_option(app, "--steps", o.steps, 0, 1000000000, "time steps, 0 to 10^9 (default 1000)");

@@ -24,6 +24,7 @@ struct Options {
     std::string courant = "0.8", dt = "0", damping = "0";
     std::string integration = "mixed";
     std::string integrator = "explicit", solver = "cg", newmark = "0.25,0.5", strain = "large";
+    int newton_max = 25;
     bool force = false;
     std::uint64_t seed = 1;
     std::uint64_t steps = 1000, vtk_every = 50, warm_steps = 0;

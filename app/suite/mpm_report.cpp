@@ -104,6 +104,7 @@ nlohmann::json summary_json(const ReportInput& in) {
                               {"settlement_measured", r.settlement_measured},
                               {"error_relative", r.settlement_error},
                               {"stress_rms_relative", std::isnan(r.stress_rms) ? nlohmann::json(nullptr) : nlohmann::json(r.stress_rms)},
+                              {"stress_profile_rms_relative", std::isnan(r.stress_profile) ? nlohmann::json(nullptr) : nlohmann::json(r.stress_profile)},
                               {"detail", "the top particle layer's mean settlement against rho g (H z0 - z0^2/2) / M; damped: the mean of the last tenth "
                                          "of the steps and the RMS of szz + rho g (H - z0) over all particles relative to rho g H; undamped: the mean "
                                          "over the run, stress not compared"}}},
@@ -114,6 +115,7 @@ nlohmann::json summary_json(const ReportInput& in) {
                                           {"newton_max_per_step", st.implicit.max_newton},
                                           {"cg_iterations", st.implicit.solver_iterations},
                                           {"backtracks", st.implicit.backtracks},
+                                          {"cholmod_fallbacks", st.implicit.fallbacks},
                                           {"worst_final_residual", st.implicit.worst_residual},
                                           {"last_residuals", st.implicit.last_residuals},
                                           {"active_rows", st.implicit.active_rows},
@@ -199,6 +201,7 @@ nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
             {"solver", m.integrator == mpm::Integrator::explicit_step ? nlohmann::json(nullptr) : nlohmann::json(mpm::linear_solver_name(m.implicit.solver))},
             {"newmark", m.integrator == mpm::Integrator::implicit ? nlohmann::json{m.implicit.beta, m.implicit.gamma} : nlohmann::json(nullptr)},
             {"strain", m.integrator == mpm::Integrator::explicit_step ? nlohmann::json(nullptr) : nlohmann::json(m.implicit.large_strain ? "large" : "small")},
+            {"newton_max", m.integrator == mpm::Integrator::explicit_step ? nlohmann::json(nullptr) : nlohmann::json(m.implicit.newton_max)},
             {"dt_given", m.dt},
             {"force", s.force},
             {"seed", s.seed},

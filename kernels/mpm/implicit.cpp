@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "harness/common/units.hpp"
+#include "kernels/fem/sparse_libs.hpp"
 #include "kernels/mpm/scatter.hpp"
 
 namespace suite::mpm {
@@ -45,10 +46,17 @@ void check_implicit(const Settings& s) {
     if (!(im.gamma >= 0.5 && 2 * im.beta >= im.gamma && 2 * im.beta <= 1))
         throw UsageError("--newmark=" + format_number(im.beta) + "," + format_number(im.gamma) +
                          ": Newmark's β, γ must satisfy 1/2 <= γ <= 2β <= 1 (unconditionally stable; 0.25,0.5 is average acceleration)");
-    if (!(im.residual_tol > 0 && im.residual_tol < 1) || !(im.increment_tol > 0 && im.increment_tol < 1))
-        throw UsageError("--newton-tol=" + format_number(im.residual_tol) + ": Newton's relative tolerance must lie in (0, 1)");
-    if (im.newton_max < 1 || im.cg_max < 1 || !(im.cg_tol > 0 && im.cg_tol < 1))
-        throw UsageError("--newton-max=" + std::to_string(im.newton_max) + ": Newton's and CG's iteration limits must be >= 1");
+    // Settings the command line does not set (a caller's), each named as the field it is.
+    if (!(im.residual_tol > 0 && im.residual_tol < 1))
+        throw UsageError("ImplicitSettings::residual_tol=" + format_number(im.residual_tol) + ": Newton's relative residual tolerance must lie in (0, 1)");
+    if (!(im.increment_tol > 0 && im.increment_tol < 1))
+        throw UsageError("ImplicitSettings::increment_tol=" + format_number(im.increment_tol) + ": Newton's relative increment tolerance must lie in (0, 1)");
+    if (im.newton_max < 1 || im.newton_max > 1000)
+        throw UsageError("--newton-max=" + std::to_string(im.newton_max) + ": Newton's iteration limit is a whole number from 1 to 1000");
+    if (im.cg_max < 1) throw UsageError("ImplicitSettings::cg_max=" + std::to_string(im.cg_max) + ": CG's iteration limit must be >= 1");
+    if (!(im.cg_tol > 0 && im.cg_tol < 1)) throw UsageError("ImplicitSettings::cg_tol=" + format_number(im.cg_tol) + ": CG's relative tolerance must lie in (0, 1)");
+    if (im.solver == LinearSolver::cholmod && !fem::sparse_libs_missing().empty())
+        throw UsageError("--solver=cholmod: this suite was built without " + fem::sparse_libs_missing() + "; give --solver=cg");
 }
 
 namespace {
@@ -302,22 +310,33 @@ void implicit_step(State& st) {
     ImplicitStats& stats = st.implicit;
     const ImplicitSettings& im = st.settings.implicit;
     ActiveSystem& sys = st.system;
-    stats.failure.clear();
-    stats.last_residuals.clear();
+    // The counts are the state's only when the step succeeds: a failed one leaves them (and the
+    // particles) as they were, its residuals and why kept for the message.
+    const ImplicitStats before = stats;
+    std::vector<double> residuals;
+    const auto fail = [&](const std::string& why) {
+        stats = before;
+        stats.failure = why;
+        stats.last_residuals = residuals;
+        ++stats.failed_steps;
+    };
     implicit_project(st);
     if (is_static(st)) {
         // Without inertia, a material no wall holds in some direction moves freely in it: K is singular.
         for (int a = 0; a < 3; ++a) {
             bool held = false;
             for (std::size_t i = static_cast<std::size_t>(a); i < sys.rows() && !held; i += 3) held = sys.fixed[i] != 0;
-            if (!held) {
-                stats.failure = std::string("the static system is singular: no wall holds the material in ") + "xyz"[a] +
-                                " (it would move freely; run --integrator=implicit, whose inertia holds it)";
-                return;
-            }
+            if (!held)
+                return fail(std::string("the static system is singular: no wall holds the material in ") + "xyz"[a] +
+                            " (it would move freely; run --integrator=implicit, whose inertia holds it)");
         }
     }
-    const double load = norm(sys.fext);
+    // The load the free rows carry (a wall takes the fixed rows' share).
+    double load = 0;
+    for (std::size_t i = 0; i < sys.rows(); ++i)
+        if (!sys.fixed[i]) load += sys.fext[i] * sys.fext[i];
+    load = std::sqrt(load);
+    std::uint64_t newton = 0, solver_iterations = 0;
     double r0 = 0, reference = 0, du_norm = 0, delta_norm = 0, previous = 0;
     for (int k = 0;; ++k) {
         implicit_assemble(st, true);
@@ -336,30 +355,29 @@ void implicit_step(State& st) {
             r0 = rn;
             reference = std::max(r0, load);
         }
-        stats.last_residuals.push_back(reference > 0 ? rn / reference : 0);
+        residuals.push_back(reference > 0 ? rn / reference : 0);
         if (rn <= im.residual_tol * reference || (k > 0 && delta_norm <= im.increment_tol * du_norm)) break;
-        if (k == im.newton_max || !std::isfinite(rn)) {
-            stats.failure = "Newton did not converge in " + std::to_string(im.newton_max) + " iterations (||r|| / ||r0|| = " +
-                            format_number(rn / reference) + ", tolerance " + format_number(im.residual_tol) + "); give a smaller --dt";
-            return;
-        }
+        if (k == im.newton_max || !std::isfinite(rn))
+            return fail("Newton did not converge in " + std::to_string(im.newton_max) + " iterations (||r|| / max(||r0||, ||m g||) = " +
+                        format_number(rn / reference) + ", tolerance " + format_number(im.residual_tol) + "); give a smaller --dt");
         implicit_finish_tangent(st);
         std::string why;
         const long its = implicit_solve(st, why);
-        if (its < 0) {
-            stats.failure = why;
-            return;
-        }
-        stats.solver_iterations += static_cast<std::uint64_t>(its);
-        ++stats.newton;
+        if (its < 0) return fail(why);
+        solver_iterations += static_cast<std::uint64_t>(its);
+        ++newton;
         for (std::size_t i = 0; i < sys.rows(); ++i) sys.du[i] += sys.delta[i];
         delta_norm = norm(sys.delta);
         du_norm = norm(sys.du);
     }
-    const int iterations = static_cast<int>(stats.last_residuals.size()) - 1;
+    const int iterations = static_cast<int>(residuals.size()) - 1;
+    stats.failure.clear();
+    stats.newton += newton;
+    stats.solver_iterations += solver_iterations;
     stats.last_newton = iterations;
     stats.max_newton = std::max(stats.max_newton, iterations);
-    stats.worst_residual = std::max(stats.worst_residual, stats.last_residuals.back());
+    stats.worst_residual = std::max(stats.worst_residual, residuals.back());
+    stats.last_residuals = std::move(residuals);
     implicit_update(st);
 }
 

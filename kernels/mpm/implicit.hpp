@@ -11,7 +11,8 @@
 //               r  = m_n g - f_int(Δu) - m_n a'          (static: r = m_n g - f_int(Δu))
 //               K  = ∂f_int/∂Δu + m_n / (β dt²) I        (static: without the mass term)
 //               solve K δ = r; Δu += δ (halved while that makes ||r|| larger, at most 8 times);
-//               until ||r|| <= tol max(||r_0||, ||m_n g||) or ||δ|| <= tol ||Δu||
+//               until ||r|| <= tol max(||r_0||, ||m_n g||) (g's load on the free rows)
+//               or ||δ|| <= tol ||Δu||
 //             f_int,i = Σ_p V_p P_p ∇N_i, with the step's deformation f = I + Σ_i Δu_i ⊗ ∇N_i:
 //               large strain: E = (fᵀf - I)/2, S = σ_p + λ tr(E) I + 2μ E, P = f S
 //               small strain: E = sym(f - I), P = σ_p + λ tr(E) I + 2μ E
@@ -54,8 +55,8 @@ long implicit_solve(State& st, std::string& why);
 // volume, and locates them.
 void implicit_update(State& st);
 
-// One whole implicit step. On a failure (st.implicit.failure) the particles are left as they
-// were and the state's time does not advance.
+// One whole implicit step. On a failure (st.implicit.failure, counted in failed_steps) the
+// particles and the counts are left as they were and the state's time does not advance.
 void implicit_step(State& st);
 
 }  // namespace suite::mpm

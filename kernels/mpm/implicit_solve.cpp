@@ -3,8 +3,10 @@
 //            ||r - K δ|| <= cg_tol ||r|| (the recursive residual); a direction with pᵀKp <= 0
 //            means K is not positive definite
 //   cholmod  CHOLMOD's supernodal LLᵀ in its own fill-reducing order, factorised anew (the
-//            reference: a library's direct solve, and the fallback where CG does not converge)
+//            reference: a library's direct solve); also the fallback where CG runs out of
+//            iterations (counted in ImplicitStats::fallbacks)
 #include <cmath>
+#include <exception>
 #include <string>
 
 #include "harness/common/units.hpp"
@@ -95,6 +97,9 @@ long solve_cholmod(ActiveSystem& sys, std::string& why) {
         why = "the tangent is not positive definite (CHOLMOD met a non-positive pivot at column " + std::to_string(e.minor) +
               "): the system is singular or the step too large; give a smaller --dt";
         return -1;
+    } catch (const std::exception& e) {
+        why = std::string("CHOLMOD failed: ") + e.what();
+        return -1;
     }
     return 0;
 }
@@ -104,7 +109,22 @@ long solve_cholmod(ActiveSystem& sys, std::string& why) {
 long implicit_solve(State& st, std::string& why) {
     ActiveSystem& sys = st.system;
     sys.delta.assign(sys.rows(), 0);
-    return st.settings.implicit.solver == LinearSolver::cg ? solve_cg(sys, st.settings.implicit, why) : solve_cholmod(sys, why);
+    if (st.settings.implicit.solver == LinearSolver::cholmod) return solve_cholmod(sys, why);
+    long its = solve_cg(sys, st.settings.implicit, why);
+    // The fallback: CG that ran out of iterations (not one that met an indefinite K, which a
+    // factorisation would meet too) hands the system to CHOLMOD, and the step goes on.
+    if (its < 0 && why.rfind("CG did not converge", 0) == 0 && fem::sparse_libs_missing().empty()) {
+        const std::string cg_why = why;
+        why.clear();
+        sys.delta.assign(sys.rows(), 0);
+        if (solve_cholmod(sys, why) < 0) {
+            why = cg_why + "; CHOLMOD, the fallback, failed too: " + why;
+            return -1;
+        }
+        ++st.implicit.fallbacks;
+        return st.settings.implicit.cg_max;
+    }
+    return its;
 }
 
 }  // namespace suite::mpm

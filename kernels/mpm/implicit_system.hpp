@@ -31,7 +31,7 @@ struct ImplicitSettings {
     // increment and the material stiffness alone (false: the residual is then linear in the
     // increment and Newton ends after one solve). docs/mpm.md, "Implicit MPM", says when which.
     bool large_strain = true;
-    double residual_tol = 1e-8;    // Newton: converged when ||r_k|| <= residual_tol max(||r_0||, ||m_n g||),
+    double residual_tol = 1e-8;    // Newton: converged when ||r_k|| <= residual_tol max(||r_0||, ||m_n g||) (free rows),
     double increment_tol = 1e-10;  // or when the last correction ||δ|| <= increment_tol ||Δu||
     int newton_max = 25;
     LinearSolver solver = LinearSolver::cg;
@@ -68,9 +68,11 @@ struct ImplicitStats {
     std::uint64_t newton = 0;         // Newton iterations (linear solves) over all steps
     std::uint64_t solver_iterations = 0;  // CG iterations over all solves (0 with CHOLMOD)
     std::uint64_t backtracks = 0;     // corrections halved because they made the residual larger
+    std::uint64_t fallbacks = 0;      // CG solves that ran out of iterations and were handed to CHOLMOD
+    std::uint64_t failed_steps = 0;   // steps that failed (each left the state as it was)
     int last_newton = 0, max_newton = 0;
-    std::vector<double> last_residuals;  // ||r_k|| / ||r_0|| in the last step, k = 0, 1, ...
-    double worst_residual = 0;        // the largest final ||r|| / ||r_0|| of any step
+    std::vector<double> last_residuals;  // ||r_k|| / max(||r_0||, ||m g||) in the last step, k = 0, 1, ...
+    double worst_residual = 0;        // the largest final one of any step
     std::uint64_t active_rows = 0;    // the last step's system
     std::uint64_t nonzeros = 0;
     // Why the last step failed ("" when it did not): Newton beyond newton_max, a solve that did

@@ -90,6 +90,9 @@ std::string check_equivalence(const Setup& point) {
         advance(a, mine);
         advance(b, ref);
     }
+    // An implicit step that failed moved nothing: two runs that both failed would agree.
+    for (const State* st : {&a, &b})
+        if (st->implicit.failed_steps > 0) return "a step of the " + std::string(st == &a ? "point's" : "reference") + " run failed: " + st->implicit.failure;
     const std::string m = position_mismatch(a.particles, b.particles, 1e-10);
     return m.empty() ? "" : "after " + std::to_string(equivalence_steps) + " steps, " + m;
 }

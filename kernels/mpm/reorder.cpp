@@ -89,6 +89,10 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
 }
 
 void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vector<std::uint32_t>& new_id) {
+    // The implicit system's pattern names elements and nodes by number: built anew at the next
+    // step (the active elements' numbers alone may come out the same after a renumbering).
+    st.system.elements.clear();
+    st.system.index.clear();
     Grid& g = st.grid;
     const std::size_t ne = g.elements(), nv = g.nodes();
     std::vector<std::uint32_t> new_elem(ne);

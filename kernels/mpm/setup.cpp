@@ -78,6 +78,7 @@ bool reorders_after(const Setup& s, std::uint64_t step) {
 
 void advance(State& st, const Setup& s) {
     step(st);
+    if (!st.implicit.failure.empty()) return;  // a failed implicit step changed nothing: no reordering either
     if (!reorders_after(s, st.steps)) return;
     if (s.particles == "dynamic") renumber_active(st);
     sort_particles(st);

@@ -70,6 +70,10 @@ struct Outcome {
     // mean of the undamped oscillation); and, damped, the RMS of σzz - (-ρ g (H - z0)) over all
     // particles at the end, relative to ρ g H.
     double settlement_exact = NAN, settlement_measured = NAN, settlement_error = NAN, stress_rms = NAN;
+    // Damped or static: the same RMS of each horizontal layer of elements' mean σzz against the
+    // exact at its particles' mean starting height (the profile, without the variation inside an
+    // element that linear elements cannot represent).
+    double stress_profile = NAN;
     std::vector<Check> checks;  // "finite and inside the box", "energy bound", ("Newton": implicit and static), ("total energy": a fluid and implicit; "Ritter front": a fluid), "mass", "nodal mass"
     std::string failure;        // the first failed check, as one line; "" when all passed
     bool solver_failed = false;  // an implicit step's Newton or linear solve failed (its check says why)

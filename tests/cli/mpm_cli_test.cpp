@@ -1,8 +1,8 @@
 // `suite mpm` end to end on small grids (box:6,6,6 and box:8,8,8, well under a second a run): the
 // files of a run, read back by meshio (tests/check_mpm_vtu.py); the same particles in the same
 // places whatever the grid's and the particles' order; every bad input one line, exit 2 and no
-// directory; --dry-run writes nothing; a run forced past the stable step exits 1; an interrupted run
-// keeps its files and exits 128+signal.
+// directory; --dry-run writes nothing; a run forced past the stable step exits 1; an implicit run's
+// Newton recorded, and a failed one exits 3; an interrupted run keeps its files and exits 128+signal.
 #include <signal.h>
 #include <unistd.h>
 
@@ -162,8 +162,57 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
     refused({"--seed=-3"}, "--seed=-3: expected a whole number");
     refused({"--young="}, "--young= has an empty value");
     refused({"--vtk-evry=5"}, "unknown option '--vtk-evry' (did you mean '--vtk-every'?)");
+    refused({"--integrator=newmark"}, "--integrator=newmark: not an integrator; accepted: explicit, implicit, static");
+    refused({"--integrator=implicit", "--case=dam-break"}, "--integrator=implicit: the implicit integrators have the elastic material only");
+    refused({"--integrator=implicit", "--newmark=0.2,0.5"}, "--newmark=0.2,0.5: Newmark's β, γ must satisfy 1/2 <= γ <= 2β <= 1");
+    refused({"--integrator=implicit", "--newmark=0.25"}, "--newmark=0.25: Newmark's BETA,GAMMA, two numbers");
+    refused({"--integrator=static", "--newmark=0.3,0.5"}, "--newmark applies to --integrator=implicit (static has no inertia)");
+    refused({"--solver=cholmod"}, "--solver applies to --integrator=implicit or static, not explicit");
+    refused({"--newton-max=3"}, "--newton-max applies to --integrator=implicit or static, not explicit");
+    refused({"--integrator=implicit", "--newton-max=0"}, "--newton-max=0: expected a whole number from 1 to 1000");
+    refused({"--integrator=implicit", "--solver=lu"}, "--solver=lu: not a linear solver; accepted: cg, cholmod");
+    refused({"--integrator=implicit", "--strain=tiny"}, "unknown --strain 'tiny'; accepted: large, small");
+    refused({"--integrator=implicit", "--courant=0.5"}, "--courant applies to --integrator=explicit");
+    refused({"--integrator=implicit", "--damping=1"}, "--damping applies to --integrator=explicit");
     refused({}, "suite mpm needs --out=DIR", false);
     refused({"--out=" + tmp.file("no/such/parent")}, "does not exist", false);
+}
+
+TEST(MpmCli, AnImplicitRunRecordsItsNewtonAndAFailedNewtonExitsThree) {
+    TempDir tmp;
+    const std::string dir = tmp.file("implicit");
+    const Outcome r = run_suite({"mpm", "--integrator=implicit", "--mesh=box:6,6,6", "--steps=8", "--vtk-every=0", "--no-png", "--out=" + dir}, 120);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_NE(r.out.find("integrator     implicit, large strain, cg"), std::string::npos) << r.out;
+    const nlohmann::json doc = read_json(dir + "/mpm.json");
+    EXPECT_EQ(doc["settings"]["integrator"], "implicit");
+    EXPECT_EQ(doc["settings"]["newmark"], nlohmann::json::array({0.25, 0.5}));
+    EXPECT_GE(doc["implicit"]["newton_iterations"].get<int>(), 8) << doc["implicit"];
+    EXPECT_GT(doc["implicit"]["cg_iterations"].get<int>(), 0);
+    EXPECT_LT(doc["implicit"]["worst_final_residual"].get<double>(), 1e-8);
+    // 10 times the explicit stable step, the default.
+    EXPECT_NEAR(doc["dt"].get<double>() / doc["stable_dt"].get<double>(), 10, 1e-9);
+    std::vector<std::string> checks;
+    for (const auto& c : doc["verification"]["checks"]) {
+        checks.push_back(c["check"]);
+        EXPECT_TRUE(c["passed"].get<bool>()) << c;
+    }
+    EXPECT_NE(std::find(checks.begin(), checks.end(), "Newton"), checks.end()) << join(checks);
+    EXPECT_NE(std::find(checks.begin(), checks.end(), "total energy"), checks.end()) << join(checks);
+    // The explicit run records no implicit part: null, not zeros.
+    const std::string plain = tmp.file("explicit");
+    ASSERT_EQ(run_suite({"mpm", "--mesh=box:6,6,6", "--steps=2", "--vtk-every=0", "--no-png", "--out=" + plain}, 60).status, 0);
+    EXPECT_TRUE(read_json(plain + "/mpm.json")["implicit"].is_null());
+    // One Newton iteration cannot reach a nonlinear step's tolerance: status 3, said in one line
+    // after the progress, the files written and marked unverified.
+    const std::string failed = tmp.file("failed");
+    const Outcome f = run_suite({"mpm", "--integrator=implicit", "--dt=0.2", "--newton-max=1", "--mesh=box:6,6,6", "--steps=5", "--vtk-every=0", "--no-png", "--out=" + failed}, 60);
+    ASSERT_EQ(f.status, 3) << describe(f);
+    EXPECT_NE(f.err.find("suite: error: mpm check failed: Newton: step 1 (t = 0 s): Newton did not converge in 1 iterations"), std::string::npos) << f.err;
+    const nlohmann::json fd = read_json(failed + "/mpm.json");
+    EXPECT_EQ(fd["verification"]["passed"], false);
+    EXPECT_EQ(fd["complete"], false);
+    EXPECT_EQ(fd["steps"], 0);
 }
 
 TEST(MpmCli, DryRunChecksEverythingAndWritesNothing) {

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "harness/common/units.hpp"
+#include "kernels/fem/sparse_libs.hpp"
 #include "kernels/mpm/implicit.hpp"
 #include "kernels/mpm/simulation.hpp"
 #include "tests/kernels/mpm_test_helpers.hpp"
@@ -73,6 +74,53 @@ double relative_tangent_error(bool large) {
     return std::sqrt(num / den);
 }
 
+// The finished tangent (the mass term, the walls' identity rows) against a central difference of
+// the residual r = m g - f_int - m a'(Δu) on the free rows: K d = -dr/dΔu d.
+double relative_newton_matrix_error() {
+    Team team(1);
+    State st = build(implicit_setup("box:4,4,4", Integrator::implicit, 5));
+    for (int k = 0; k < 3; ++k) step(st);
+    implicit_project(st);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    ActiveSystem& sys = st.system;
+    for (std::size_t i = 0; i < sys.rows(); ++i) sys.du[i] += sys.fixed[i] ? 0 : 0.02 * u(rng);
+    std::vector<double> d(sys.rows());
+    for (std::size_t i = 0; i < d.size(); ++i) d[i] = sys.fixed[i] ? 0 : u(rng);
+    implicit_assemble(st, true);
+    implicit_finish_tangent(st);
+    const std::vector<double> kd = tangent_times(st, d);
+    const std::vector<double> base = sys.du;
+    const double h = 1e-6;
+    std::vector<double> rp, rm;
+    for (double sign : {1.0, -1.0}) {
+        for (std::size_t i = 0; i < d.size(); ++i) sys.du[i] = base[i] + sign * h * d[i];
+        implicit_assemble(st, false);
+        implicit_residual(st);
+        (sign > 0 ? rp : rm) = sys.r;
+    }
+    double num = 0, den = 0;
+    std::size_t fixed = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+        if (sys.fixed[i]) {
+            ++fixed;
+            EXPECT_EQ(kd[i], 0) << "a fixed row of K d";  // d is 0 there, and the row is the identity's
+            continue;
+        }
+        const double fd = -(rp[i] - rm[i]) / (2 * h);
+        num += (fd - kd[i]) * (fd - kd[i]);
+        den += kd[i] * kd[i];
+    }
+    EXPECT_GT(fixed, 0u) << "the walls hold some rows";
+    return std::sqrt(num / den);
+}
+
+TEST(MpmImplicit, TheNewtonMatrixIsTheDerivativeOfTheResidual) {
+    const double e = relative_newton_matrix_error();
+    std::printf("K d against a central difference of the residual: %.3g relative\n", e);
+    EXPECT_LT(e, 1e-6);
+}
+
 TEST(MpmImplicit, TangentIsTheDerivativeOfTheInternalForce) {
     const double large = relative_tangent_error(true), small = relative_tangent_error(false);
     std::printf("tangent vs central difference, relative: large strain %.3g, small strain %.3g\n", large, small);
@@ -120,12 +168,18 @@ Outcome static_column(int n, bool large) {
 TEST(MpmImplicit, StaticColumnConvergesToTheOneDimensionalSettlement) {
     const Outcome c8 = static_column(8, false), c16 = static_column(16, false);
     const Outcome l16 = static_column(16, true);
-    std::printf("static column, small strain: box:8 %.3f %%, box:16 %.3f %% (stress RMS %.3f %%, %.3f %%); large strain box:16 %.3f %%\n",
-                100 * c8.settlement_error, 100 * c16.settlement_error, 100 * c8.stress_rms, 100 * c16.stress_rms, 100 * l16.settlement_error);
+    std::printf("static column, small strain: box:8 %.3f %%, box:16 %.3f %% (stress RMS %.3f %%, %.3f %%; layer means %.3f %%, %.3f %%); "
+                "large strain box:16 %.3f %%\n",
+                100 * c8.settlement_error, 100 * c16.settlement_error, 100 * c8.stress_rms, 100 * c16.stress_rms, 100 * c8.stress_profile,
+                100 * c16.stress_profile, 100 * l16.settlement_error);
     ASSERT_TRUE(c8.passed()) << c8.failure;
     ASSERT_TRUE(c16.passed()) << c16.failure;
     EXPECT_LT(std::fabs(c16.settlement_error), 0.02);
     EXPECT_LT(std::fabs(c16.settlement_error), std::fabs(c8.settlement_error));
+    // The stress profile: each layer's mean against the exact, within 2 % of ρ g H and falling
+    // (measured 1.3 % and 1.0 %).
+    EXPECT_LT(c16.stress_profile, 0.02);
+    EXPECT_LT(c16.stress_profile, c8.stress_profile);
 }
 
 double mean_z(const State& st) {
@@ -227,11 +281,44 @@ TEST(MpmImplicit, EveryOrderStrategyAndSolverGivesTheSameMotion) {
                           {"random", "shuffled", Strategy::atomic, 2, "cg"},   {"hilbert", "dynamic", Strategy::partition, 2, "cg"},
                           {"natural", "seeded", Strategy::serial, 1, "cholmod"}};
     for (const Case& c : cases) {
+        if (std::string(c.solver) == "cholmod" && !fem::sparse_libs_missing().empty()) continue;  // built without it: CG alone
         const State st = run_order(c.ordering, c.particles, c.strategy, c.threads, c.solver);
         const double d = testing::max_position_difference(ref.particles, st.particles);
         EXPECT_LT(d, 1e-9) << c.ordering << " " << c.particles << " " << strategy_name(c.strategy) << " " << c.solver;
         EXPECT_GT(st.implicit.newton, 0u);
     }
+}
+
+TEST(MpmImplicit, ARenumberedGridGetsANewSystemEvenWithTheSameElementNumbers) {
+    // renumber_active puts the active elements first, so two renumberings can leave the same
+    // element numbers 0..k-1 naming other elements: the pattern must not be kept on the numbers.
+    Team team(1);
+    mpm::Setup s = implicit_setup("box:6,6,6", Integrator::implicit, 10);
+    State st = build(s);
+    renumber_active(st);
+    step(st);
+    const std::vector<std::uint32_t> before = st.system.elements;
+    const std::uint64_t built = st.system.patterns;
+    renumber_active(st);
+    implicit_project(st);
+    EXPECT_EQ(st.system.elements, before) << "the case this test is about: the same numbers";
+    EXPECT_EQ(st.system.patterns, built + 1);
+}
+
+TEST(MpmImplicit, CholmodTakesOverWhenCgRunsOutOfIterations) {
+    if (!fem::sparse_libs_missing().empty()) GTEST_SKIP() << "built without " << fem::sparse_libs_missing();
+    const State ref = run_order("natural", "seeded", Strategy::serial, 1);
+    Team team(1);
+    mpm::Setup s = implicit_setup("box:6,6,6", Integrator::implicit, 10);
+    s.sort_every = 2;
+    s.settings.implicit.cg_max = 3;
+    State st = build(s);
+    for (int k = 0; k < 5; ++k) {
+        advance(st, s);
+        ASSERT_TRUE(st.implicit.failure.empty()) << st.implicit.failure;
+    }
+    EXPECT_EQ(st.implicit.fallbacks, st.implicit.newton);
+    EXPECT_LT(testing::max_position_difference(ref.particles, st.particles), 1e-9);
 }
 
 TEST(MpmImplicit, RefusesWhatItCannotRun) {
@@ -263,7 +350,28 @@ TEST(MpmImplicit, SaysWhenNewtonOrTheSolveFails) {
     step(st);
     EXPECT_NE(st.implicit.failure.find("Newton did not converge in 1 iterations"), std::string::npos) << st.implicit.failure;
     EXPECT_EQ(st.steps, 0u);
-    EXPECT_EQ(testing::max_position_difference(st.particles, before.particles), 0);
+    EXPECT_EQ(st.time, 0);
+    EXPECT_EQ(st.implicit.failed_steps, 1u);
+    EXPECT_EQ(st.implicit.newton, 0u) << "a failed step's iterations are not counted";
+    const Particles& a = st.particles;
+    const Particles& b = before.particles;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_TRUE(a.x[i] == b.x[i] && a.y[i] == b.y[i] && a.z[i] == b.z[i] && a.vx[i] == b.vx[i] && a.vy[i] == b.vy[i] && a.vz[i] == b.vz[i] &&
+                    a.volume[i] == b.volume[i] && a.elem[i] == b.elem[i] && a.id[i] == b.id[i])
+            << "particle " << i;
+        for (int k = 0; k < 6; ++k) ASSERT_EQ(a.stress[k][i], b.stress[k][i]) << "particle " << i;
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(a.accel[k][i], b.accel[k][i]) << "particle " << i;
+    }
+    // advance() reorders nothing after a failed step, even when a reordering is due.
+    mpm::Setup sorted = s;
+    sorted.particles = "dynamic";
+    sorted.sort_every = 1;
+    State d = build(sorted);
+    const State d0 = d;
+    advance(d, sorted);
+    EXPECT_FALSE(d.implicit.failure.empty());
+    EXPECT_EQ(d.particles.id[0], d0.particles.id[0]);
+    EXPECT_EQ(d.grid.mesh.conn, d0.grid.mesh.conn);
     // A static problem with the material away from every wall: nothing holds it.
     mpm::Setup floating;
     floating.mesh = "box:6,6,6";
