@@ -49,7 +49,7 @@ tmp = tempfile.mkdtemp(prefix="mpm-implicit-")
 
 def suite(args):
     out = os.path.join(tmp, "r.json")
-    argv = [a.suite] + args + ["--mesh", a.mesh, "--dt-multiple", a.dt_multiple, "--threads", "1", "--reps", "3", "--out", out, "--quiet"]
+    argv = [a.suite] + args + ["--mesh", a.mesh, "--dt-multiple", a.dt_multiple, "--threads", "1", "--reps", "5", "--out", out, "--quiet"]
     print("  " + " ".join(argv), file=sys.stderr, flush=True)
     r = subprocess.run(argv, capture_output=True, text=True)
     if r.returncode != 0:
