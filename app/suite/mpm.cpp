@@ -326,11 +326,11 @@ int cmd_mpm(const std::vector<std::string>& args) {
     check_step_resolves_the_fall(st, o, stable);
     const std::uint64_t snapshots = mpm::snapshot_count(o.steps, o.vtk_every);
     if (o.dry_run) {
-        const std::uint64_t memory = mpm::state_bytes(mesh::mesh_counts(spec), st.particles.size());
+        const std::uint64_t memory = mpm::state_bytes(mesh::mesh_counts(spec), st.particles.size(), 1, setup.settings.integrator != mpm::Integrator::explicit_step);
         std::printf("%s on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t = %.4g s; "
-                    "%s grid, %s particles, %s scatter, %d thread(s); about %s of memory (%s available)\n",
+                    "%s integrator, %s grid, %s particles, %s scatter, %d thread(s); about %s of memory (%s available)\n",
                     o.case_name.c_str(), o.mesh.c_str(), st.particles.size(), st.grid.elements(), st.grid.nodes(), st.dt, st.dt / stable, stable,
-                    static_cast<unsigned long long>(o.steps), st.dt * static_cast<double>(o.steps), setup.ordering.c_str(), setup.particles.c_str(),
+                    static_cast<unsigned long long>(o.steps), st.dt * static_cast<double>(o.steps), mpm::integrator_name(setup.settings.integrator), setup.ordering.c_str(), setup.particles.c_str(),
                     mpm::strategy_name(setup.strategy), setup.threads, format_bytes(memory).c_str(),
                     format_bytes(available_memory_bytes(MemoryPolicy{})).c_str());
         if (o.out.empty()) std::printf("no --out: nothing would be written\n");

@@ -42,7 +42,7 @@ void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std:
     // The grid (shape, neighbours, keys while built), the particles at most per_element per
     // element, twice over (verify's copies), and the mesh while it is loaded and ordered.
     const std::uint64_t np = c.elements * static_cast<std::uint64_t>(cfg.param("ppe"));
-    const std::uint64_t need = state_bytes(c, np, 2);
+    const std::uint64_t need = state_bytes(c, np, 2, cfg.params.count("dt-multiple") > 0);  // the implicit kernels have dt-multiple
     const std::uint64_t have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
         throw UsageError(kernel + " on --mesh=" + spec + " needs about " + format_bytes(need) + ", more than the " + format_bytes(have) +

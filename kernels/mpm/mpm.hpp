@@ -322,8 +322,9 @@ inline constexpr const char* particle_orders_accepted = "seeded, shuffled, sorte
 void check_particle_order(const std::string& name);
 // The memory a State takes at its peak while it is built, from the grid's counts alone: the grid
 // (shape functions, neighbours, keys), `particles` particles, and the mesh while it is loaded and
-// ordered; `copies` of the grid and particles (a kernel's verify keeps a second).
-std::uint64_t state_bytes(const mesh::MeshCounts& c, std::uint64_t particles, int copies = 1);
+// ordered; `copies` of the grid and particles (a kernel's verify keeps a second); with `implicit`,
+// the accelerations and a bound on the active system (implicit.hpp) too.
+std::uint64_t state_bytes(const mesh::MeshCounts& c, std::uint64_t particles, int copies = 1, bool implicit = false);
 // The most particles a setup can seed: per_element in every element of the region's share of a
 // box grid (the unit cube), or of every element of a grid read from a file.
 std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts& c, const Settings& s);

@@ -25,10 +25,19 @@ void shuffle_particles(State& st, std::uint64_t seed) {
 
 }  // namespace
 
-std::uint64_t state_bytes(const mesh::MeshCounts& c, std::uint64_t particles, int copies) {
+std::uint64_t state_bytes(const mesh::MeshCounts& c, std::uint64_t particles, int copies, bool implicit) {
     const std::uint64_t ne = c.elements, nv = c.vertices;
     const std::uint64_t grid = ne * (128 + 16 + 16 + 4 + 16) + nv * (64 + 25);
-    return static_cast<std::uint64_t>(copies) * (grid + particles * 160) + ne * 40 + nv * 24 * 3;
+    std::uint64_t system = 0;
+    if (implicit) {
+        // The accelerations; the active system on at most every corner of the particles' elements:
+        // 3 rows a node of 3 columns a neighbour (30 neighbours, itself included, bounds a
+        // tetrahedral grid's; a box grid's have 15), 12 B an entry, 11 vectors of 3 doubles, the
+        // block offsets of its elements (64 B) and the node pairs sorted while the pattern is built.
+        const std::uint64_t nodes = std::min(nv, 4 * particles), elements = std::min(ne, particles);
+        system = particles * 24 + nodes * (9 * 30 * 12 + 11 * 24 + 8) + elements * (64 + 16 * 8);
+    }
+    return static_cast<std::uint64_t>(copies) * (grid + particles * 160 + system) + ne * 40 + nv * 24 * 3;
 }
 
 std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts& c, const Settings& s) {
@@ -56,7 +65,7 @@ State build(const Setup& s, Arena* arena) {
     const mesh::MeshCounts counts = mesh::mesh_counts(spec);
     if (counts.dim != 3)
         throw UsageError("--mesh=" + s.mesh + ": the MPM background grid must be made of tetrahedra (e.g. box:NX,NY,NZ); this one has triangles");
-    const std::uint64_t need = state_bytes(counts, particles_bound(spec, counts, s.settings)), have = available_memory_bytes(MemoryPolicy{});
+    const std::uint64_t need = state_bytes(counts, particles_bound(spec, counts, s.settings), 1, s.settings.integrator != Integrator::explicit_step), have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
         throw UsageError("--mesh=" + s.mesh + " with " + std::to_string(s.settings.per_element) + " particles per element needs about " +
                          format_bytes(need) + " for the grid and its particles, more than the " + format_bytes(have) +
