@@ -22,6 +22,7 @@
 //             σ_p = f S fᵀ / det f (large) or P (small);  V_p *= det f (large) or 1 + tr E (small)
 // The grid returns to its original configuration, as in the explicit step. Nothing here prints
 // or reads a clock.
+#include <cstdint>
 #include <string>
 
 #include "kernels/mpm/mpm.hpp"
@@ -51,6 +52,20 @@ void implicit_finish_tangent(State& st);
 // Solves tangent δ = r into system.delta by the settings' solver. The iterations it took (0 for
 // CHOLMOD), or -1 with `why` set when it failed (no convergence, not positive definite).
 long implicit_solve(State& st, std::string& why);
+// Jacobi-preconditioned CG on raw arrays (the system's own, or a kernel's placed copies): A x = b
+// from x = 0 until ||b - A x|| <= tol ||b|| (the recursive residual). r, z, p, q and diag are
+// scratch of n. Every loop is a `parallel for schedule(static)` over rows, the split a placed
+// copy is first touched with. Returns as implicit_solve does.
+struct CgArrays {
+    std::int64_t n = 0;
+    const std::uint32_t* row_ptr = nullptr;
+    const std::uint32_t* col = nullptr;
+    const double* val = nullptr;
+    const double* b = nullptr;
+    double* x = nullptr;
+    double *r = nullptr, *z = nullptr, *p = nullptr, *q = nullptr, *diag = nullptr;
+};
+long jacobi_cg(const CgArrays& a, double tol, int max_iterations, std::string& why);
 // Moves the particles by the converged Δu, updates their velocities, accelerations, stress and
 // volume, and locates them.
 void implicit_update(State& st);

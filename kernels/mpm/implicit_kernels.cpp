@@ -6,14 +6,17 @@
 //   mpm-implicit-assembly  f_int and the tangent ∂f_int/∂Δu of the first Newton iterate (Δu = 0):
 //                          for p, corners i, j of elem[p]: f_i += V_p P ∇N_i, K_ij += V_p (...);
 //                          --strategy: serial, atomic, colour, partition (particles sorted)
-//   mpm-implicit-solve     one Newton system K δ = r by the Jacobi-preconditioned CG, from δ = 0;
-//                          --particles: seeded, shuffled, sorted, dynamic (dynamic renumbers the
-//                          grid, and so the system); verified against CHOLMOD's solve
+//   mpm-implicit-solve     one Newton system K δ = r by the Jacobi-preconditioned CG, from δ = 0,
+//                          on a copy of the system in the point's arena (placed as --placement
+//                          says, first touched by the CG's row blocks); --particles: seeded,
+//                          shuffled, sorted, dynamic (dynamic renumbers the grid, and so the
+//                          system); verified against CHOLMOD's solve
 //   mpm-implicit-step      K = --sort-every whole implicit steps, then the reordering due;
 //                          --particles: seeded, shuffled, sorted, dynamic
 // Rates count particles (assembly), CG iterations (solve), particle-steps (step). Bytes follow
 // the STREAM convention: the particle arrays a pass reads and writes, the tangent's values
 // written once and the CG's matrix and vectors each pass; flops are counted from the loops.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -21,6 +24,8 @@
 #include <string>
 
 #include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
+#include "harness/kernel/blocks.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "kernels/fem/sparse_libs.hpp"
 #include "kernels/mpm/implicit.hpp"
@@ -93,8 +98,11 @@ public:
             implicit_residual(*st_);
             implicit_finish_tangent(*st_);
         }
-        // A solve's iterations, the same in every repetition (the same system from δ = 0).
-        if (phase_ == Phase::solve) last_iterations_ = implicit_solve(*st_, why_);
+        if (phase_ == Phase::solve) {
+            place_system(arena);
+            // A solve's iterations, the same in every repetition (the same system from δ = 0).
+            last_iterations_ = jacobi_cg(cg_, st_->settings.implicit.cg_tol, st_->settings.implicit.cg_max, why_);
+        }
         mass_ = mass_by_id(st_->particles);
         start_newton_ = st_->implicit.newton;
         start_cg_ = st_->implicit.solver_iterations;
@@ -106,7 +114,7 @@ public:
         for (int c = 0; c < calls; ++c) {
             switch (phase_) {
                 case Phase::assembly: implicit_assemble(st, true); break;
-                case Phase::solve: last_iterations_ = implicit_solve(st, why_); break;
+                case Phase::solve: last_iterations_ = jacobi_cg(cg_, st.settings.implicit.cg_tol, st.settings.implicit.cg_max, why_); break;
                 case Phase::step:
                     for (int k = 0; k < steps_per_call(); ++k) advance(st, setup_);
                     break;
@@ -130,7 +138,10 @@ public:
                 if (last_iterations_ < 0) {
                     failed = why_;
                     v.solver_failed = true;
-                } else failed = against_cholmod();
+                } else {
+                    std::copy(cg_.x, cg_.x + cg_.n, st_->system.delta.begin());
+                    failed = against_cholmod();
+                }
                 break;
             case Phase::step:
                 what = "the first " + std::to_string(equivalence_steps) + " steps equal natural order, serial, seeded (1e-10); every Newton converged; after " +
@@ -212,6 +223,34 @@ private:
                strategy_name(st_->plan.strategy) + ": ";
     }
 
+    // The solve's whole working set in the point's arena, so that --placement applies to it: the
+    // matrix ("system-row-ptr", "system-col", "system-val") and the right-hand side and CG's six
+    // vectors ("cg-b", "cg-x", ...), first touched by the threads of the CG's row loops (each its
+    // static block of rows, and those rows' entries), copied from the system the step built.
+    void place_system(Arena& arena) {
+        const ActiveSystem& s = st_->system;
+        const std::int64_t n = static_cast<std::int64_t>(s.rows());
+        const std::size_t nnz = s.val.size();
+        auto* rp = arena.allocate<std::uint32_t>("system-row-ptr", static_cast<std::size_t>(n) + 1);
+        auto* col = arena.allocate<std::uint32_t>("system-col", nnz);
+        auto* val = arena.allocate<double>("system-val", nnz);
+        double* vec[7];
+        const char* names[7] = {"cg-b", "cg-x", "cg-r", "cg-z", "cg-p", "cg-q", "cg-diag"};
+        for (int k = 0; k < 7; ++k) vec[k] = arena.allocate<double>(names[k], static_cast<std::size_t>(n));
+#pragma omp parallel
+        {
+            const Block b = my_block(n);
+            for (std::int64_t i = b.lo; i < b.hi; ++i) {
+                rp[i + 1] = s.row_ptr[static_cast<std::size_t>(i) + 1];
+                for (std::uint32_t k = s.row_ptr[i]; k < s.row_ptr[i + 1]; ++k) col[k] = s.col[k], val[k] = s.val[k];
+                vec[0][i] = s.r[static_cast<std::size_t>(i)];
+                for (int v = 1; v < 7; ++v) vec[v][i] = 0;
+            }
+            if (b.lo == 0) rp[0] = 0;
+        }
+        cg_ = CgArrays{n, rp, col, val, vec[0], vec[1], vec[2], vec[3], vec[4], vec[5], vec[6]};
+    }
+
     std::string against_serial() {
         State& st = *st_;
         const std::vector<double> f = st.system.fint, k = st.system.val;
@@ -266,6 +305,7 @@ private:
     std::string name_;
     long calls_ = 0, last_iterations_ = 0;
     std::uint64_t start_newton_ = 0, start_cg_ = 0;
+    CgArrays cg_;  // the solve kernel's placed system
 };
 
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {

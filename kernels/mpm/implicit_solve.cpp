@@ -18,18 +18,27 @@ namespace suite::mpm {
 namespace {
 
 long solve_cg(ActiveSystem& sys, const ImplicitSettings& im, std::string& why) {
-    const std::int64_t n = static_cast<std::int64_t>(sys.rows());
-    for (auto* v : {&sys.cg_z, &sys.cg_p, &sys.cg_q, &sys.cg_diag}) v->resize(static_cast<std::size_t>(n));
-    std::vector<double> res(sys.r);  // the CG residual, r - K δ
-    double* const x = sys.delta.data();
-    double* const rr = res.data();
-    double* const z = sys.cg_z.data();
-    double* const p = sys.cg_p.data();
-    double* const q = sys.cg_q.data();
-    double* const d = sys.cg_diag.data();
-    const std::uint32_t* const rp = sys.row_ptr.data();
-    const std::uint32_t* const col = sys.col.data();
-    const double* const val = sys.val.data();
+    const std::size_t n = sys.rows();
+    for (auto* v : {&sys.cg_z, &sys.cg_p, &sys.cg_q, &sys.cg_diag, &sys.cg_r}) v->resize(n);
+    const CgArrays a{static_cast<std::int64_t>(n), sys.row_ptr.data(), sys.col.data(), sys.val.data(), sys.r.data(), sys.delta.data(),
+                     sys.cg_r.data(), sys.cg_z.data(), sys.cg_p.data(), sys.cg_q.data(), sys.cg_diag.data()};
+    return jacobi_cg(a, im.cg_tol, im.cg_max, why);
+}
+
+}  // namespace
+
+long jacobi_cg(const CgArrays& a, double tol, int max_iterations, std::string& why) {
+    const std::int64_t n = a.n;
+    double* const x = a.x;
+    double* const rr = a.r;
+    double* const z = a.z;
+    double* const p = a.p;
+    double* const q = a.q;
+    double* const d = a.diag;
+    const double* const b = a.b;
+    const std::uint32_t* const rp = a.row_ptr;
+    const std::uint32_t* const col = a.col;
+    const double* const val = a.val;
     double rz = 0, bb = 0;
 #pragma omp parallel for schedule(static) reduction(+ : rz, bb)
     for (std::int64_t i = 0; i < n; ++i) {
@@ -38,14 +47,15 @@ long solve_cg(ActiveSystem& sys, const ImplicitSettings& im, std::string& why) {
             if (col[k] == static_cast<std::uint32_t>(i)) diag = val[k];
         d[i] = diag > 0 ? 1 / diag : 1;
         x[i] = 0;
+        rr[i] = b[i];
         z[i] = d[i] * rr[i];
         p[i] = z[i];
         rz += rr[i] * z[i];
         bb += rr[i] * rr[i];
     }
-    const double goal = im.cg_tol * im.cg_tol * bb;
+    const double goal = tol * tol * bb;
     if (bb == 0) return 0;
-    for (long it = 1; it <= im.cg_max; ++it) {
+    for (long it = 1; it <= max_iterations; ++it) {
         double pq = 0;
 #pragma omp parallel for schedule(static) reduction(+ : pq)
         for (std::int64_t i = 0; i < n; ++i) {
@@ -75,10 +85,12 @@ long solve_cg(ActiveSystem& sys, const ImplicitSettings& im, std::string& why) {
 #pragma omp parallel for schedule(static)
         for (std::int64_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
     }
-    why = "CG did not converge in " + std::to_string(im.cg_max) + " iterations (tolerance " + format_number(im.cg_tol) +
+    why = "CG did not converge in " + std::to_string(max_iterations) + " iterations (tolerance " + format_number(tol) +
           "); try --solver=cholmod or a smaller --dt";
     return -1;
 }
+
+namespace {
 
 long solve_cholmod(ActiveSystem& sys, std::string& why) {
     const std::string missing = fem::sparse_libs_missing();

@@ -58,7 +58,7 @@ struct ActiveSystem {
     // Per row: the nodal velocity and acceleration at the step's start, the load m_n g, the
     // internal force, the increment Δu, the residual, the Newton correction δ.
     std::vector<double> v, a, fext, fint, du, r, delta;
-    std::vector<double> cg_z, cg_p, cg_q, cg_diag;  // the solver's scratch
+    std::vector<double> cg_r, cg_z, cg_p, cg_q, cg_diag;  // the solver's scratch
     std::uint64_t patterns = 0;            // pattern builds so far
     std::size_t rows() const { return 3 * node.size(); }
 };

@@ -159,6 +159,45 @@ TEST(MpmPlacement, EveryKernelRecordsEachArrayWithItsPagesPresent) {
     }
 }
 
+TEST(MpmPlacement, TheImplicitKernelsPlaceTheAccelerationsAndTheSolveItsWholeSystem) {
+    const Topology topo = Topology::load();
+    RunSettings s;
+    s.pin = parse_pin("compact", topo);
+    s.placement = parse_placement("local", topo);
+    s.reps = 2;
+    const int threads = two_or_one(topo);
+    for (const char* kernel : {"mpm-implicit-solve", "mpm-implicit-step"}) {
+        const KernelEntry* k = find_kernel(kernel);
+        ASSERT_NE(k, nullptr) << kernel;
+        const Record r = run_point({k, {"hilbert", 0}, "seeded", k->test_size, threads}, s, topo);
+        ASSERT_TRUE(r.verification.passed) << kernel << ": " << r.verification.detail;
+        expect_all_present(r.pages, topo, kernel);
+        const std::vector<std::string> names = names_of(r.pages);
+        for (const char* a : {"x", "stress-zx", "ax", "ay", "az", "nodes", "element-volume"})
+            EXPECT_NE(std::find(names.begin(), names.end(), a), names.end()) << kernel << " lacks " << a;
+        double nnz = 0, rows = 0;
+        for (const auto& f : r.facts) {
+            if (f.name == "nonzeros") nnz = f.value;
+            if (f.name == "rows") rows = f.value;
+        }
+        ASSERT_GT(nnz, 0);
+        const bool solve = std::string(kernel) == "mpm-implicit-solve";
+        for (const auto& a : r.pages) {
+            // The solve's matrix and vectors at their lengths; the step keeps its system on the heap.
+            const double expected = a.name == "system-val" ? 8 * nnz : a.name == "system-col" ? 4 * nnz : a.name == "system-row-ptr" ? 4 * (rows + 1)
+                                    : a.name.rfind("cg-", 0) == 0 ? 8 * rows : -1;
+            if (expected < 0) continue;
+            EXPECT_TRUE(solve) << kernel << " places " << a.name;
+            EXPECT_GE(static_cast<double>(a.bytes), expected) << a.name;
+            EXPECT_LT(static_cast<double>(a.bytes), expected + 4096) << a.name;
+        }
+        const int system_arrays = static_cast<int>(std::count_if(names.begin(), names.end(), [](const std::string& n) {
+            return n.rfind("system-", 0) == 0 || n.rfind("cg-", 0) == 0;
+        }));
+        EXPECT_EQ(system_arrays, solve ? 10 : 0) << kernel;
+    }
+}
+
 TEST(MpmPlacement, ReorderingsKeepTheArenaPagesAndMatchTheHeapStateBitForBit) {
     const Topology topo = Topology::load();
     // One thread with mixed integration (its element volume sums are atomic adds, whose order
