@@ -7,8 +7,8 @@ From `suite` runs on this machine (nothing is timed here), one thread, the elast
                          active elements renumbered every --sort-every steps), Newton and CG
                          iterations per step (the record's facts)
   mpm-implicit-assembly  seconds per assembly (serial, particles sorted)
-  mpm-implicit-solve     seconds per CG iteration, and CHOLMOD's analyse + factorise + solve
-                         seconds for the same system (verify's reference, a fact)
+  mpm-implicit-solve     seconds per CG iteration, and CHOLMOD's analyse, factorise and solve
+                         seconds for the same system (verify's reference, facts)
 A step's split: assembly = (Newton + 1) assemblies, solve = CG iterations x seconds per
 iteration, rest = the step less both (projection, update, locate, the pattern, the reordering).
 The assembly is timed with the particles sorted along the curve (the kernel's order), so for the
@@ -86,7 +86,8 @@ for r in range(a.rounds):
         s = sol[(o, v)]
         solve_s = cg / median_rate(s)
         rows.setdefault((o, v), []).append({"step": step_s, "assembly": assemble_s, "solve": solve_s, "rest": step_s - assemble_s - solve_s,
-                                            "newton": newton, "cg": cg, "cholmod": fact(s, "cholmod-seconds"), "rows": fact(s, "rows"),
+                                            "newton": newton, "cg": cg, "cholmod_analyse": fact(s, "cholmod-analyse-seconds"), "cholmod": fact(s, "cholmod-factor-seconds"),
+                                            "cholmod_solve": fact(s, "cholmod-solve-seconds"), "rows": fact(s, "rows"),
                                             "cg_per_solve": fact(s, "cg-iterations"), "particles": np_})
 
 med = {k: {f: None if v[0][f] is None else statistics.median(d[f] for d in v) for f in v[0]} for k, v in rows.items()}
@@ -95,7 +96,7 @@ report = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "comman
 base = med[("natural", "seeded")]
 lines = [f"# Implicit MPM by grid order ({report['date']}, {a.rounds} round(s), {a.mesh}, {a.dt_multiple}x the explicit step, 1 thread)", "",
          f"{int(base['particles'])} particles, {int(base['rows'])} rows; medians over the rounds. Seconds per step; in brackets against the natural grid, seeded.", "",
-         "| grid / particles | step | assembly | solve (CG) | rest | Newton/step | CG/step | CHOLMOD solve |", "|---|---|---|---|---|---|---|---|"]
+         "| grid / particles | step | assembly | solve (CG) | rest | Newton/step | CG/step | CHOLMOD factor |", "|---|---|---|---|---|---|---|---|"]
 for (o, v), m in sorted(med.items(), key=lambda kv: (orderings.index(kv[0][0]), kv[0][1] != "seeded")):
     def cell(f):
         return f"{m[f]:.3f} ({m[f] / base[f] - 1:+.1%})"

@@ -28,7 +28,7 @@ std::vector<std::uint32_t> nested_dissection_order(const Csr&) { absent(); }
 Symbolic analyse(const Csr&) { absent(); }
 Factorisation factorise(const Csr&, int) { absent(); }
 void check_definite(const Csr&) { absent(); }
-std::vector<double> cholesky_solve(const Csr&, const std::vector<double>&) { absent(); }
+std::vector<double> cholesky_solve(const Csr&, const std::vector<double>&, CholeskyTimes*) { absent(); }
 
 #else
 
@@ -198,12 +198,16 @@ Factorisation factorise(const Csr& a, int reps) {
     return f;
 }
 
-std::vector<double> cholesky_solve(const Csr& a, const std::vector<double>& b) {
+std::vector<double> cholesky_solve(const Csr& a, const std::vector<double>& b, CholeskyTimes* times) {
     Cholmod ch(true);
     cholmod_sparse* s = upper(a, &ch.c);
+    auto t0 = Clock::now();
     cholmod_factor* l = cholmod_l_analyze(s, &ch.c);
     ch.ok("analyze");
+    if (times) times->analyse = since(t0);
+    t0 = Clock::now();
     cholmod_l_factorize(s, l, &ch.c);
+    if (times) times->factorise = since(t0);
     if (ch.c.status == CHOLMOD_NOT_POSDEF) {
         const std::int64_t minor = static_cast<std::int64_t>(l->minor);
         cholmod_l_free_factor(&l, &ch.c);
@@ -213,8 +217,10 @@ std::vector<double> cholesky_solve(const Csr& a, const std::vector<double>& b) {
     ch.ok("factorize");
     cholmod_dense* rhs = cholmod_l_zeros(static_cast<std::size_t>(a.n), 1, CHOLMOD_REAL, &ch.c);
     std::copy(b.begin(), b.end(), static_cast<double*>(rhs->x));
+    t0 = Clock::now();
     cholmod_dense* x = cholmod_l_solve(CHOLMOD_A, l, rhs, &ch.c);
     ch.ok("solve");
+    if (times) times->solve = since(t0);
     const double* xv = static_cast<const double*>(x->x);
     std::vector<double> out(xv, xv + a.n);
     cholmod_l_free_dense(&x, &ch.c);

@@ -47,8 +47,11 @@ struct NotDefinite : std::runtime_error {
 Factorisation factorise(const Csr& a, int reps);
 
 // Solves a x = b by CHOLMOD's supernodal LLᵀ in its own default ordering (the implicit MPM's
-// reference solve). Throws NotDefinite.
-std::vector<double> cholesky_solve(const Csr& a, const std::vector<double>& b);
+// reference solve), with the seconds of each phase in `times` when given. Throws NotDefinite.
+struct CholeskyTimes {
+    double analyse = 0, factorise = 0, solve = 0;
+};
+std::vector<double> cholesky_solve(const Csr& a, const std::vector<double>& b, CholeskyTimes* times = nullptr);
 
 // CHOLMOD with its own default ordering: whether a is positive definite, for the check made
 // before anything is written. Throws NotDefinite.
