@@ -317,39 +317,14 @@ private:
 };
 
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
-    KernelEntry e;
-    e.info.name = name;
-    e.info.group = "mpm";
-    e.info.formula = formula;
-    e.info.unit = phase == Phase::step ? "particle-step" : phase == Phase::solve ? "cg-iteration" : "particle";
-    e.info.axis = AccessAxis::ordering;
-    e.info.accesses = {"natural", "random", "morton", "hilbert"};
-    if (phase == Phase::assembly) {
-        e.info.variants = {"serial", "atomic", "colour", "partition"};
-        e.info.variant_option = "strategy";
-        e.info.default_variants = e.info.variants;
-        e.info.single_thread_variants = {"serial"};
-    } else {
-        e.info.variants = {"seeded", "shuffled", "sorted", "dynamic"};
-        e.info.variant_option = "particles";
-        e.info.default_variants = e.info.variants;
-    }
-    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
-                     {"case", 0, "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
-                      {cases[0], cases[1], cases[2]}},
-                     {"warm-steps", 5, "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
-                                       "(mpm kernels), 0 to 10000000"},
-                     {"dt-multiple", 10, "the implicit MPM step as a multiple of the explicit stable step, > 0 (mpm-implicit kernels)"}};
-    if (phase == Phase::step)
-        e.info.params.push_back({"sort-every", 5, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
-    e.info.size_kind = SizeKind::count;
+    KernelEntry e = mpm_entry(name, formula, phase == Phase::step ? "particle-step" : phase == Phase::solve ? "cg-iteration" : "particle",
+                              phase == Phase::assembly, phase == Phase::step);
+    e.info.params.push_back({"dt-multiple", 10, "the implicit MPM step as a multiple of the explicit stable step, > 0 (mpm-implicit kernels)"});
     e.info.read_bytes_per_unit = phase == Phase::assembly ? assembly_particle_bytes : phase == Phase::step ? step_particle_bytes : 0;
     // Per particle (assembly); a solve's and a step's depend on the system and the iterations: 0 here, counted in each record's work.
     e.info.flops_per_unit = phase == Phase::assembly ? assembly_flops : 0;
     e.info.notes = notes;
-    e.mesh_elements = mesh_elements;
     e.default_meshes = {"box:16,16,16"};
-    e.test_size = 6 * 5 * 5 * 5;
     e.make = [phase, name](const KernelConfig& cfg) { return std::make_unique<ImplicitKernel>(cfg, phase, name); };
     e.validate = [name](const KernelConfig& cfg) {
         validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh);

@@ -23,6 +23,36 @@ std::uint64_t mesh_elements(const std::string& spec) {
     return c.elements;
 }
 
+KernelEntry mpm_entry(const std::string& name, const std::string& formula, const std::string& unit, bool strategies, bool sorted_steps) {
+    KernelEntry e;
+    e.info.name = name;
+    e.info.group = "mpm";
+    e.info.formula = formula;
+    e.info.unit = unit;
+    e.info.axis = AccessAxis::ordering;
+    e.info.accesses = {"natural", "random", "morton", "hilbert"};
+    if (strategies) {
+        e.info.variants = {"serial", "atomic", "colour", "partition"};
+        e.info.variant_option = "strategy";
+        e.info.single_thread_variants = {"serial"};
+    } else {
+        e.info.variants = {"seeded", "shuffled", "sorted", "dynamic"};
+        e.info.variant_option = "particles";
+    }
+    e.info.default_variants = e.info.variants;
+    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
+                     {"case", 0, "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
+                      {"dam-collapse", "dam-break", "column"}},
+                     {"warm-steps", 5, "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
+                                       "(mpm kernels), 0 to 10000000"}};
+    if (sorted_steps)
+        e.info.params.push_back({"sort-every", 5, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
+    e.info.size_kind = SizeKind::count;
+    e.mesh_elements = mesh_elements;
+    e.test_size = 6 * 5 * 5 * 5;
+    return e;
+}
+
 void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec) {
     for (const char* name : {"ppe", "sort-every"}) {
         if (!cfg.params.count(name)) continue;

@@ -15,6 +15,12 @@ std::string box_spec_for(std::uint64_t elements);
 // The tetrahedra of a --mesh spec; UsageError for a grid that is not tetrahedral.
 std::uint64_t mesh_elements(const std::string& spec);
 
+// What every MPM kernel's entry shares: group, formula, unit, the grid orderings, the variants
+// (the scatter strategies with `strategies`, else the particle orders), the parameters ppe, case
+// and warm-steps (and sort-every with `sorted_steps`), counted sizes, the grid's element count,
+// the test size. The caller adds its bytes, notes, default meshes, make and validate.
+KernelEntry mpm_entry(const std::string& name, const std::string& formula, const std::string& unit, bool strategies, bool sorted_steps);
+
 // Throws UsageError for a grid spec that is not tetrahedral, --ppe or --sort-every that is not a
 // whole number >= 1, the serial strategy on more than one thread, or more memory than there is.
 void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec);

@@ -183,36 +183,10 @@ private:
 
 
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
-    KernelEntry e;
-    e.info.name = name;
-    e.info.group = "mpm";
-    e.info.formula = formula;
-    e.info.unit = phase == Phase::step ? "particle-step" : "particle";
-    e.info.axis = AccessAxis::ordering;
-    e.info.accesses = {"natural", "random", "morton", "hilbert"};
-    if (phase == Phase::p2g) {
-        e.info.variants = {"serial", "atomic", "colour", "partition"};
-        e.info.variant_option = "strategy";
-        e.info.default_variants = e.info.variants;
-        e.info.single_thread_variants = {"serial"};
-    } else {
-        e.info.variants = {"seeded", "shuffled", "sorted", "dynamic"};
-        e.info.variant_option = "particles";
-        e.info.default_variants = e.info.variants;
-    }
-    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
-                     {"case", 0, "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
-                      {cases[0], cases[1], cases[2]}},
-                     {"warm-steps", 5, "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
-                                       "(mpm kernels), 0 to 10000000"}};
-    if (phase == Phase::step)
-        e.info.params.push_back({"sort-every", 5, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
-    e.info.size_kind = SizeKind::count;
+    KernelEntry e = mpm_entry(name, formula, phase == Phase::step ? "particle-step" : "particle", phase == Phase::p2g, phase == Phase::step);
     e.info.read_bytes_per_unit = phase == Phase::p2g ? p2g_bytes : phase == Phase::g2p ? 4 + 32 + 24 + 24 : step_bytes;
     e.info.notes = notes;
-    e.mesh_elements = mesh_elements;
     e.default_meshes = {"box:24,24,24"};
-    e.test_size = 6 * 5 * 5 * 5;
     e.make = [phase](const KernelConfig& cfg) { return std::make_unique<MpmKernel>(cfg, phase); };
     e.validate = [name](const KernelConfig& cfg) { validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh); };
     register_kernel(std::move(e));
