@@ -154,9 +154,10 @@ std::string params_text(const std::map<std::string, double>& params) {
 }
 
 std::string csv_header(const Record* first) {
-    std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,threads,pin,placement,repetitions,batch,"
-                    "time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,stream_gbps_best,stream_gbps_median,"
-                    "hardware_gbps_best,ns_per_load_best,ns_per_load_median,verified,parameters,unstable,hugepages,host,cpu_model,date,"
+    std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,stream_bytes,hardware_bytes_estimate,flops,"
+                    "threads,pin,placement,repetitions,batch,time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,"
+                    "stream_gbps_best,stream_gbps_median,hardware_gbps_best,hardware_gbps_median,ns_per_load_best,ns_per_load_median,"
+                    "gflops_best,units_per_second_best,verified,parameters,unstable,hugepages,host,cpu_model,date,"
                     "git_revision";
     if (first) {
         for (const auto& e : first->counters.events) h += ",counter_" + e.name + "_per_call";
@@ -177,12 +178,14 @@ std::string to_csv_row(const Record& r, const nlohmann::json& context) {
     };
     std::ostringstream o;
     o << r.kernel << ',' << r.variant << ',' << r.name << ',' << axis_name(r.axis) << ',' << r.access << ',' << r.size_requested << ','
-      << r.work.footprint_bytes << ',' << fmt("%.0f", r.work.units) << ',' << r.threads << ",\"" << r.pin << "\"," << r.placement
+      << r.work.footprint_bytes << ',' << fmt("%.0f", r.work.units) << ',' << fmt("%.17g", r.work.stream_bytes) << ','
+      << fmt("%.17g", r.work.hardware_bytes) << ',' << fmt("%.17g", r.work.flops) << ',' << r.threads << ",\"" << r.pin << "\"," << r.placement
       << ',' << r.repetitions << ',' << r.batch << ',' << fmt("%.9g", r.time.min) << ',' << fmt("%.9g", r.time.median) << ','
       << fmt("%.9g", r.time.max) << ',' << fmt("%.9g", r.time.mean) << ',' << fmt("%.4g", r.time.cv) << ','
       << csv_opt(r.rates.stream_gbps_best) << ',' << csv_opt(r.rates.stream_gbps_median) << ','
-      << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.ns_per_load_best) << ','
-      << csv_opt(r.rates.ns_per_load_median) << ',' << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params)
+      << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.hardware_gbps_median) << ','
+      << csv_opt(r.rates.ns_per_load_best) << ',' << csv_opt(r.rates.ns_per_load_median) << ',' << csv_opt(r.rates.gflops_best)
+      << ',' << fmt("%.6g", r.rates.units_per_second_best) << ',' << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params)
       << ',' << (r.stability.unstable ? "true" : "false") << ',' << r.hugepages << ',' << ctx("host") << ',' << ctx("cpu_model") << ','
       << ctx("date") << ',' << ctx("git_revision");
     for (const auto& e : r.counters.events) o << ',' << (e.available ? fmt("%.9g", e.per_call.median) : "");

@@ -185,6 +185,7 @@ private:
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
     KernelEntry e = mpm_entry(name, formula, phase == Phase::step ? "particle-step" : "particle", phase == Phase::p2g, phase == Phase::step);
     e.info.read_bytes_per_unit = phase == Phase::p2g ? p2g_bytes : phase == Phase::g2p ? 4 + 32 + 24 + 24 : step_bytes;
+    if (phase == Phase::g2p) e.info.write_bytes_per_unit = 24 + 24;  // v and x: g2p_bytes is the two together
     e.info.notes = notes;
     e.default_meshes = {"box:24,24,24"};
     e.make = [phase](const KernelConfig& cfg) { return std::make_unique<MpmKernel>(cfg, phase); };
