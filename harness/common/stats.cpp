@@ -109,7 +109,8 @@ RankTest mann_whitney(const std::vector<double>& x, const std::vector<double>& y
     const double var = md * nd / 12 * ((md + nd + 1) - tie_term / ((md + nd) * (md + nd - 1)));
     if (!(var > 0)) return t;  // every value equal: nothing tells the samples apart
     const double sd = std::sqrt(var);
-    t.p_x_smaller = 1 - normal_upper_tail((t.u + 0.5 - mean) / sd);
+    // The lower tail as an upper tail of -z: 1 - upper(z) would round a small p to 0.
+    t.p_x_smaller = normal_upper_tail(-(t.u + 0.5 - mean) / sd);
     t.p_x_larger = normal_upper_tail((t.u - 0.5 - mean) / sd);
     return t;
 }
