@@ -180,12 +180,14 @@ EigenResult DistributedSolver::inverse_iteration(const EigenVectors& v, double t
         });
         const CgResult cg_result = cg(v.f, u, v.cg, cg_tol, max_cg);
         out.cg_iterations += cg_result.iterations;
+        out.worst_cg = std::max(out.worst_cg, cg_result.relative_residual);
         if (!cg_result.converged) {
             out.cg_failed = true;
             break;
         }
         const double previous = lambda;
         lambda = rayleigh_and_normalise();
+        out.last_change = std::fabs(lambda - previous) / std::fabs(previous);
         if (std::fabs(lambda - previous) <= tol * std::fabs(previous)) {
             out.converged = true;
             break;

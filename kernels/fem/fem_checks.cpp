@@ -119,8 +119,46 @@ void check_solve_outcome(const SolveOutcome& o, bool& solver_failed, const std::
         else
             fail("the inverse iteration did not reach --tol=" + format_number(o.tol) + " within " + std::to_string(max_outer_iterations) + " steps");
     }
+    // Converged, by the run's own tolerances: every solve's recursive residual within --cg-tol, and
+    // the inverse iteration's last step within --tol (the CG solutions themselves: check_cg_solution).
+    if (o.ran && converged && !o.cg) {
+        if (!(o.eigen.worst_cg <= o.cg_tol))
+            fail("a CG solve stopped at a recursive residual of " + format_number(o.eigen.worst_cg) + ", above --cg-tol=" + format_number(o.cg_tol));
+        if (!(o.eigen.last_change <= o.tol))
+            fail("the inverse iteration stopped when λ moved by " + format_number(o.eigen.last_change) + " (relative), above --tol=" + format_number(o.tol));
+    }
     if (o.ran && o.cg_iterations() != o.setup_cg_iterations)
         fail(std::to_string(o.cg_iterations()) + " CG iterations, where the same solve took " + std::to_string(o.setup_cg_iterations) + " in setup");
+}
+
+double cg_rounding_margin(long iterations, std::int64_t longest_row, double abs_ax_norm, double f_norm) {
+    const double u = std::ldexp(1.0, -53);
+    return f_norm > 0 ? 2 * u * static_cast<double>(iterations + longest_row + 2) * abs_ax_norm / f_norm : 0;
+}
+
+std::string check_cg_solution(const Pattern& p, const double* a, const double* f, const double* x, const CgResult& result, double tol,
+                              std::string& detail) {
+    double rr = 0, ff = 0, aa = 0;
+    std::int64_t longest = 0;
+    for (std::int64_t i = 0; i < p.n; ++i) {
+        double ax = 0, abs_ax = 0;
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) {
+            ax += a[k] * x[p.col[k]];
+            abs_ax += std::fabs(a[k] * x[p.col[k]]);
+        }
+        longest = std::max<std::int64_t>(longest, p.row_ptr[i + 1] - p.row_ptr[i]);
+        rr += (f[i] - ax) * (f[i] - ax);
+        ff += f[i] * f[i];
+        aa += abs_ax * abs_ax;
+    }
+    const double rel = std::sqrt(rr / ff), margin = cg_rounding_margin(result.iterations, longest, std::sqrt(aa), std::sqrt(ff));
+    detail = "||f - A x|| / ||f|| = " + format_number(rel) + " recomputed, within --cg-tol=" + format_number(tol) + " + " + format_number(margin) +
+             " (rounding), the recursive " + format_number(result.relative_residual) + " within --cg-tol";
+    if (!(result.relative_residual <= tol))
+        return "CG stopped at a recursive residual of " + format_number(result.relative_residual) + ", above --cg-tol=" + format_number(tol);
+    if (!(rel <= tol + margin))
+        return "the recomputed ||f - A x|| / ||f|| = " + format_number(rel) + ", above --cg-tol=" + format_number(tol) + " + " + format_number(margin) + " (rounding)";
+    return "";
 }
 
 std::string check_same_lambda(const std::string& key, const std::string& who, double lambda) {

@@ -27,6 +27,21 @@ std::string check_properties(const MeshArrays& mesh, const Matrices& got, double
 // λ of one problem (`key`: the mesh and parameters, and whatever else must match) must come out
 // the same whatever the ordering or partition: the first point of this process with that key is
 // remembered, and every later one (`who` names it) must agree with it to 1e-7 relative.
+// How far ||f - A x|| / ||f|| of a converged CG solution may lie above the tolerance the run asked
+// for, from rounding alone. CG stops on its recursive residual, which drifts from the true one: each
+// iteration's updates round at about u ||A|| ||x|| (u = 2^-53), and the norms of CG's iterates from
+// x = 0 grow monotonically (Hestenes and Stiefel), so the final x bounds them all; the recomputing
+// product itself rounds by at most γ_w |A| |x| for rows of w entries. Hence 2 u (iterations + w + 2)
+// || |A| |x| || / ||f||: about 1e-13 on the suite's meshes, a thousandth of the default tolerance,
+// where a solver that stops early misses it by its own margin.
+double cg_rounding_margin(long iterations, std::int64_t longest_row, double abs_ax_norm, double f_norm);
+
+// The solution x of a CG solve of A x = f that claimed `result` at tolerance `tol`: its recursive
+// residual within tol, and its true one, recomputed, within tol plus the rounding margin. "" when it
+// holds, else what failed; `detail` gets the recomputed figures either way.
+std::string check_cg_solution(const Pattern& p, const double* a, const double* f, const double* x, const CgResult& result, double tol,
+                              std::string& detail);
+
 // What verify() says of a CG solve (cg) or an inverse iteration, whoever ran it: that it ran after
 // setup, that it converged (else `solver_failed`, and which limit stopped it), and that it took
 // the CG iterations the untimed solve of setup took. Each failure goes to `fail`.

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace suite::fem {
@@ -108,12 +109,14 @@ EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const do
 #pragma omp barrier
         const CgResult cg = cg_team(pat, a, v.f, u, v.cg, cg_tol, max_cg, sum, rows);
         out.cg_iterations += cg.iterations;
+        out.worst_cg = std::max(out.worst_cg, cg.relative_residual);
         if (!cg.converged) {
             out.cg_failed = true;
             break;
         }
         const double previous = lambda;
         lambda = rayleigh_and_normalise();
+        out.last_change = std::fabs(lambda - previous) / std::fabs(previous);
         if (std::fabs(lambda - previous) <= tol * std::fabs(previous)) {
             out.converged = true;
             break;

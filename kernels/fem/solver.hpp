@@ -58,6 +58,8 @@ struct EigenResult {
     bool converged = false;  // outer loop within its limit
     bool cg_failed = false;  // a solve did not converge within max_cg
     double residual = 0;     // ||A u - λ M u|| / ||λ M u|| at the end
+    double last_change = 0;  // |λ - λ_old| / |λ_old| of the last step: the stopping rule's figure
+    double worst_cg = 0;     // the largest recursive ||r|| / ||f|| a solve stopped at
 };
 
 constexpr int max_outer_iterations = 1000;

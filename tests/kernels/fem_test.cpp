@@ -163,6 +163,50 @@ TEST(FemSolver, CgStopsAtItsLimitAndSaysSo) {
     }
 }
 
+// Verification holds a solution to the tolerance the run asked for: a solve that stopped at 1e-6
+// fails a check at 1e-8 (on its recursive residual, and on the recomputed one), and one that went
+// on to 1e-8 passes it, with a rounding margin a thousandth of the tolerance or less.
+TEST(FemSolver, ACgSolutionIsHeldToTheRequestedToleranceNotTenTimesIt) {
+    const mesh::Mesh m = load_fem_mesh(circle, "natural", 3);
+    AssembledCsr ref = assemble_reference(arrays(m), 0.05);
+    const Pattern p = ref.pattern();
+    const std::size_t n = static_cast<std::size_t>(p.n);
+    std::vector<double> ones(n, 1.0), f(n), x(n), r(n), pp(n), q(n), partial(16);
+    spmv_rows(p, ref.m.data(), ones.data(), f.data(), 0, p.n);
+    auto solve = [&](double tol) {
+        std::fill(x.begin(), x.end(), 0.0);
+        CgResult result;
+        const Threads team(1);
+#pragma omp parallel
+        {
+            TeamSum sum(partial.data());
+            result = cg_team(p, ref.a.data(), f.data(), x.data(), {r.data(), pp.data(), q.data()}, tol, 100000, sum, {0, p.n});
+        }
+        return result;
+    };
+    std::string detail;
+    const CgResult early = solve(1e-6);
+    ASSERT_TRUE(early.converged);
+    EXPECT_GT(early.relative_residual, 1e-8);
+    EXPECT_EQ(check_cg_solution(p, ref.a.data(), f.data(), x.data(), early, 1e-6, detail), "") << detail;
+    EXPECT_NE(check_cg_solution(p, ref.a.data(), f.data(), x.data(), early, 1e-8, detail), "");
+    // Claiming to have reached 1e-8 does not help: the recomputed residual says otherwise.
+    CgResult lie = early;
+    lie.relative_residual = 1e-9;
+    EXPECT_NE(check_cg_solution(p, ref.a.data(), f.data(), x.data(), lie, 1e-8, detail).find("recomputed"), std::string::npos);
+    const CgResult full = solve(1e-8);
+    EXPECT_EQ(check_cg_solution(p, ref.a.data(), f.data(), x.data(), full, 1e-8, detail), "") << detail;
+    // The margin rounding needs, on this system: || |A| |x| || over ||f|| times 2u(k + w + 2).
+    double aa = 0, ff = 0;
+    for (std::int64_t i = 0; i < p.n; ++i) {
+        double s = 0;
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) s += std::fabs(ref.a[k] * x[p.col[k]]);
+        aa += s * s;
+        ff += f[static_cast<std::size_t>(i)] * f[static_cast<std::size_t>(i)];
+    }
+    EXPECT_LT(cg_rounding_margin(full.iterations, 7, std::sqrt(aa), std::sqrt(ff)), 1e-11);
+}
+
 TEST(FemSolver, LambdaAgreesAcrossOrderingsStrategiesAndThreads) {
     double first = 0;
     for (const char* ordering : {"natural", "random", "morton", "hilbert", "rcm"})
