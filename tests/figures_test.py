@@ -12,7 +12,8 @@ same run on stdout. Then, on every record:
     64 B lines, the index array), the pointer chase, SpMV, CG and the assembly on a mesh whose
     vertex count Euler's formula gives, and the particle kernels' constant bytes per particle;
   - the formats agree to their printed precision: the table with the JSON, CSV and gbench of
-    its own run, and `suite compare --format=markdown` with the JSON it reads.
+    its own run, `suite compare --format=markdown` with the JSON it reads, and `suite check
+    --markdown` with a run made 1.5 times slower (every point regressed, by -33.3 % or +50 %).
 Usage: figures_test.py SUITE_BINARY"""
 import csv
 import io
@@ -25,7 +26,7 @@ import tempfile
 
 suite = sys.argv[1]
 failures = []
-COMMON = ["--reps=3", "--counters=none", "--energy=none", "--seed=7"]
+COMMON = ["--counters=none", "--energy=none", "--seed=7"]
 # One group a run: the kernels that share a size (a footprint, or a mesh).
 STREAM = ["add", "copy", "load", "scale", "sin-add", "store", "triad"]
 NT = ["add", "copy", "scale", "store", "triad"]
@@ -52,8 +53,8 @@ def close(a, b, rel=1e-12):
     return a is not None and b is not None and abs(a - b) <= rel * max(abs(a), abs(b), 1e-300)
 
 
-def run(args):
-    p = subprocess.run([suite, *args, *COMMON], capture_output=True, text=True, timeout=600)
+def run(args, reps=3):
+    p = subprocess.run([suite, *args, *COMMON, f"--reps={reps}"], capture_output=True, text=True, timeout=600)
     if p.returncode != 0:
         sys.exit(f"FAIL: suite {' '.join(args)} exited {p.returncode}: {p.stderr.strip()[-500:]}")
     return p.stdout
@@ -281,6 +282,62 @@ def check_markdown(a_path, b_path, a, b, where):
         check(abs(got - ratio) <= 0.0005 + 1e-9, f"{where} {cells[0]}: vs [1] {got}, the medians give {ratio:.4f}")
 
 
+def size_label(n):
+    for unit, scale in (("GiB", 1 << 30), ("MiB", 1 << 20), ("KiB", 1 << 10)):
+        if n % scale == 0:
+            return f"{n // scale}{unit}"
+    return f"{n}B"
+
+
+def check_gate(a_path, a, where, tmp):
+    """`suite check`'s markdown on a run made 1.5 times slower (every time of the baseline's
+    records x 1.5, each rate over the new time): every point regresses, and its row shows the
+    medians of both files and the change of the figure itself (-33.3 % GB/s, +50.0 % ns). The
+    baseline has 7 repetitions (3 against 3 can never reach p < 0.01), and both files are marked
+    stable: the gate would call a point of this busy VM inconclusive, and its figures not shown."""
+    for r in a["results"]:
+        r["stability"]["unstable"] = False
+    a_path = a_path.removesuffix(".json") + ".stable.json"
+    json.dump(a, open(a_path, "w"))
+    slow = json.loads(json.dumps(a))
+    for r in slow["results"]:
+        t = r["time_s"]
+        for k in ("min", "median", "max", "mean"):
+            t[k] *= 1.5
+        t["samples"] = [x * 1.5 for x in t["samples"]]
+        for fig in (r["bandwidth_gbps"] or {}).values():
+            fig["best"] /= 1.5
+            fig["median"] /= 1.5
+        if r["latency_ns"]:
+            r["latency_ns"] = {k: v * 1.5 for k, v in r["latency_ns"].items()}
+        r["units_per_second_best"] /= 1.5
+        if r["gflops_best"]:
+            r["gflops_best"] /= 1.5
+    b_path, md = f"{tmp}/slow.json", f"{tmp}/gate.md"
+    json.dump(slow, open(b_path, "w"))
+    p = subprocess.run([suite, "check", "--baseline", a_path, b_path, "--markdown=" + md], capture_output=True, text=True, timeout=120)
+    check(p.returncode == 1, f"{where}: suite check of a run 1.5x slower exited {p.returncode}, not 1 (regressed)")
+    rows = {}
+    for line in open(md).read().splitlines():
+        c = [x.strip() for x in line.split("|")[1:-1]]
+        if len(c) == 8 and c[1].startswith("`"):
+            rows[c[1].strip("`")] = c
+    for r in a["results"]:
+        label = f"{r['name']} {r['pattern']} {size_label(r['size']['requested'])} t={r['threads']} {r['pin']['requested']}/{r['placement']['requested']}"
+        c = rows.get(label)
+        if not check(c is not None, f"{where}: the gate's markdown has no row {label!r}: {sorted(rows)[:3]}"):
+            continue
+        fig = r["bandwidth_gbps"]["stream"]["median"] if r["bandwidth_gbps"] else r["latency_ns"]["median"]
+        slow_fig = fig / 1.5 if r["bandwidth_gbps"] else fig * 1.5
+        for shown, want in ((c[3], fig), (c[4], slow_fig)):
+            decimals = len(shown.split(".")[1]) if "." in shown else 0
+            check(printed(want, float(shown), decimals), f"{where} gate {label}: shows {shown}, the file's median {want}")
+        change = float(c[5].split("%")[0])
+        want = -33.3 if r["bandwidth_gbps"] else 50.0
+        check(abs(change - want) <= 0.05 + 1e-9, f"{where} gate {label}: change {c[5]}, the medians give {want} %")
+        check(c[0] in ("REGRESSED", "inconclusive"), f"{where} gate {label}: {c[0]} for a run 1.5x slower")
+
+
 def main():
     listed = {k["name"]: k for k in json.loads(subprocess.run([suite, "list", "--json"], capture_output=True, text=True, check=True).stdout)}
     covered = {k for args in GROUPS.values() for k in args[0].removeprefix("--kernel=").split(",")}
@@ -304,6 +361,8 @@ def main():
                 b = f"{tmp}/{group}.b.json"
                 run([*args, "--out=" + b])
                 check_markdown(j, b, doc, json.load(open(b)), group)
+                run([*args, "--out=" + b], reps=7)
+                check_gate(b, json.load(open(b)), group, tmp)
     want = set(STREAM) | {"latency", "fem-spmv", "fem-cg", "fem-assembly", "fem-spmv-dist", "fem-cg-dist", "mpm-p2g", "mpm-g2p", "mpm-step"}
     check(want <= hand, f"no hand count was checked for {sorted(want - hand)}")
     for f in failures:
