@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
+.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize test-mutants clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -76,6 +76,13 @@ test-sanitize: test-deps
 	cmake --build build-sanitize -j $(JOBS)
 	cd build-sanitize && ASAN_OPTIONS=abort_on_error=1:detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j 2
+
+# The mutation check: each bug of tests/mutants/mutants.txt planted in turn in a copy of the tree
+# (build-mutants/), built, and its tests run; fails if a mutant survives (docs/development.md#mutants).
+# Not part of `make test`: one to two hours. MUTANTS_FLAGS passes options, e.g. "--only gate --keep", "--list".
+MUTANTS_FLAGS ?=
+test-mutants: test-deps
+	JOBS=$(JOBS) ARCH=$(ARCH) CMAKE_FLAGS="$(CMAKE_FLAGS)" $(PYTHON) scripts/mutants.py $(MUTANTS_FLAGS)
 
 bench-deps:
 	@scripts/install-deps.sh bench
