@@ -280,6 +280,11 @@ def check_markdown(a_path, b_path, a, b, where):
         ratio = fig(rb, "median") / fig(ra, "median") if ra["bandwidth_gbps"] else fig(ra, "median") / fig(rb, "median")
         got = float(cells[6].split("x")[0])
         check(abs(got - ratio) <= 0.0005 + 1e-9, f"{where} {cells[0]}: vs [1] {got}, the medians give {ratio:.4f}")
+        # The 95 % bootstrap interval of that ratio holds it: each median resampled falls at or
+        # below its sample's median with probability >= 1/2, so the ratio's 2.5 % and 97.5 %
+        # points cannot both lie on one side of the ratio of the medians.
+        low, high = (float(x) for x in re.search(r"\[([0-9.]+), ([0-9.]+)\]", cells[6]).groups())
+        check(low <= got + 0.0005 and got <= high + 0.0005, f"{where} {cells[0]}: the interval [{low}, {high}] leaves out its ratio {got}")
 
 
 def size_label(n):
