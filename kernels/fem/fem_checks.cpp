@@ -154,8 +154,11 @@ std::string check_cg_solution(const Pattern& p, const double* a, const double* f
     const double rel = std::sqrt(rr / ff), margin = cg_rounding_margin(result.iterations, longest, std::sqrt(aa), std::sqrt(ff));
     detail = "||f - A x|| / ||f|| = " + format_number(rel) + " recomputed, within --cg-tol=" + format_number(tol) + " + " + format_number(margin) +
              " (rounding), the recursive " + format_number(result.relative_residual) + " within --cg-tol";
-    if (!(result.relative_residual <= tol))
-        return "CG stopped at a recursive residual of " + format_number(result.relative_residual) + ", above --cg-tol=" + format_number(tol);
+    return judge_cg_residuals(rel, result.relative_residual, tol, margin);
+}
+
+std::string judge_cg_residuals(double rel, double recursive, double tol, double margin) {
+    if (!(recursive <= tol)) return "CG stopped at a recursive residual of " + format_number(recursive) + ", above --cg-tol=" + format_number(tol);
     if (!(rel <= tol + margin))
         return "the recomputed ||f - A x|| / ||f|| = " + format_number(rel) + ", above --cg-tol=" + format_number(tol) + " + " + format_number(margin) + " (rounding)";
     return "";

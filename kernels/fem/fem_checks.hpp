@@ -36,6 +36,10 @@ std::string check_properties(const MeshArrays& mesh, const Matrices& got, double
 // where a solver that stops early misses it by its own margin.
 double cg_rounding_margin(long iterations, std::int64_t longest_row, double abs_ax_norm, double f_norm);
 
+// The verdict on a CG solution whose true residual ||f - A x|| / ||f|| is `rel` and whose recursive
+// one, where CG stopped, is `recursive`: "" when both hold (see check_cg_solution), else what failed.
+std::string judge_cg_residuals(double rel, double recursive, double tol, double margin);
+
 // The solution x of a CG solve of A x = f that claimed `result` at tolerance `tol`: its recursive
 // residual within tol, and its true one, recomputed, within tol plus the rounding margin. "" when it
 // holds, else what failed; `detail` gets the recomputed figures either way.
