@@ -1,13 +1,16 @@
-// The suite's CSR SpMV against Eigen's sparse matrix-vector product, on the same P1 Helmholtz
-// matrix A (δ = 0.05), the same x and the same thread count:
-//   ours   #pragma omp parallel { b = my_block(n); spmv_rows(A, x, y, b.lo, b.hi); }  (fem-spmv's loop)
-//   Eigen  y.noalias() = A * x;   A a Map<const SparseMatrix<double, RowMajor, int>> over the same
-//                                 values, with int copies of row_ptr and col (made once, untimed)
-// Both share the values and x; GB/s counts the minimal traffic of either: 12 B a nonzero, 4 B a row
-// pointer, 8 B a row of x and 8 of y. (Eigen 3.4 moves more: its `=` zeroes y on one thread, then
-// adds A x into it, 16 B a row more; that is its cost, not counted.) The two y must agree before
-// anything is timed; then the two products alternate (ours, Eigen, ours, ...), the first call of
-// each a warm-up.
+// fem-spmv's products against Eigen's sparse matrix-vector product, on the same P1 Helmholtz
+// matrix A (δ = 0.05), the same x and the same thread count, in one process:
+//   plain      one row loop a thread, the loop fem-spmv had before its tuning (csr.hpp's spmv_rows)
+//   csr        fem-spmv --strategy=csr: the same sums, the row loop unrolled by 4 (solver.hpp)
+//   symmetric  fem-spmv --strategy=symmetric: one triangle, the window scheme (symmetric.hpp)
+//   Eigen      y.noalias() = A * x;   A a Map<const SparseMatrix<double, RowMajor, int>> over the same
+//              values, with int copies of row_ptr and col (made once, untimed)
+// GB/s counts the minimal traffic of each: its matrix bytes, 8 B a row of x and 8 of y (CSR and
+// Eigen: 12 B a nonzero and 4 B a row pointer; symmetric: its own structure, about 7.5 B a
+// nonzero). (Eigen 3.4 moves more: its `=` zeroes y on one thread, then adds A x into it, 16 B a
+// row more; that is its cost, not counted.) Every y must agree with Eigen's before anything is
+// timed, to 1e-12 of the row's Σ|a_ij x_j|; then the four products alternate, the first call of
+// each a warm-up. The ratios are of median times.
 //   suite-spmv-eigen                                    the thesis mesh, hilbert, 1 thread
 //   suite-spmv-eigen --ordering=natural,hilbert,rcm --threads=2 --json=spmv.json
 #include <omp.h>
@@ -34,6 +37,8 @@
 #include "kernels/fem/csr.hpp"
 #include "kernels/fem/fem_mesh.hpp"
 #include "kernels/fem/fem_point.hpp"
+#include "kernels/fem/solver.hpp"
+#include "kernels/fem/symmetric.hpp"
 
 // Without OpenMP Eigen's product would run on one thread whatever --threads says.
 #ifndef EIGEN_HAS_OPENMP
@@ -47,7 +52,7 @@ using EigenCsr = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using Clock = std::chrono::steady_clock;
 
 constexpr double delta = 0.05;       // fem-spmv's default δ
-constexpr double tolerance = 1e-12;  // per entry, relative
+constexpr double tolerance = 1e-12;  // per entry, relative to the row's Σ|a_ij x_j|
 constexpr std::uint64_t seed = 1;    // the suite's default --seed (the random ordering)
 
 struct Options {
@@ -79,67 +84,90 @@ nlohmann::json compare(const Options& o, const std::string& ordering) {
     const Eigen::Map<const EigenCsr> ea(n, n, static_cast<Eigen::Index>(nnz), rp.data(), col.data(), a.a.data());
 
     // fem-spmv's x: a smooth field. Every array here is first touched by the main thread, the same
-    // for both sides (the machine this was written for has one NUMA node).
-    std::vector<double> x(static_cast<std::size_t>(n)), ours(x.size()), theirs(x.size());
+    // for every side (the machine this was written for has one NUMA node).
+    std::vector<double> x(static_cast<std::size_t>(n)), theirs(x.size()), scale(x.size());
     for (std::int64_t i = 0; i < n; ++i) x[i] = 1.0 + 0.5 * m.x[i] - 0.25 * m.y[i];
+    for (std::int64_t i = 0; i < n; ++i)
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) scale[i] += std::fabs(a.a[k] * x[p.col[k]]);
     const Eigen::Map<const Eigen::VectorXd> ex(x.data(), n);
     Eigen::Map<Eigen::VectorXd> ey(theirs.data(), n);
+    const fem::SymmetricMatrix sym = fem::make_symmetric(p, a.a.data(), o.threads, fem::default_window);
+    const fem::Operator csr_op = fem::Operator::of_csr(p, a.a.data()), sym_op = fem::Operator::of_symmetric(sym.pattern, sym.values());
 
     const double* const xv = x.data();
     const double* const av = a.a.data();
-    double* const yv = ours.data();
     int team = 0;
-    auto run_ours = [&] {
+    struct Candidate {
+        const char* name;
+        double bytes;
+        std::vector<double> y;
+        std::vector<double> times;
+    };
+    const double vectors = 16.0 * static_cast<double>(n);
+    std::vector<Candidate> sides = {{"plain", fem::csr_bytes(nnz, n) + vectors, {}, {}},
+                                    {"csr", fem::csr_bytes(nnz, n) + vectors, {}, {}},
+                                    {"symmetric", sym.pattern.counts.matrix_bytes() + vectors, {}, {}},
+                                    {"eigen", fem::csr_bytes(nnz, n) + vectors, {}, {}}};
+    for (auto& c : sides) c.y.assign(static_cast<std::size_t>(n), 0.0);
+    auto run_side = [&](std::size_t which) {
+        double* const yv = which == 3 ? theirs.data() : sides[which].y.data();
         const auto t0 = Clock::now();
+        if (which == 3) {
+            ey.noalias() = ea * ex;
+        } else {
 #pragma omp parallel
-        {
-            const Block b = my_block(n);
-            fem::spmv_rows(p, av, xv, yv, b.lo, b.hi);
+            {
+                const Block b = my_block(n);
+                if (which == 0) fem::spmv_rows(p, av, xv, yv, b.lo, b.hi);
+                if (which == 1) csr_op.apply(xv, yv, b);
+                if (which == 2) sym_op.apply(xv, yv, b);
 #pragma omp master
-            team = omp_get_num_threads();
+                team = omp_get_num_threads();
+            }
         }
         return std::chrono::duration<double>(Clock::now() - t0).count();
     };
-    auto run_eigen = [&] {
-        const auto t0 = Clock::now();
-        ey.noalias() = ea * ex;
-        return std::chrono::duration<double>(Clock::now() - t0).count();
-    };
 
-    run_ours();
-    run_eigen();
+    for (std::size_t s = 0; s < sides.size(); ++s) run_side(s);
     if (team != o.threads) throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP gave a team of " + std::to_string(team));
+    sides[3].y = theirs;
     double worst = 0;
-    std::int64_t worst_row = 0;
-    for (std::int64_t i = 0; i < n; ++i) {
-        const double scale = std::max(std::fabs(ours[i]), std::fabs(theirs[i]));
-        const double rel = scale == 0 ? 0 : std::fabs(ours[i] - theirs[i]) / scale;
-        if (rel > worst || std::isnan(rel)) worst = rel, worst_row = i;
-    }
-    if (!(worst <= tolerance)) {
-        std::fprintf(stderr, "suite-spmv-eigen: %s: y differs at row %lld: ours %.17g, Eigen %.17g (relative %.3g > %.0e)\n",
-                     ordering.c_str(), static_cast<long long>(worst_row), ours[worst_row], theirs[worst_row], worst, tolerance);
-        std::exit(1);
-    }
+    for (std::size_t s = 0; s < 3; ++s)
+        for (std::int64_t i = 0; i < n; ++i) {
+            const double got = sides[s].y[i], rel = scale[i] == 0 ? std::fabs(got - theirs[i]) : std::fabs(got - theirs[i]) / scale[i];
+            worst = std::max(worst, rel);
+            if (!(rel <= tolerance)) {
+                std::fprintf(stderr, "suite-spmv-eigen: %s: %s's y differs from Eigen's at row %lld: %.17g against %.17g (%.3g of the row's sum of |a x| > %.0e)\n",
+                             ordering.c_str(), sides[s].name, static_cast<long long>(i), got, theirs[i], rel, tolerance);
+                std::exit(1);
+            }
+        }
 
-    std::vector<double> t_ours, t_eigen;
-    for (int r = 0; r < o.reps; ++r) {
-        t_ours.push_back(run_ours());
-        t_eigen.push_back(run_eigen());
+    for (int r = 0; r < o.reps; ++r)
+        for (std::size_t s = 0; s < sides.size(); ++s) sides[s].times.push_back(run_side(s));
+    nlohmann::json out = {{"ordering", ordering}, {"rows", n}, {"nnz", nnz}, {"max_relative_difference", worst},
+                          {"symmetric_window", sym.pattern.counts.window}, {"symmetric_far_entries", static_cast<double>(sym.pattern.counts.far_nnz) / static_cast<double>(nnz)}};
+    std::vector<double> med;
+    std::printf("%-8s", ordering.c_str());
+    for (auto& c : sides) {
+        const Side side{summarise(c.times)};
+        med.push_back(side.t.median);
+        out[c.name] = side.to_json(c.bytes);
+        out[c.name]["bytes"] = c.bytes;
+        std::printf(" %9.2f", c.bytes / side.t.median / 1e9);
     }
-    const Side so{summarise(t_ours)}, se{summarise(t_eigen)};
-    const double bytes = fem::csr_bytes(nnz, n) + 16.0 * static_cast<double>(n);
-    const double ratio = so.t.median / se.t.median;
-    std::printf("%-8s %10.2f %10.2f   %10.2f %10.2f   %6.3f   %.1e\n", ordering.c_str(), bytes / so.t.min / 1e9, bytes / so.t.median / 1e9,
-                bytes / se.t.min / 1e9, bytes / se.t.median / 1e9, ratio, worst);
+    const double csr_vs_plain = med[0] / med[1], sym_vs_csr = med[1] / med[2], csr_vs_eigen = med[3] / med[1];
+    out["speedup_csr_over_plain"] = csr_vs_plain;
+    out["speedup_symmetric_over_csr"] = sym_vs_csr;
+    out["speedup_csr_over_eigen"] = csr_vs_eigen;
+    std::printf("   %8.3f %8.3f %8.3f   %.1e\n", csr_vs_plain, sym_vs_csr, csr_vs_eigen, worst);
     std::fflush(stdout);
-    return {{"ordering", ordering}, {"rows", n},          {"nnz", nnz}, {"bytes", bytes}, {"max_relative_difference", worst},
-            {"ours", so.to_json(bytes)}, {"eigen", se.to_json(bytes)}, {"ratio_ours_over_eigen_median", ratio}};
+    return out;
 }
 
 int run(int argc, char** argv) {
     Options o;
-    CLI::App app{"The suite's CSR SpMV (fem-spmv's loop) against Eigen's sparse matrix-vector product on the same matrix"};
+    CLI::App app{"fem-spmv's products (plain and tuned CSR, symmetric) against Eigen's sparse matrix-vector product on the same matrix"};
     app.add_option("--mesh", o.mesh, "mesh spec (as suite's --mesh)")->capture_default_str();
     app.add_option("--ordering", o.orderings, "natural|random|morton|hilbert|rcm, or a comma list of them")->delimiter(',')->capture_default_str();
     add_whole_option(app, "--threads", o.threads, 1, 1024, "OpenMP threads for both (default 1)");
@@ -165,8 +193,9 @@ int run(int argc, char** argv) {
     gethostname(host, sizeof host - 1);
     std::printf("suite-spmv-eigen on %s: mesh %s, %d thread(s) (Eigen: %d), %d repetitions each, Eigen %d.%d.%d\n", host, o.mesh.c_str(),
                 o.threads, Eigen::nbThreads(), o.reps, EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);
-    std::printf("GB/s of 12 B a nonzero + 4 B a row pointer + 16 B a row (x, y); ratio = median time ours / Eigen (>1: ours slower)\n");
-    std::printf("%-8s %10s %10s   %10s %10s   %6s   %s\n", "ordering", "ours best", "median", "Eigen best", "median", "ratio", "max rel diff");
+    std::printf("median GB/s of each format's minimal traffic; speed-ups are ratios of median times (> 1: the first is faster)\n");
+    std::printf("%-8s %9s %9s %9s %9s   %8s %8s %8s   %s\n", "ordering", "plain", "csr", "symmetric", "Eigen", "csr/plain", "sym/csr", "csr/Eigen",
+                "max rel diff");
     std::fflush(stdout);
     nlohmann::json results = nlohmann::json::array();
     for (const auto& ordering : o.orderings) results.push_back(compare(o, ordering));
@@ -178,8 +207,9 @@ int run(int argc, char** argv) {
             {"mesh", o.mesh},
             {"delta", delta},
             {"reps", o.reps},
-            {"bytes_convention", "12 B a nonzero (8 value + 4 column index), 4 B a row pointer, 8 B a row of x and 8 of y; 1 GB = 1e9 B"},
-            {"ratio", "median time ours / median time Eigen; > 1: ours slower"},
+            {"bytes_convention", "CSR and Eigen: 12 B a nonzero (8 value + 4 column index), 4 B a row pointer; symmetric: its structure's bytes; "
+                                 "all: 8 B a row of x and 8 of y; 1 GB = 1e9 B"},
+            {"speedups", "ratios of median times, > 1: the named first is faster"},
             {"results", results}};
         out.write(doc.dump(2) + "\n");
     }

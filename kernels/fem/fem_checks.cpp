@@ -176,4 +176,32 @@ std::string check_same_lambda(const std::string& key, const std::string& who, do
            format_number(rel) + " (relative), more than 1e-7";
 }
 
+std::string check_symmetric_product(const Pattern& p, const double* a, const SymmetricPattern& s, SymmetricValues v, const double* x,
+                                    const double* y, std::string& detail) {
+    const std::int64_t n = p.n;
+    std::vector<double> replay(static_cast<std::size_t>(n));
+    symmetric_product_replay(s, v, x, replay.data());
+    std::string wrong;
+    double worst = 0;
+    for (std::int64_t i = 0; i < n; ++i) {
+        double full = 0, scale = 0;
+        for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k) {
+            full += a[k] * x[p.col[k]];
+            scale += std::fabs(a[k] * x[p.col[k]]);
+        }
+        const double rel = scale > 0 ? std::fabs(y[i] - full) / scale : std::fabs(y[i] - full);
+        worst = std::max(worst, rel);
+        if (!wrong.empty()) continue;
+        if (replay[static_cast<std::size_t>(i)] != y[i])
+            wrong = "y[" + std::to_string(i) + "] = " + format_number(y[i]) + ", a serial replay of the same schedule " +
+                    format_number(replay[static_cast<std::size_t>(i)]) + " (a race between threads?)";
+        else if (!(rel <= 1e-12))
+            wrong = "y[" + std::to_string(i) + "] = " + format_number(y[i]) + ", the full CSR product " + format_number(full) + " (" + format_number(rel) +
+                    " of the row's Σ|a x|, above 1e-12)";
+    }
+    detail = "the symmetric y = A x equals a serial replay of its schedule exactly and the full CSR product to " + format_number(worst) +
+             " of the row's Σ|a x| (1e-12 allowed)";
+    return wrong;
+}
+
 }  // namespace suite::fem

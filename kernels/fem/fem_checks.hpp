@@ -60,6 +60,13 @@ struct SolveOutcome {
 };
 void check_solve_outcome(const SolveOutcome& o, bool& solver_failed, const std::function<void(const std::string&)>& fail);
 
+// y, the symmetric product (symmetric.hpp) of x: equal to the last bit to a serial replay of the
+// team's schedule (a race would differ) and, entry by entry, to the full CSR product to 1e-12 of
+// the row's Σ_j |a_ij x_j| (the storage and the window are right). "" when both hold, else the
+// first difference; `detail` gets the largest relative difference either way.
+std::string check_symmetric_product(const Pattern& p, const double* a, const SymmetricPattern& s, SymmetricValues v, const double* x,
+                                    const double* y, std::string& detail);
+
 std::string check_same_lambda(const std::string& key, const std::string& who, double lambda);
 
 }  // namespace suite::fem

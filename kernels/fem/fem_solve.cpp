@@ -1,9 +1,11 @@
 // The solver kernels on the assembled P1 matrices (solver.hpp has the algorithms). One repetition:
-//   fem-spmv    y = A x                                     rated in nonzeros/s
+//   fem-spmv    y = A x                                     rated in nonzeros/s (of the full matrix)
 //   fem-cg      solve A x = M 1 from x = 0 by CG            rated in CG iterations/s
 //   fem-eigen   the inverse power iteration: λ_min of A u = λ M u, u > 0, by CG solves
 //                                                           rated in CG iterations/s; the facts say
 //                                                           λ, outer and CG iterations, the residual
+// --strategy picks how A (and M) are stored and multiplied: csr, every entry (csr.hpp), or
+// symmetric, one triangle and the window scheme of symmetric.hpp (about half the matrix bytes).
 // A CG that does not converge within --cg-max iterations, or an inverse iteration within 1000
 // steps, is a solver failure: the record is not verified and the run exits with status 3.
 #include <omp.h>
@@ -33,16 +35,18 @@ enum class Solve { spmv, cg, eigen };
 // Traffic of one CG iteration by the STREAM convention: the matrix, and the vectors of the three
 // fused passes (q = A p with pᵀq: p, q; x, r updates with rᵀr: x, p, r, q read, x, r written;
 // p = r + βp: r, p read, p written). Flops: 2 a nonzero, 10 a row.
-double cg_bytes(std::uint64_t nnz, std::int64_t n) { return csr_bytes(nnz, n) + 88.0 * static_cast<double>(n); }
+double cg_bytes(double matrix_bytes, std::int64_t n) { return matrix_bytes + 88.0 * static_cast<double>(n); }
 double cg_flops(std::uint64_t nnz, std::int64_t n) { return 2.0 * static_cast<double>(nnz) + 10.0 * static_cast<double>(n); }
 
 class FemSolve final : public Kernel {
 public:
-    FemSolve(const KernelConfig& cfg, Solve solve) : cfg_(cfg), solve_(solve) {}
+    FemSolve(const KernelConfig& cfg, Solve solve) : cfg_(cfg), solve_(solve), symmetric_(cfg.variant == "symmetric") {}
 
     void setup(Arena& arena) override {
         d_.setup(arena, cfg_, FemPoint::Build::matrices);
         const int nt = cfg_.threads;
+        sym_.counts = count_symmetric(d_.pattern, nt, default_window);
+        if (symmetric_) setup_symmetric(arena);
         partial_ = arena.allocate<double>("team-sums", 16 * static_cast<std::size_t>(nt));
         x_ = d_.vector(arena, "x");
         y_ = d_.vector(arena, "y");
@@ -82,18 +86,13 @@ public:
     }
 
     void run(int calls) override {
-        const Pattern p = d_.pattern;
-        const double* const a = d_.matrices.a;
-        const double* const mv = d_.matrices.m;
+        const Operator a = op(d_.matrices.a, sym_a_), mv = op(d_.matrices.m, sym_m_);
         const std::int64_t n = d_.mesh.nv;
         ran_ = ran_ || calls > 0;
         for (int c = 0; c < calls; ++c) {
             if (solve_ == Solve::spmv) {
 #pragma omp parallel
-                {
-                    const Block rb = my_block(n);
-                    spmv_rows(p, a, x_, y_, rb.lo, rb.hi);
-                }
+                a.apply(x_, y_, my_block(n));
                 continue;
             }
 #pragma omp parallel
@@ -104,12 +103,11 @@ public:
                 if (solve_ == Solve::cg) {
                     for (std::int64_t i = rb.lo; i < rb.hi; ++i) y_[i] = 0;
 #pragma omp barrier
-                    const CgResult r = cg_team(p, a, f_, y_, cg_, cg_tol_, max_cg_, sum, rb);
+                    const CgResult r = cg_team(a, f_, y_, cg_, cg_tol_, max_cg_, sum, rb);
 #pragma omp master
                     cg_result_ = r;
                 } else {
-                    const EigenResult r = inverse_iteration_team(p, a, mv, {y_, f_, au_, x_, cg_}, tol_, cg_tol_,
-                                                                 max_cg_, sum, rb);
+                    const EigenResult r = inverse_iteration_team(a, mv, {y_, f_, au_, x_, cg_}, tol_, cg_tol_, max_cg_, sum, rb);
 #pragma omp master
                     eigen_ = r;
                 }
@@ -122,9 +120,19 @@ public:
     Work work() const override;
 
 private:
+    // The symmetric storage of A (and M for the inverse iteration), first touched by row blocks.
+    void setup_symmetric(Arena& arena);
+    Operator op(const double* csr_values, SymmetricValues sym) const {
+        return symmetric_ ? Operator::of_symmetric(sym_, sym) : Operator::of_csr(d_.pattern, csr_values);
+    }
+    double matrix_bytes() const { return symmetric_ ? sym_.counts.matrix_bytes() : csr_bytes(d_.nnz(), d_.mesh.nv); }
+
     KernelConfig cfg_;
     Solve solve_;
+    bool symmetric_;
     FemPoint d_;
+    SymmetricPattern sym_;  // counts always (the record's statistics); arrays for symmetric only
+    SymmetricValues sym_a_, sym_m_;
     double* partial_ = nullptr;
     double *x_ = nullptr, *y_ = nullptr, *f_ = nullptr, *au_ = nullptr;
     CgVectors cg_;
@@ -135,6 +143,35 @@ private:
     long setup_cg_iterations_ = 0;
     bool ran_ = false;  // a run() since setup: the solver results below are its
 };
+
+void FemSolve::setup_symmetric(Arena& arena) {
+    const SymmetricCounts& c = sym_.counts;
+    const std::size_t k = static_cast<std::size_t>(c.slots), n = static_cast<std::size_t>(c.n);
+    sym_.col = arena.allocate<std::uint32_t>("sym-col", n * k + 1);
+    // Far parts may be empty; the arena is asked for one element at least.
+    sym_.far_row = arena.allocate<std::uint32_t>("sym-far-row", static_cast<std::size_t>(c.far_rows) + 1);
+    sym_.far_ptr = arena.allocate<std::uint32_t>("sym-far-ptr", static_cast<std::size_t>(c.far_rows) + 1);
+    sym_.far_col = arena.allocate<std::uint32_t>("sym-far-col", c.far_nnz + 1);
+    sym_.ring_stride = ring_stride_for(c.window);
+    sym_.ring = arena.allocate<double>("sym-ring", static_cast<std::size_t>(sym_.ring_stride * c.threads));
+    fill_symmetric(d_.pattern, sym_);
+    auto values = [&](const char* name, const double* full) {
+        double* near = arena.allocate<double>(std::string("sym-") + name, n * (k + 1));
+        double* far = arena.allocate<double>(std::string("sym-far-") + name, c.far_nnz + 1);
+        // First touch by the rows' threads, then the values (serially: setup).
+        const SymmetricPattern& sp = sym_;
+#pragma omp parallel
+        {
+            const Block b = my_block(c.n);
+            std::fill(near + (sp.counts.slots + 1) * b.lo, near + (sp.counts.slots + 1) * b.hi, 0.0);
+        }
+        const std::string wrong = fill_symmetric_values(d_.pattern, full, sym_, near, far);
+        if (!wrong.empty()) throw UsageError(cfg_.access.name + " " + name + ": " + wrong);
+        return SymmetricValues{near, far};
+    };
+    sym_a_ = values("A", d_.matrices.a);
+    if (solve_ == Solve::eigen) sym_m_ = values("M", d_.matrices.m);
+}
 
 Verification FemSolve::verify() {
     const Pattern& p = d_.pattern;
@@ -147,7 +184,12 @@ Verification FemSolve::verify() {
         if (v.passed) what = "FAILED: " + why;
         v.passed = false;
     };
-    if (solve_ == Solve::spmv) {
+    if (solve_ == Solve::spmv && symmetric_) {
+        std::string figures;
+        const std::string wrong = check_symmetric_product(p, a, sym_, sym_a_, x_, y_, figures);
+        if (!wrong.empty()) fail(wrong);
+        if (v.passed) what = figures;
+    } else if (solve_ == Solve::spmv) {
         // The same rows in the same order, serially: equal to the last bit whatever the team.
         std::vector<double> ref(static_cast<std::size_t>(n));
         spmv_rows(p, a, x_, ref.data(), 0, n);
@@ -194,26 +236,42 @@ Verification FemSolve::verify() {
     return v;
 }
 
+// The solver's figures, then the matrix's: the bytes a nonzero of the full matrix each format
+// moves (so that a fraction of a ceiling is taken of what this format reads), and for the
+// symmetric storage its window, the share of far entries, its phases and synchronised updates.
 std::vector<Fact> FemSolve::facts() const {
+    std::vector<Fact> out;
     if (solve_ == Solve::cg)
-        return {{"iterations", static_cast<double>(cg_result_.iterations), "CG iterations"}, {"residual", cg_result_.relative_residual, "||r||/||f||"}};
+        out = {{"iterations", static_cast<double>(cg_result_.iterations), "CG iterations"}, {"residual", cg_result_.relative_residual, "||r||/||f||"}};
     if (solve_ == Solve::eigen)
-        return {{"lambda", eigen_.lambda, ""},
-                {"iterations", static_cast<double>(eigen_.iterations), "inverse iterations"},
-                {"cg-iterations", static_cast<double>(eigen_.cg_iterations), "CG iterations"},
-                {"residual", eigen_.residual, "||Au-λMu||/||λMu||"}};
-    return {};
+        out = {{"lambda", eigen_.lambda, ""},
+               {"iterations", static_cast<double>(eigen_.iterations), "inverse iterations"},
+               {"cg-iterations", static_cast<double>(eigen_.cg_iterations), "CG iterations"},
+               {"residual", eigen_.residual, "||Au-λMu||/||λMu||"}};
+    const SymmetricCounts& c = sym_.counts;
+    const double nz = static_cast<double>(c.nnz);
+    out.push_back({"csr-bytes-per-nnz", csr_bytes(c.nnz, c.n) / nz, "B"});
+    out.push_back({"symmetric-bytes-per-nnz", c.matrix_bytes() / nz, "B"});
+    if (symmetric_) {
+        out.push_back({"window", static_cast<double>(c.window), "rows"});
+        out.push_back({"slots", static_cast<double>(c.slots), "near entries a row"});
+        out.push_back({"far-entries", static_cast<double>(c.far_nnz) / nz, "of the nonzeros"});
+        out.push_back({"phases", c.threads > 1 ? 2.0 : 1.0, "a product"});
+        out.push_back({"synchronised-updates", static_cast<double>(c.threads - 1) * static_cast<double>(c.window - 1), "a product"});
+    }
+    return out;
 }
 
-// SpMV: the matrix and the two vectors once (STREAM convention: the minimal traffic); the
-// hardware estimate adds y's write-allocate. CG: cg_bytes a iteration. The inverse iteration:
+// SpMV: the matrix (in the format's bytes) and the two vectors once (STREAM convention: the
+// minimal traffic; the symmetric ring stays in cache); the hardware estimate adds y's
+// write-allocate. CG: cg_bytes a iteration. The inverse iteration:
 // its CG iterations, and per outer step four SpMVs (M u, A u and M u for λ) and the vector passes.
 Work FemSolve::work() const {
     const std::uint64_t nz = d_.nnz();
     const std::int64_t n = d_.mesh.nv;
     const double nd = static_cast<double>(n);
     Work w;
-    const double matrix_pass = csr_bytes(nz, n) + 16 * nd;
+    const double matrix_pass = matrix_bytes() + 16 * nd;
     if (solve_ == Solve::spmv) {
         w.units = static_cast<double>(nz);
         w.flops = 2.0 * static_cast<double>(nz);
@@ -224,11 +282,13 @@ Work FemSolve::work() const {
         const double outer = solve_ == Solve::eigen ? static_cast<double>(eigen_.iterations) : 0;
         w.units = its;
         w.flops = its * cg_flops(nz, n) + outer * (3 * 2.0 * static_cast<double>(nz) + 8 * nd);
-        w.stream_bytes = its * cg_bytes(nz, n) + matrix_pass + outer * (3 * matrix_pass + 48 * nd);
+        w.stream_bytes = its * cg_bytes(matrix_bytes(), n) + matrix_pass + outer * (3 * matrix_pass + 48 * nd);
         w.hardware_bytes = w.stream_bytes + its * 32 * nd;  // the write-allocate of q, and of x, r, p rewritten
     }
     const int vectors = solve_ == Solve::spmv ? 2 : solve_ == Solve::cg ? 6 : 7;
-    w.footprint_bytes = static_cast<std::uint64_t>(csr_bytes(nz, n) + 8.0 * static_cast<double>(nz) + 8.0 * vectors * nd + 16 * nd + 12.0 * static_cast<double>(d_.mesh.ne));
+    double symmetric = 0;  // the symmetric arrays, beside the CSR ones the kernel keeps
+    if (symmetric_) symmetric = sym_.counts.matrix_bytes() + (solve_ == Solve::eigen ? 8.0 * static_cast<double>((sym_.counts.slots + 1) * sym_.counts.n + static_cast<std::int64_t>(sym_.counts.far_nnz)) : 0.0);
+    w.footprint_bytes = static_cast<std::uint64_t>(csr_bytes(nz, n) + 8.0 * static_cast<double>(nz) + 8.0 * vectors * nd + 16 * nd + 12.0 * static_cast<double>(d_.mesh.ne) + symmetric);
     return w;
 }
 
@@ -243,19 +303,24 @@ bool register_solve(const char* name, Solve s, const char* formula, const char* 
     e.info.group = "fem";
     e.info.formula = formula;
     e.info.unit = unit;
+    e.info.variants = {"csr", "symmetric"};
+    e.info.variant_option = "strategy";
+    e.info.default_variants = {"csr"};
     e.info.params = {delta_param()};
     for (ParamInfo& p : solver_params(s != Solve::spmv, s == Solve::eigen)) e.info.params.push_back(std::move(p));
     // Per unit: a nonzero's value and column (SpMV); a CG iteration's per-row bytes (about 7 nonzeros a row).
     e.info.read_bytes_per_unit = s == Solve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == Solve::spmv ? 2 : 0;
-    e.info.notes = notes;
+    e.info.notes = std::string(notes) +
+                   "; --strategy=csr (every entry, default) or symmetric (one triangle, the transposed half through a ring of 4096 rows a thread: "
+                   "about 60 % of the matrix bytes; facts: window, slots, far-entries, phases, synchronised-updates)";
     set_mesh_sizing(e);
     e.make = [s](const KernelConfig& cfg) { return std::make_unique<FemSolve>(cfg, s); };
     e.validate = [name = std::string(name), s](const KernelConfig& cfg) { validate_solve(cfg, name, s); };
     return register_kernel(std::move(e));
 }
 
-const bool registered = register_solve("fem-spmv", Solve::spmv, "y[i] = Σ_k A[k] x[col[k]]", "nonzero", "CSR SpMV of the P1 Helmholtz matrix A") &&
+const bool registered = register_solve("fem-spmv", Solve::spmv, "y[i] = Σ_k A[k] x[col[k]]", "nonzero", "SpMV of the P1 Helmholtz matrix A") &&
                         register_solve("fem-cg", Solve::cg, "CG on A x = M 1", "iteration",
                                        "unpreconditioned CG from x = 0; rated per iteration (facts: iterations, residual)") &&
                         register_solve("fem-eigen", Solve::eigen, "inverse iteration: A u = λ M u", "iteration",

@@ -20,11 +20,20 @@ double TeamSum::operator()(double mine) {
 
 CgResult cg_team(const Pattern& pat, const double* a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
                  TeamSum& sum, Block rows) {
+    return cg_team(Operator::of_csr(pat, a), f, x, v, tol, max_iterations, sum, rows);
+}
+
+EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
+                                   int max_cg, TeamSum& sum, Block rows) {
+    return inverse_iteration_team(Operator::of_csr(pat, a), Operator::of_csr(pat, m), v, tol, cg_tol, max_cg, sum, rows);
+}
+
+CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations, TeamSum& sum, Block rows) {
     double* const r = v.r;
     double* const p = v.p;
     double* const q = v.q;
     // r = f - A x, p = r.
-    spmv_rows(pat, a, x, q, rows.lo, rows.hi);
+    a.apply(x, q, rows);
     double rr = 0, ff = 0;
     for (std::int64_t i = rows.lo; i < rows.hi; ++i) {
         r[i] = f[i] - q[i];
@@ -45,16 +54,7 @@ CgResult cg_team(const Pattern& pat, const double* a, const double* f, double* x
         ++out.iterations;
         // q = A p and pᵀq in one pass; p is whole: the barrier ending the last iteration came after it.
         double pq = 0;
-        {
-            const std::uint32_t* const rp = pat.row_ptr;
-            const std::uint32_t* const col = pat.col;
-            for (std::int64_t i = rows.lo; i < rows.hi; ++i) {
-                double s = 0;
-                for (std::uint32_t k = rp[i], end = rp[i + 1]; k < end; ++k) s += a[k] * p[col[k]];
-                q[i] = s;
-                pq += p[i] * s;
-            }
-        }
+        a.apply(p, q, rows, [&](std::int64_t i, double qi) { pq += p[i] * qi; });
         pq = sum(pq);
         const double alpha = rr / pq;
         double rr_new = 0;
@@ -74,14 +74,14 @@ CgResult cg_team(const Pattern& pat, const double* a, const double* f, double* x
     return out;
 }
 
-EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
-                                   int max_cg, TeamSum& sum, Block rows) {
+EigenResult inverse_iteration_team(const Operator& a, const Operator& m, const EigenVectors& v, double tol, double cg_tol, int max_cg,
+                                   TeamSum& sum, Block rows) {
     double* const u = v.u;
     EigenResult out;
     // The Rayleigh quotient of u, and u scaled to uᵀMu = 1 with Σu > 0 (the eigenvector's sign).
     auto rayleigh_and_normalise = [&] {
-        spmv_rows(pat, a, u, v.au, rows.lo, rows.hi);
-        spmv_rows(pat, m, u, v.mu, rows.lo, rows.hi);
+        a.apply(u, v.au, rows);
+        m.apply(u, v.mu, rows);
         double uau = 0, umu = 0, su = 0;
         for (std::int64_t i = rows.lo; i < rows.hi; ++i) {
             uau += u[i] * v.au[i];
@@ -102,12 +102,12 @@ EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const do
         ++out.iterations;
         // u is read whole by the SpMV: the barrier of the last sum came before the scaling, so wait.
 #pragma omp barrier
-        spmv_rows(pat, m, u, v.f, rows.lo, rows.hi);
+        m.apply(u, v.f, rows);
 #pragma omp barrier
         // The solution is near u / λ once u has converged: start there.
         for (std::int64_t i = rows.lo; i < rows.hi; ++i) u[i] /= lambda;
 #pragma omp barrier
-        const CgResult cg = cg_team(pat, a, v.f, u, v.cg, cg_tol, max_cg, sum, rows);
+        const CgResult cg = cg_team(a, v.f, u, v.cg, cg_tol, max_cg, sum, rows);
         out.cg_iterations += cg.iterations;
         out.worst_cg = std::max(out.worst_cg, cg.relative_residual);
         if (!cg.converged) {
@@ -125,8 +125,8 @@ EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const do
     out.lambda = lambda;
     // The residual of the final u: A u and M u again, after its scaling.
 #pragma omp barrier
-    spmv_rows(pat, a, u, v.au, rows.lo, rows.hi);
-    spmv_rows(pat, m, u, v.mu, rows.lo, rows.hi);
+    a.apply(u, v.au, rows);
+    m.apply(u, v.mu, rows);
     double res = 0, ref = 0;
     for (std::int64_t i = rows.lo; i < rows.hi; ++i) {
         const double d = v.au[i] - lambda * v.mu[i];

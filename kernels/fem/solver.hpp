@@ -10,8 +10,45 @@
 
 #include "harness/kernel/blocks.hpp"
 #include "kernels/fem/csr.hpp"
+#include "kernels/fem/symmetric.hpp"
 
 namespace suite::fem {
+
+// The matrix a solver multiplies by: its CSR rows (--strategy=csr), or the symmetric storage of
+// symmetric.hpp (--strategy=symmetric, the team of its counts).
+struct Operator {
+    const Pattern* csr = nullptr;
+    const double* values = nullptr;
+    const SymmetricPattern* sym = nullptr;
+    SymmetricValues sym_values;
+
+    static Operator of_csr(const Pattern& p, const double* v) { return {&p, v, nullptr, {}}; }
+    static Operator of_symmetric(const SymmetricPattern& s, SymmetricValues v) { return {nullptr, nullptr, &s, v}; }
+
+    // y = A x by the whole team, `rows` this thread's block (my_block); x whole before. Calls
+    // on_row(i, y_i) once for each row, by the thread that completes it. CSR: this thread's
+    // rows, no barrier; symmetric: ends with a barrier (y whole after it).
+    template <class OnRow>
+    void apply(const double* x, double* y, Block rows, OnRow&& on_row) const {
+        if (sym) {
+            symmetric_product_team(*sym, sym_values, x, y, on_row);
+            return;
+        }
+        const std::uint32_t* const rp = csr->row_ptr;
+        const std::uint32_t* const col = csr->col;
+        const double* const a = values;
+        for (std::int64_t i = rows.lo; i < rows.hi; ++i) {
+            double s = 0;
+#pragma GCC unroll 4
+            for (std::uint32_t k = rp[i], end = rp[i + 1]; k < end; ++k) s += a[k] * x[col[k]];
+            y[i] = s;
+            on_row(i, s);
+        }
+    }
+    void apply(const double* x, double* y, Block rows) const {
+        apply(x, y, rows, [](std::int64_t, double) {});
+    }
+};
 
 // Sums one number from every thread of the team; every thread gets the total. Two slots of
 // cache-line-padded partial sums, used in turn: a slot is written again only after the barrier
@@ -42,6 +79,7 @@ struct CgResult {
 // x holds the starting guess and, on return, the solution. Ends with a barrier.
 CgResult cg_team(const Pattern& p, const double* a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
                  TeamSum& sum, Block rows);
+CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations, TeamSum& sum, Block rows);
 
 struct EigenVectors {
     double* u = nullptr;
@@ -67,5 +105,7 @@ constexpr int max_outer_iterations = 1000;
 // Called by every thread of the team. Ends with a barrier; every thread returns the same result.
 EigenResult inverse_iteration_team(const Pattern& p, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
                                    int max_cg, TeamSum& sum, Block rows);
+EigenResult inverse_iteration_team(const Operator& a, const Operator& m, const EigenVectors& v, double tol, double cg_tol, int max_cg,
+                                   TeamSum& sum, Block rows);
 
 }  // namespace suite::fem

@@ -81,6 +81,9 @@ const std::vector<Case>& cases() {
         {"UnknownHugepagesSuggestsThp", {"--kernel=add", "--hugepages=thpp", "--out={tmp}/r.json"}, {"--hugepages", "'thpp'", "did you mean 'thp'?", "thp, none, system"}},
         {"StoresBogus", {"--kernel=add", "--stores=bogus", "--out={tmp}/r.json"}, {"'bogus'", "default, nt"}},
         {"OrderingForStreamKernel", {"--kernel=triad", "--ordering=morton", "--out={tmp}/r.json"}, {"'triad'", "--ordering", "--pattern"}},
+        {"FemSpmvUnknownStrategySuggestsSymmetric", {"--kernel=fem-spmv", "--strategy=symetric", "--out={tmp}/r.json"},
+         {"'fem-spmv'", "'symetric'", "did you mean 'symmetric'?", "csr, symmetric"}},
+        {"StrategyForStreamKernel", {"--kernel=triad", "--strategy=symmetric", "--out={tmp}/r.json"}, {"'triad'", "--strategy does not apply", "fem-spmv"}},
 
         // Sizes.
         {"SizeUnknownUnit", {"--kernel=add", "--size=12XB", "--out={tmp}/r.json"}, {"'12XB'", "'XB'", "KiB", "MiB", "GiB", "MB"}},
