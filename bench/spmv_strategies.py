@@ -65,7 +65,7 @@ def main():
                 args = ["--kernel=fem-spmv", "--mesh=" + o.mesh, "--ordering=" + ordering, "--strategy=csr,symmetric", "--threads=" + o.threads,
                         f"--reps={o.reps}"]
                 for r in run_suite(o.suite, args, out):
-                    key = (r["variant"], ordering, r["threads"])
+                    key = (r["variant"] or "csr", ordering, r["threads"])  # csr is the plain kernel, variant ""
                     times.setdefault(key, []).append(r["time_s"]["median"])
                     fact[key] = (facts(r), r["work_per_repetition"])
         solver_rows = []

@@ -49,12 +49,13 @@ void print_kernel_options() {
                                          ? " (1 thread)" : ""));
         const bool plain = std::find(i.variants.begin(), i.variants.end(), "") != i.variants.end();
         if (!named.empty() && plain && i.variant_option == "phase") named.insert(named.begin(), "all");
+        else if (!named.empty() && plain && !i.plain_variant_name.empty()) named.insert(named.begin(), i.plain_variant_name);
         if (named.empty()) continue;
         if (!any) std::printf("\nOptions of some kernels:\n");
         any = true;
         if (!named.empty()) {
             // "" is the plain kernel, which --phase calls "all".
-            const std::string plain_name = i.variant_option == "phase" ? "all" : "the plain kernel";
+            const std::string plain_name = i.variant_option == "phase" ? "all" : !i.plain_variant_name.empty() ? i.plain_variant_name : "the plain kernel";
             std::string defaults;
             for (const auto& v : i.default_variants) defaults += (defaults.empty() ? "" : ",") + (v.empty() ? plain_name : v);
             std::printf("  %-12s --%s=%s (default %s)\n", i.name.c_str(), i.variant_option.c_str(), join(named, ",").c_str(),

@@ -122,6 +122,10 @@ struct KernelInfo {
     std::string variant_option = "phase";
     // The variants run when that option is not given; empty: the plain kernel "" alone.
     std::vector<std::string> default_variants;
+    // The name the variant option gives the plain kernel "" where it is one of the choices
+    // (--strategy=csr for fem-spmv: its records keep the kernel's own name); --phase always calls
+    // it "all". Empty: the plain kernel is not named under the option.
+    std::string plain_variant_name;
     // Variants that run on one thread only: left out of points with more threads when the
     // variants were defaulted, and refused with --threads above 1 when named.
     std::vector<std::string> single_thread_variants;

@@ -56,14 +56,15 @@ std::string plural(const std::string& noun) {
     return noun.back() == 'y' ? noun.substr(0, noun.size() - 1) + "ies" : noun + "s";
 }
 
-// The names a kernel's variant option (KernelInfo::variant_option) takes, each with the variant it
-// stands for: the variants other than "" and "nt", and for phases "all", the plain kernel.
+// The names a kernel's variant option takes, each with the variant it stands for: the variants
+// other than "" and "nt", and the plain kernel by its name ("all" for phases, or plain_variant_name).
 std::vector<std::pair<std::string, std::string>> option_choices(const KernelInfo& info) {
     std::vector<std::pair<std::string, std::string>> out;
     for (const auto& v : info.variants)
         if (!v.empty() && v != "nt") out.push_back({v, v});
     const bool plain = std::find(info.variants.begin(), info.variants.end(), "") != info.variants.end();
     if (!out.empty() && plain && info.variant_option == "phase") out.insert(out.begin(), {"all", ""});
+    else if (!out.empty() && plain && !info.plain_variant_name.empty()) out.insert(out.begin(), {info.plain_variant_name, ""});
     return out;
 }
 

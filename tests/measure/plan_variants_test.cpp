@@ -206,3 +206,17 @@ TEST(ParseFinite, AcceptsDecimalNumbersOnly) {
     EXPECT_EQ(format_number(-0.25), "-0.25");
     EXPECT_EQ(format_number(1e20), "1e+20");
 }
+
+// fem-spmv's plain kernel is CSR, named csr under --strategy: csr plans variant "" (the records keep
+// the kernel's own name), symmetric its own; without --strategy the plain kernel alone.
+TEST(PlanVariants, APlainKernelNamedUnderTheOptionIsPlannedAsThePlainKernel) {
+    RunOptions o;
+    o.kernels = "fem-spmv";
+    o.threads = "1";
+    o.mesh = "disk:refine=2";
+    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())), (std::multiset<std::pair<std::string, int>>{{"", 1}}));
+    o.strategies = "symmetric,csr";
+    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())), (std::multiset<std::pair<std::string, int>>{{"symmetric", 1}, {"", 1}}));
+    o.strategies = "csv";
+    expect_usage_error(o, {"kernel 'fem-spmv' has no strategy 'csv'", "did you mean 'csr'?", "strategies: csr, symmetric"});
+}
