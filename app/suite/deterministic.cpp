@@ -126,6 +126,7 @@ std::vector<std::string> inner_args(const RunOptions& o) {
     add("--phase", o.phases);
     add("--strategy", o.strategies);
     add("--particles", o.particles);
+    add("--isa", o.isas);
     add("--stores", o.stores);
     add("--size", o.size);
     add("--sizes", o.sizes);

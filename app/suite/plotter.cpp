@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 #include "app/suite/data_dir.hpp"
 #include "harness/common/units.hpp"
@@ -36,14 +37,19 @@ void require_plotter(const std::string& script, const std::string& skip) {
     if (!p.reason.empty() && data_dir().installed) throw UsageError(p.reason + "; or give " + skip);
 }
 
-std::string draw(const Plotter& p, const std::string& dir) {
-    const std::string err_file = dir + "/.plot-stderr";
+std::string draw(const Plotter& p, const std::string& dir) { return draw_with(p, {dir}, dir); }
+
+std::string draw_with(const Plotter& p, const std::vector<std::string>& args, const std::string& scratch_dir) {
+    const std::string err_file = scratch_dir + "/.plot-stderr-" + std::to_string(getpid());
     std::fflush(nullptr);  // or the child would write out its copy of what is still buffered
     const pid_t pid = fork();
     if (pid < 0) return std::string("fork failed: ") + std::strerror(errno);
     if (pid == 0) {
         if (!std::freopen(err_file.c_str(), "w", stderr) || !std::freopen("/dev/null", "w", stdout)) _exit(126);
-        execlp(p.python.c_str(), p.python.c_str(), p.script.c_str(), dir.c_str(), static_cast<char*>(nullptr));
+        std::vector<char*> argv{const_cast<char*>(p.python.c_str()), const_cast<char*>(p.script.c_str())};
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        execvp(p.python.c_str(), argv.data());
         std::fprintf(stderr, "cannot run %s: %s\n", p.python.c_str(), std::strerror(errno));
         _exit(127);
     }

@@ -2,6 +2,7 @@
 // The Python scripts under plots/ that commands run on the directory they wrote (traverse's
 // snapshots, matrix's spy plots): which interpreter, and running one with its stderr kept.
 #include <string>
+#include <vector>
 
 namespace suite {
 
@@ -20,5 +21,7 @@ void require_plotter(const std::string& script, const std::string& skip);
 
 // Runs the plot script on DIR; "" on success, else why it failed (its last line of stderr).
 std::string draw(const Plotter& p, const std::string& dir);
+// Runs the plot script with `args`; its stderr is kept in a file in `scratch_dir` meanwhile.
+std::string draw_with(const Plotter& p, const std::vector<std::string>& args, const std::string& scratch_dir);
 
 }  // namespace suite

@@ -133,6 +133,7 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
                    "strategies of the kernels that have them, each measured as its own point (see ./suite list; default: the kernel's own)");
     app.add_option("--particles", o.particles,
                    "particle orders of the MPM kernels, each its own point: unsorted, sorted, dynamic (default: all that the kernel has)");
+    app.add_option("--isa", o.isas, "instruction widths of peak-flops, each its own point: scalar, sse, avx, avx512 (those the build targets; default: all)");
     run_command::add_param_options(app, o);
     app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store; sequential only)");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");

@@ -34,6 +34,8 @@ double parse_finite(std::string_view text, std::string_view option);
 
 // The shortest text that reads back as the same double: 0.05, 1e-08, 12, -3.5.
 std::string format_number(double value);
+// A figure for people, to `digits` significant digits: 106.1, 0.0417, 2.1e+03.
+std::string format_significant(double value, int digits);
 
 // The seed of every command's random orderings: 0 to 2^64-1, exactly as typed.
 std::uint64_t parse_seed(std::string_view text, std::string_view option = "--seed");

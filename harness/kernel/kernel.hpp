@@ -118,7 +118,7 @@ struct KernelInfo {
     std::vector<std::string> accesses;  // patterns or orderings supported ("strided" stands for strided:S)
     std::vector<std::string> variants = {""};
     // The command-line option that picks variants other than "" and "nt": "phase" (--phase, where
-    // "all" names the plain kernel "") or "strategy" (--strategy).
+    // "all" names the plain kernel ""), "strategy" (--strategy), "particles" or "isa".
     std::string variant_option = "phase";
     // The variants run when that option is not given; empty: the plain kernel "" alone.
     std::vector<std::string> default_variants;
@@ -131,6 +131,9 @@ struct KernelInfo {
     std::vector<std::string> single_thread_variants;
     std::vector<ParamInfo> params;
     SizeKind size_kind = SizeKind::bytes;
+    // A kernel sized by a count and not on a mesh: its size when none is given (0: the
+    // cache-level sizes, as for a footprint).
+    std::uint64_t default_count = 0;
     Metric metric = Metric::bandwidth;
     // STREAM-convention bytes and flops per unit, as documentation (Work is authoritative).
     double read_bytes_per_unit = 0;

@@ -23,8 +23,8 @@ namespace {
 void check_info(const KernelInfo& info) {
     const std::string who = "kernel " + info.name + ": ";
     auto is_variant = [&](const std::string& v) { return std::find(info.variants.begin(), info.variants.end(), v) != info.variants.end(); };
-    if (info.variant_option != "phase" && info.variant_option != "strategy" && info.variant_option != "particles")
-        throw std::logic_error(who + "variant_option '" + info.variant_option + "' is not 'phase', 'strategy' or 'particles'");
+    if (info.variant_option != "phase" && info.variant_option != "strategy" && info.variant_option != "particles" && info.variant_option != "isa")
+        throw std::logic_error(who + "variant_option '" + info.variant_option + "' is not 'phase', 'strategy', 'particles' or 'isa'");
     for (const auto& v : info.default_variants)
         if (!is_variant(v)) throw std::logic_error(who + "default variant '" + v + "' is not one of its variants");
     for (const auto& v : info.single_thread_variants)

@@ -10,7 +10,6 @@
 #include "harness/common/units.hpp"
 
 namespace suite {
-
 namespace {
 
 // The default sweep, as data: which kernels, in which patterns. sin-add random is left out
@@ -234,7 +233,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         }
         return o.size.empty() ? parse_size_list(o.sizes) : std::vector<std::uint64_t>{parse_bytes(o.size)};
     };
-    auto sizes_for = [&](const KernelInfo& info, int t) { return default_size ? default_sizes(topo, t, o.measured) : given_sizes(info); };
+    auto sizes_for = [&](const KernelInfo& info, int t) {
+        return default_size ? (info.default_count ? std::vector<std::uint64_t>{info.default_count} : default_sizes(topo, t, o.measured)) : given_sizes(info); };
 
     // Stores.
     if (o.stores != "default" && o.stores != "nt") throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt");
@@ -293,7 +293,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
             throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt, ", "));
         // --phase and --strategy pick variants of the kernels that have them; without, the
         // kernel's default variants run.
-        const Variants vs = plan_variants(info, variant, {{"phase", o.phases}, {"strategy", o.strategies}, {"particles", o.particles}});
+        const Variants vs = plan_variants(info, variant, {{"phase", o.phases}, {"strategy", o.strategies}, {"particles", o.particles}, {"isa", o.isas}});
         // A variant on one thread: refused when named with more threads asked for by --threads,
         // else planned for one thread only.
         if (vs.named && !o.threads.empty() && most_threads > 1)

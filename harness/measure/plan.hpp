@@ -24,6 +24,7 @@ struct RunOptions {
     std::string phases;  // --phase: the phases of kernels that have them (their variants)
     std::string strategies;  // --strategy: the strategies of kernels that have them (their variants)
     std::string particles;   // --particles: the particle orders of the MPM kernels (their variants)
+    std::string isas;        // --isa: the instruction widths of peak-flops (its variants)
     // --NAME=X for a parameter a kernel declares (KernelInfo::params): NAME -> X as typed.
     std::map<std::string, std::string> params;
     std::string stores = "default";

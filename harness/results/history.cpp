@@ -56,15 +56,19 @@ constexpr const char* series_columns =
 
 }  // namespace
 
-RunIdentity identify_run(const ResultFile& file, const std::string& commit, const std::string& branch) {
-    const json& c = file.context;
-    RunIdentity id;
+std::string machine_fingerprint(const json& c) {
     // The raw JSON of each field, not its display text, so that a change in how a field is shown
     // never splits a machine's history in two.
     Fnv1a fp;
     for (const char* field : {"host", "cpu_model", "sockets", "numa_node_count", "cores", "pus", "memory_bytes"})
         fp.add(c.is_object() && c.contains(field) ? c[field].dump() : "null");
-    id.fingerprint = fp.hex();
+    return fp.hex();
+}
+
+RunIdentity identify_run(const ResultFile& file, const std::string& commit, const std::string& branch) {
+    const json& c = file.context;
+    RunIdentity id;
+    id.fingerprint = machine_fingerprint(c);
     id.machine = context_text(c, "host") + " (" + context_text(c, "cpu_model") + ", " + context_text(c, "cores") + " cores)";
     id.context_class = context_text(c, "compiler") + ", " + context_text(c, "compiler_flags") + ", " + context_text(c, "build_type") + ", " +
                        context_text(c, "instruction_set") + ", THP " + context_text(c, "transparent_hugepages");

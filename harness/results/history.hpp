@@ -33,6 +33,9 @@ struct RunIdentity {
     std::string commit, branch, date;
 };
 
+// The machine a result's context describes, as RunIdentity::fingerprint: the same value for
+// every run on one machine, whatever was run or how it was built.
+std::string machine_fingerprint(const nlohmann::json& context);
 // `commit` "" takes the file's git_revision; `branch` "" is "unknown".
 RunIdentity identify_run(const ResultFile& file, const std::string& commit = "", const std::string& branch = "");
 // A point's series splits on its own huge-page setting too: "..., huge pages thp".

@@ -150,8 +150,18 @@ LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
         const std::string rat = bw ? at + ".stream" : at;
         const json& best = r.field(rates, "best", rat);
         const json& median = r.field(rates, "median", rat);
+        // A kernel that moves no bytes but counts flops (peak-flops): its headline is GFLOP/s.
+        const json* work = rec.contains("work_per_repetition") ? &rec["work_per_repetition"] : nullptr;
+        const bool flops_only = bw && work && work->is_object() && work->value("stream_bytes", 1.0) == 0 && work->value("flops", 0.0) > 0;
+        const double min_time = r.number(r.field(time, "min", where + ".time_s"), where + ".time_s.min");
         // null: the rate could not be derived (a best time of 0); the point then has no headline.
-        if (!best.is_null() && !median.is_null()) {
+        if (flops_only && min_time > 0) {
+            const double flops = work->value("flops", 0.0);
+            Measure m{"flops", "GFLOP/s", Direction::higher_is_better, flops / min_time / 1e9, flops / median_of(s) / 1e9, noise, {}, NAN};
+            for (double t : s)
+                if (t > 0) m.samples.push_back(flops / t / 1e9);
+            p.measures.push_back(m);
+        } else if (!best.is_null() && !median.is_null()) {
             Measure m{bw ? "bandwidth" : "latency", bw ? "GB/s" : "ns/load", bw ? Direction::higher_is_better : Direction::lower_is_better,
                       r.number(best, rat + ".best"), r.number(median, rat + ".median"), noise, {}, NAN};
             // Each repetition's figure: the rate goes as 1/time and the latency as time, scaled

@@ -14,6 +14,7 @@
 //             scatters serial on one thread, partition on more
 // Rates count particles (particle-steps for mpm-step). Bytes follow the STREAM convention for
 // the particle arrays only: what the nodes cost depends on the order, which is the question.
+// Flops likewise count the particle loops only (the loops over nodes: see step_flops).
 // The particle arrays, the nodes and the element volume sums are the point's arena's (mpm.hpp,
 // State), so --placement applies to them and the record's placement.arrays lists them; the grid
 // stays the state's own memory.
@@ -42,6 +43,39 @@ constexpr double g2p_bytes = 4 + 32 + 24 + 24 + 24 + 24;                // elem,
 constexpr double step_bytes = p2g_bytes + g2p_bytes + (32 + 8 + 24 + 4)  // the velocity scatter
                               + (4 + 56 + 56)                           // stress and volume, read and written
                               + (24 + 4 + 32 + 4);                      // locate: x, elem read; w, elem written
+// Flops per particle, by pass, counted as the loops are written (a multiply-add as two, a division
+// as one; index arithmetic, comparisons, std::max and std::clamp, and the scatters' atomics, colours
+// and partition slots not counted).
+// P2G (step.cpp p2g, sum_element_volumes; scatter.hpp volume_scale, scatter):
+//   the element volume sum Σ V_p: 1;
+//   the mixed volume scale: det of the gradients 14 (3 x (2 mul + sub), 3 mul, 2 add), 1 / (6 |det| Σ V)
+//     3, V_p times it 1 (counted for every particle: one in an element at the material's surface
+//     skips the 17 before that multiply);
+//   per corner: w m 1, w m v 3, each force component w m g - V (σ ∇N) 8 (mul; 3 mul, 2 add; mul; sub);
+//   the scatter's additions: 7 into each corner.
+constexpr double p2g_flops = 1 + (14 + 3 + 1) + 4 * (1 + 3 + 3 * 8) + 4 * 7;  // 159
+// G2P (step.cpp g2p): per corner w / m_n 1, a += w f and v += w p 3 x 4; per axis v += dt a and
+// x + dt v 4.
+constexpr double g2p_flops = 4 * (1 + 3 * 4) + 3 * 4;  // 64
+// One step per particle (step.cpp step, locate.cpp locate, grid.cpp next_step): P2G, G2P, then
+//   velocity scatter: w m v 2 for each of 3 components, 3 additions, into 4 corners: 36;
+//   ∇v: 4 corners x 9 multiply-adds 72; Δε and Δω: 9 x 2 x (mul, add or sub, mul) 54; tr 2; V *= 1 + tr 2;
+//   elastic σ: Δω σ - σ Δω 9 x 3 x 4, σ + 2μ Δε + λ tr + that 9 x 5 + 3 (λ tr on the diagonal),
+//     symmetrised 3 x 2: 162;
+//   fluid σ: J 2, p 3, tr / 3 and 2 η / dt 3, diagonal 3 x 3, off-diagonal 3: 20; and before the
+//     step, |v|² for dt 5;
+//   locate: the shape functions of one element 4 x 6 (the walk's steps into a new element add 24
+//     each), clipped and renormalised 4 add + 4 div: 32.
+// Not counted, as the bytes leave them out: the loops over nodes (update_grid 18 and the nodal
+// velocity 3 per node with mass; a box grid has about 1 / (6 ppe) such nodes a particle, under one
+// flop a particle at ppe 4) and the reordering after the K steps (locate again: 32 a particle
+// sorted, 64 dynamic), so that a step's count stays one number a particle for every variant.
+constexpr double step_flops(Material::Model model) {
+    constexpr double velocity_and_strain = 36 + 72 + 54 + 2 + 2;
+    constexpr double locate = 4 * 6 + 4 + 4;
+    return model == Material::Model::fluid ? 5 + p2g_flops + g2p_flops + velocity_and_strain + 20 + locate
+                                           : p2g_flops + g2p_flops + velocity_and_strain + 162 + locate;  // fluid 446, elastic 583
+}
 constexpr const char* cases[] = {"dam-collapse", "dam-break", "column"};  // --case's choices, in the order of their indices
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // untimed steps before the first repetition: velocities and stresses not zero
 
@@ -154,9 +188,11 @@ public:
         const double np = static_cast<double>(st_->particles.size());
         Work w;
         switch (phase_) {
-            case Phase::p2g: w.units = np, w.stream_bytes = np * p2g_bytes; break;
-            case Phase::g2p: w.units = np, w.stream_bytes = np * g2p_bytes; break;
-            case Phase::step: w.units = np * steps_per_call(), w.stream_bytes = np * steps_per_call() * step_bytes; break;
+            case Phase::p2g: w.units = np, w.stream_bytes = np * p2g_bytes, w.flops = np * p2g_flops; break;
+            case Phase::g2p: w.units = np, w.stream_bytes = np * g2p_bytes, w.flops = np * g2p_flops; break;
+            case Phase::step:
+                w.units = np * steps_per_call(), w.stream_bytes = w.units * step_bytes, w.flops = w.units * step_flops(st_->settings.material.model);
+                break;
         }
         w.hardware_bytes = w.stream_bytes;
         w.footprint_bytes = footprint(*st_);
@@ -186,6 +222,9 @@ void add(const std::string& name, Phase phase, const std::string& formula, const
     KernelEntry e = mpm_entry(name, formula, phase == Phase::step ? "particle-step" : "particle", phase == Phase::p2g, phase == Phase::step);
     e.info.read_bytes_per_unit = phase == Phase::p2g ? p2g_bytes : phase == Phase::g2p ? 4 + 32 + 24 + 24 : step_bytes;
     if (phase == Phase::g2p) e.info.write_bytes_per_unit = 24 + 24;  // v and x: g2p_bytes is the two together
+    // A step's: the default case's (dam-collapse; column's too, both elastic); dam-break's fluid
+    // step counts step_flops(fluid), in its records' work.
+    e.info.flops_per_unit = phase == Phase::p2g ? p2g_flops : phase == Phase::g2p ? g2p_flops : step_flops(Material::Model::elastic);
     e.info.notes = notes;
     e.default_meshes = {"box:24,24,24"};
     e.make = [phase](const KernelConfig& cfg) { return std::make_unique<MpmKernel>(cfg, phase); };

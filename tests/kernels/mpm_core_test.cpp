@@ -1,5 +1,6 @@
 // The MPM core on small grids: the shape functions, the face neighbours, the walk, the
-// reorderings (particle sort, active renumbering, permute), P2G's sums, and a free fall.
+// reorderings (particle sort, active renumbering, permute), P2G's sums, a free fall, and the
+// flops the explicit kernels declare.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "harness/kernel/arena.hpp"
+#include "harness/kernel/kernel.hpp"
 #include "kernels/mesh/generate.hpp"
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/sfc/encode.hpp"
@@ -309,6 +312,41 @@ TEST(MpmFreeFall, VelocityIsGTimesTAwayFromTheWalls) {
         EXPECT_NEAR(st.particles.vx[p], 0, 1e-12);
     }
     EXPECT_DOUBLE_EQ(totals(st.particles).mass, m0);
+}
+
+// The hand counts of mpm_kernels.cpp, pinned: a change to the loops that changes them changes
+// these numbers too. A step's count depends on the material (dam-break is the fluid); `suite
+// list` documents the default case's.
+TEST(MpmKernelWork, EveryPhaseDeclaresItsCountedFlopsAParticle) {
+    Team team(1);
+    const struct {
+        const char* kernel;
+        const char* variant;
+        double case_index;  // --case: 0 dam-collapse (elastic), 1 dam-break (fluid)
+        double flops;       // a particle (a particle-step)
+    } points[] = {{"mpm-p2g", "serial", 0, 159}, {"mpm-g2p", "seeded", 0, 64}, {"mpm-step", "seeded", 0, 583}, {"mpm-step", "seeded", 1, 446}};
+    for (const auto& pt : points) {
+        const std::string where = std::string(pt.kernel) + " --case=" + std::to_string(static_cast<int>(pt.case_index));
+        const KernelEntry* k = find_kernel(pt.kernel);
+        ASSERT_NE(k, nullptr) << where;
+        KernelConfig cfg;
+        cfg.access = {"natural", 0};
+        cfg.variant = pt.variant;
+        cfg.size = k->test_size;
+        cfg.params = default_params(k->info);
+        cfg.params["case"] = pt.case_index;
+        cfg.params["warm-steps"] = 1;
+        k->validate(cfg);
+        Arena arena(MemoryPolicy{});
+        auto kernel = k->make(cfg);
+        kernel->setup(arena);
+        const Work w = kernel->work();
+        ASSERT_GT(w.units, 0) << where;
+        EXPECT_GT(w.flops, 0) << where;
+        EXPECT_DOUBLE_EQ(w.flops / w.units, pt.flops) << where;
+        if (pt.case_index == 0) EXPECT_DOUBLE_EQ(k->info.flops_per_unit, pt.flops) << where;
+        else EXPECT_NE(k->info.flops_per_unit, pt.flops) << where << ": the fluid's step is not the default case's";
+    }
 }
 
 }  // namespace

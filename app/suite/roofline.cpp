@@ -1,0 +1,174 @@
+// `suite roofline`: this machine's ceilings, measured (harness/measure/roofline.hpp), as a table,
+// a JSON file and a figure; and the points of a run placed on them (harness/results/
+// roofline_place.hpp). Everything given is checked before anything is measured or written.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <omp.h>
+
+#include "app/suite/commands.hpp"
+#include "app/suite/frame.hpp"
+#include "app/suite/parse.hpp"
+#include "app/suite/plotter.hpp"
+#include "harness/common/output_file.hpp"
+#include "harness/common/units.hpp"
+#include "harness/machine/team.hpp"
+#include "harness/measure/roofline.hpp"
+#include "harness/results/context.hpp"
+#include "harness/results/history.hpp"
+#include "harness/results/result_file.hpp"
+#include "harness/results/roofline_place.hpp"
+#include "rapl/energy.hpp"
+
+namespace suite {
+namespace roofline_command {
+namespace {
+
+const char* const footer = R"(
+Examples:
+  ./suite roofline                                        # 1 and all threads: the table, no file
+  ./suite roofline --out=results/roofline.json            # and the JSON, and results/roofline.png
+  ./suite roofline --threads=1,2,4 --out=roof.json
+  ./suite roofline --place=results/latest.json --ceilings=results/roofline.json --out=placed.json
+  ./suite roofline --place=run.json                       # measure the ceilings now, then place run.json
+
+The ceilings: peak-flops at each instruction width the build targets (12 independent FMA chains a
+thread, in registers), and per memory level the best STREAM-convention GB/s of load, copy, triad and
+store (and their non-temporal forms in memory) at half of what the level holds for the threads; the
+levels are those the cache probe measures. Placing a run: each point's flop/byte from its kernel's
+declared flops and bytes, the level its footprint lives in, min(peak, intensity x level GB/s) there,
+and the fraction of it the point reached. A run is placed only on its own machine's ceilings.
+)";
+
+std::string slurp_file(const std::string& path, const std::string& option) {
+    std::ifstream in(path);
+    if (!in) throw InputError(option + "=" + path + ": cannot read the file (missing or unreadable)");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// FILE.json -> FILE.png
+std::string figure_path(const std::string& out) {
+    const auto dot = out.rfind('.');
+    const auto slash = out.rfind('/');
+    const bool ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+    return (ext ? out.substr(0, dot) : out) + ".png";
+}
+
+std::string directory_of(const std::string& path) {
+    const auto slash = path.rfind('/');
+    return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+}
+
+}  // namespace
+}  // namespace roofline_command
+
+int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {
+    using namespace roofline_command;
+    CLI::App app{"suite roofline: this machine's compute and bandwidth ceilings, measured, and a run's points placed on them"};
+    app.footer(footer);
+    app.get_formatter()->column_width(30);
+    std::string threads_text = "1,all", out, place, ceilings, pin = "compact";
+    double min_time = 0.2;
+    bool no_probe = false, no_png = false;
+    app.add_option("--threads,-t", threads_text, "thread counts: 1,2,4 | 1-8 | all (default 1,all)");
+    app.add_option("--out,-o", out, "JSON file to write: the ceilings, or with --place the placed points; the figure goes beside it as .png");
+    app.add_option("--place", place, "a result file of this machine whose points are placed on the ceilings");
+    app.add_option("--ceilings", ceilings, "with --place: a roofline file written earlier by `suite roofline --out` (default: measure now)");
+    app.add_option("--pin", pin, "how the threads are pinned: compact | scatter | LIST (default compact)");
+    app.add_option("--min-time", min_time, "seconds of repetitions per point (default 0.2)");
+    app.add_flag("--no-probe", no_probe, "take the cache sizes hwloc reports instead of measuring them (the probe takes seconds)");
+    app.add_flag("--no-png", no_png, "write no figure");
+    if (!parse_command_line(app, "suite roofline", args)) return 0;
+
+    // Everything checked first.
+    if (!ceilings.empty() && place.empty()) throw UsageError("--ceilings=" + ceilings + " is read to place a run: give --place=RESULT.json too");
+    if (!(min_time > 0 && min_time <= 60)) throw UsageError("--min-time=" + format_number(min_time) + ": expected seconds between 0 and 60");
+    const Topology topo = Topology::load();
+    const Instruments instruments = make_instruments("none", "none", open_energy);
+    const nlohmann::json context = build_context(topo, full_argv, instruments);
+    std::optional<RooflineFile> given;
+    if (!ceilings.empty()) given = load_roofline_file(ceilings);
+    nlohmann::json result;
+    if (!place.empty()) {
+        const std::string text = slurp_file(place, "--place");
+        const ResultFile file = parse_result_text(text, place);  // checks it is a result, of this schema
+        if (file.points.empty()) throw InputError(place + ": the result has no records to place");
+        const std::string fp = given ? given->fingerprint : machine_fingerprint(context);
+        if (machine_fingerprint(file.context) != fp)
+            throw InputError(place + " was measured on " + file.machine_label() + ", not on " + (given ? given->path + "'s machine" : std::string("this machine")) +
+                             ": a point can only be placed on ceilings measured on its own machine; run `suite roofline` there");
+        result = nlohmann::json::parse(text);
+    }
+    std::vector<int> threads;
+    if (!given) {
+        threads = parse_thread_list(threads_text, topo.pu_count());
+        if (*std::max_element(threads.begin(), threads.end()) > omp_get_thread_limit())
+            throw UsageError("--threads=" + threads_text + ": OpenMP allows at most " + std::to_string(omp_get_thread_limit()) + " threads (OMP_THREAD_LIMIT)");
+    }
+    const bool figure = !out.empty() && !no_png;
+    if (figure) require_plotter("roofline.py", "--no-png");
+    std::vector<FileIdentity> inputs = identify_inputs({place, ceilings});
+    CommandFrame frame("suite");
+    const OutputFile* file = out.empty() ? nullptr : &frame.claim_file(out, "--out", inputs);
+
+    RooflineFile roof;
+    if (given) {
+        roof = *given;
+    } else {
+        RooflineOptions o;
+        o.threads = threads;
+        o.pin = parse_pin(topo.this_system ? pin : "none", topo);
+        o.min_time_s = min_time;
+        o.probe = !no_probe;
+        o.stop = frame.stop_flag();
+        o.progress = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
+        std::fprintf(stderr, "suite roofline: measuring the ceilings at %s thread(s)%s\n", threads_text.c_str(), no_probe ? "" : " (the caches probed first)");
+        roof.roofline = measure_roofline(topo, o);
+        roof.context = context;
+        roof.context["caches_measured"] = roof.roofline.caches_measured;
+        roof.fingerprint = machine_fingerprint(context);
+        roof.path = out.empty() ? "(measured now)" : out;
+        std::cout << render_roofline(roof.roofline);
+    }
+    const bool complete = roof.roofline.complete;
+    nlohmann::json doc;
+    if (!place.empty() && complete) {
+        const Placement pl = place_points(roof, result, place);
+        std::cout << "\n" << render_placement(pl);
+        doc = to_json(pl, roof.path, place);
+    } else {
+        doc = {{"kind", roofline_kind}, {"schema_version", roofline_schema_version}, {"context", roof.context}, {"fingerprint", roof.fingerprint}};
+        doc.update(to_json(roof.roofline));
+    }
+    std::string done = std::to_string(roof.roofline.ceilings.size()) + " of " + std::to_string(threads.size()) + " thread count(s)";
+    if (!file) return frame.finish(0, done, complete);
+    file->write(doc.dump(2) + "\n");
+    std::printf("\nwrote %s\n", out.c_str());
+    if (figure && complete) {
+        const Plotter p = find_plotter("roofline.py");
+        std::vector<std::string> plot_args;
+        if (!place.empty()) {
+            // The figure needs the ceilings too: the given file, or this run's, beside the placement.
+            if (given) plot_args = {given->path, "--place", out};
+        } else {
+            plot_args = {out};
+        }
+        if (!plot_args.empty()) {
+            plot_args.insert(plot_args.end(), {"--out", figure_path(out)});
+            const std::string why = p.reason.empty() ? draw_with(p, plot_args, directory_of(out)) : p.reason;
+            if (why.empty()) std::printf("wrote %s\n", figure_path(out).c_str());
+            else std::fprintf(stderr, "suite roofline: no figure: %s\n", why.c_str());
+        } else {
+            std::fprintf(stderr, "suite roofline: no figure of the placement: the ceilings were measured now and not kept; give --ceilings=FILE for one\n");
+        }
+    }
+    return frame.finish(0, done, complete);
+}
+
+}  // namespace suite

@@ -1,0 +1,252 @@
+// peak-flops:       for (i = 0; i < n; ++i) for (k = 0; k < 12; ++k) x[k] = fma(x[k], m, a);
+// The ceiling of the roofline: double-precision fused multiply-adds on values held in
+// registers, no memory traffic at all. Twelve independent accumulators per thread hide the
+// FMA's latency (4 cycles on current x86 cores with two FMA pipes need 8 in flight).
+// One variant per instruction width the build targets, chosen with --isa:
+//   scalar  vfmadd231sd   1 double per instruction
+//   sse     vfmadd231pd   2 (xmm)
+//   avx     vfmadd231pd   4 (ymm)       where the build targets AVX
+//   avx512  vfmadd231pd   8 (zmm)       where the build targets AVX-512F
+// Without FMA in the ISA (a build for plain x86-64) each update is a multiply and an add:
+// still 2 flops, counted the same way. The size is a count: loop iterations per thread per
+// call, so every thread does the same work whatever the thread count (a peak scales with the
+// cores). Each update counts 2 flops per lane; bytes: none.
+//
+// Check: m is 1 and a is 2^-20, read at run time through an empty asm that the compiler cannot
+// see through, so it can neither fold the loop nor drop it. Every lane starts at a distinct
+// small multiple of 2^-20 and gains exactly a per update: after N updates it must equal
+// start + N a bit for bit (all values stay far below 2^33, where the sums are exact). The FMA
+// itself takes the same time whatever its operands (no denormals occur).
+// tests/cli/e2e_test.cpp checks in the binary that each variant's loop is the intended
+// instructions and nothing else.
+#include <immintrin.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "harness/kernel/kernel.hpp"
+#include "harness/common/units.hpp"
+
+namespace suite::stream {
+namespace {
+
+constexpr int accumulators = 12;
+constexpr double step = 1.0 / (1 << 20);  // a, exactly representable
+
+// One instruction width: its register type, how many doubles it holds, the update.
+struct Scalar {
+    using V = double;
+    static constexpr int lanes = 1;
+    static V set(double v) { return v; }
+#ifdef __FMA__
+    static V fma(V x, V m, V a) { return __builtin_fma(x, m, a); }
+#else
+    static V fma(V x, V m, V a) { return x * m + a; }
+#endif
+    static void store(double* p, V v) { *p = v; }
+    static V load(const double* p) { return *p; }
+};
+
+struct Sse {
+    using V = __m128d;
+    static constexpr int lanes = 2;
+    static V set(double v) { return _mm_set1_pd(v); }
+#ifdef __FMA__
+    static V fma(V x, V m, V a) { return _mm_fmadd_pd(x, m, a); }
+#else
+    static V fma(V x, V m, V a) { return _mm_add_pd(_mm_mul_pd(x, m), a); }
+#endif
+    static void store(double* p, V v) { _mm_storeu_pd(p, v); }
+    static V load(const double* p) { return _mm_loadu_pd(p); }
+};
+
+#ifdef __AVX__
+struct Avx {
+    using V = __m256d;
+    static constexpr int lanes = 4;
+    static V set(double v) { return _mm256_set1_pd(v); }
+#ifdef __FMA__
+    static V fma(V x, V m, V a) { return _mm256_fmadd_pd(x, m, a); }
+#else
+    static V fma(V x, V m, V a) { return _mm256_add_pd(_mm256_mul_pd(x, m), a); }
+#endif
+    static void store(double* p, V v) { _mm256_storeu_pd(p, v); }
+    static V load(const double* p) { return _mm256_loadu_pd(p); }
+};
+#endif
+
+#ifdef __AVX512F__
+struct Avx512 {
+    using V = __m512d;
+    static constexpr int lanes = 8;
+    static V set(double v) { return _mm512_set1_pd(v); }
+    static V fma(V x, V m, V a) { return _mm512_fmadd_pd(x, m, a); }
+    static void store(double* p, V v) { _mm512_storeu_pd(p, v); }
+    static V load(const double* p) { return _mm512_loadu_pd(p); }
+};
+#endif
+
+// The timed loop of one width: `n` iterations of 12 independent updates on registers. Kept
+// out of line so that the objdump test finds it by name.
+template <class W>
+__attribute__((noinline)) void peak_loop(double* x, double m_in, double a_in, std::int64_t n) {
+    using V = typename W::V;
+    double m_s = m_in, a_s = a_in;
+    asm volatile("" : "+x"(m_s), "+x"(a_s));  // opaque: neither 1 nor 2^-20 to the compiler
+    const V m = W::set(m_s), a = W::set(a_s);
+    V acc[accumulators];
+#pragma GCC unroll 12
+    for (int k = 0; k < accumulators; ++k) acc[k] = W::load(x + k * W::lanes);
+    for (std::int64_t i = 0; i < n; ++i) {
+#pragma GCC unroll 12
+        for (int k = 0; k < accumulators; ++k) acc[k] = W::fma(acc[k], m, a);
+    }
+#pragma GCC unroll 12
+    for (int k = 0; k < accumulators; ++k) W::store(x + k * W::lanes, acc[k]);
+}
+
+using Loop = void (*)(double*, double, double, std::int64_t);
+
+struct Isa {
+    const char* name;
+    int lanes;
+    Loop loop;
+    const char* instruction;
+};
+
+// The widths this build has, narrowest first.
+const std::vector<Isa>& isas() {
+    static const std::vector<Isa> list = {
+        {"scalar", Scalar::lanes, &peak_loop<Scalar>, "sd"},
+        {"sse", Sse::lanes, &peak_loop<Sse>, "pd xmm"},
+#ifdef __AVX__
+        {"avx", Avx::lanes, &peak_loop<Avx>, "pd ymm"},
+#endif
+#ifdef __AVX512F__
+        {"avx512", Avx512::lanes, &peak_loop<Avx512>, "pd zmm"},
+#endif
+    };
+    return list;
+}
+
+const Isa& isa_of(const std::string& variant) {
+    for (const auto& i : isas())
+        if (variant == i.name) return i;
+    return isas().back();
+}
+
+// Each thread's accumulators and its count of calls, on cache lines of their own.
+struct alignas(64) ThreadState {
+    double x[accumulators * 8];
+    std::uint64_t calls = 0;
+};
+
+// The value lane j of accumulator k of thread t starts from: distinct, small, a multiple of a.
+double start_value(int t, int k, int j) { return static_cast<double>(1 + t * 97 + k * 8 + j) * step; }
+
+class PeakFlops final : public Kernel {
+public:
+    explicit PeakFlops(const KernelConfig& cfg) : cfg_(cfg), isa_(isa_of(cfg.variant)) {}
+
+    void setup(Arena&) override {
+        state_.assign(static_cast<std::size_t>(cfg_.threads), ThreadState{});
+        int team = 0;
+#pragma omp parallel num_threads(cfg_.threads) reduction(max : team)
+        {
+            team = omp_get_num_threads();
+            const int t = omp_get_thread_num();
+            ThreadState& s = state_[static_cast<std::size_t>(t)];
+            for (int k = 0; k < accumulators; ++k)
+                for (int j = 0; j < isa_.lanes; ++j) s.x[k * isa_.lanes + j] = start_value(t, k, j);
+        }
+        require_team_size(team, cfg_.threads);
+    }
+
+    // Each thread works on its own registers: no call waits for another thread.
+    void run(int calls) override {
+        const Loop loop = isa_.loop;
+        const auto n = static_cast<std::int64_t>(cfg_.size);
+        ThreadState* states = state_.data();
+#pragma omp parallel num_threads(cfg_.threads)
+        {
+            ThreadState& s = states[omp_get_thread_num()];
+            for (int c = 0; c < calls; ++c) loop(s.x, 1.0, step, n);
+            s.calls += static_cast<std::uint64_t>(calls);
+        }
+    }
+
+    Verification verify() override {
+        double worst = 0;
+        std::string first;
+        for (int t = 0; t < cfg_.threads; ++t) {
+            const ThreadState& s = state_[static_cast<std::size_t>(t)];
+            const double updates = static_cast<double>(s.calls) * static_cast<double>(cfg_.size);
+            for (int k = 0; k < accumulators; ++k)
+                for (int j = 0; j < isa_.lanes; ++j) {
+                    const double expect = start_value(t, k, j) + updates * step;
+                    const double got = s.x[k * isa_.lanes + j];
+                    if (got != expect && first.empty())
+                        first = "thread " + std::to_string(t) + " accumulator " + std::to_string(k) + " lane " + std::to_string(j) + ": " +
+                                format_number(got) + ", expected " + format_number(expect);
+                    worst = std::max(worst, std::abs(got - expect));
+                }
+        }
+        if (!first.empty()) return {false, first, worst};
+        return {true,
+                "every lane of the " + std::to_string(accumulators) + " accumulators of each thread equals its start plus " +
+                    "calls x " + std::to_string(cfg_.size) + " updates of 2^-20, exactly",
+                0};
+    }
+
+    Work work() const override {
+        Work w;
+        const double updates = static_cast<double>(cfg_.size) * accumulators * isa_.lanes * cfg_.threads;
+        w.units = updates;  // one lane's multiply-add
+        w.flops = 2 * updates;
+        w.footprint_bytes = static_cast<std::uint64_t>(cfg_.threads) * sizeof(ThreadState);
+        return w;
+    }
+
+    std::vector<Fact> facts() const override {
+        return {{"lanes", static_cast<double>(isa_.lanes), "doubles per instruction"},
+                {"accumulators", static_cast<double>(accumulators), "independent chains per thread"}};
+    }
+
+private:
+    KernelConfig cfg_;
+    const Isa& isa_;
+    std::vector<ThreadState> state_;
+};
+
+const bool registered = [] {
+    KernelEntry e;
+    e.info.name = "peak-flops";
+    e.info.group = "compute";
+    e.info.formula = "x[k] = fma(x[k], m, a), 12 independent k, in registers";
+    e.info.unit = "fma-lane";
+    e.info.axis = AccessAxis::pattern;
+    e.info.accesses = {"registers"};
+    for (const auto& i : isas()) e.info.variants.push_back(i.name);
+    e.info.variants.erase(e.info.variants.begin());  // no plain kernel: every width is named
+    e.info.default_variants = e.info.variants;
+    e.info.variant_option = "isa";
+    e.info.size_kind = SizeKind::count;
+    e.info.default_count = 1 << 18;
+    e.test_size = 1 << 12;
+    e.info.metric = Metric::bandwidth;
+    e.info.flops_per_unit = 2;
+    e.info.notes = "the roofline's compute ceiling: size = iterations per thread per call, each 12 FMAs of one width; no memory traffic";
+    e.make = [](const KernelConfig& cfg) { return std::make_unique<PeakFlops>(cfg); };
+    e.validate = [](const KernelConfig& cfg) {
+        if (cfg.size < 1) throw UsageError("peak-flops needs a size of at least 1 (iterations per thread per call)");
+        if (cfg.size > (1ULL << 32))
+            throw UsageError("peak-flops: size " + std::to_string(cfg.size) + " is above 2^32 iterations per call (the check's sums must stay exact)");
+    };
+    return register_kernel(std::move(e));
+}();
+
+}  // namespace
+}  // namespace suite::stream
