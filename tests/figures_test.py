@@ -39,6 +39,7 @@ GROUPS = {
     "sfc": ["--kernel=sfc-build", "--mesh=disk:refine=3", "--ordering=morton,hilbert", "--threads=1,2"],
     "mpm": ["--kernel=mpm-p2g,mpm-g2p,mpm-step,mpm-implicit-assembly,mpm-implicit-solve,mpm-implicit-step",
             "--mesh=box:6,6,6", "--threads=1", "--warm-steps=2"],
+    "compute": ["--kernel=peak-flops", "--size=4096", "--threads=1,2"],
 }
 LINE = 64  # bytes of a cache line: the hardware estimate's granule for scattered accesses
 
@@ -166,6 +167,11 @@ def check_work(r, where, listed, spmv):
         want = (8 * u, LINE * u, 0)
     elif spmv is not None and r["kernel"].startswith("fem-") and fem_reference(r, *spmv):
         want = fem_reference(r, *spmv)
+    elif r["kernel"] == "peak-flops":  # 12 accumulators of `lanes` doubles, size iterations a thread, 2 flops an update
+        lanes = r["facts"]["lanes"]["value"]
+        check(lanes == {"scalar": 1, "sse": 2, "avx": 4, "avx512": 8}[r["variant"]], f"{where}: {lanes} lanes for {r['variant']}")
+        check(u == r["size"]["requested"] * 12 * lanes * r["threads"], f"{where}: {u} updates")
+        want = (0, 0, 2 * u)
     elif r["kernel"] in ("mpm-p2g", "mpm-g2p", "mpm-step"):  # the particle arrays: a constant a particle (step)
         want = ((listed["read_bytes_per_unit"] + listed["write_bytes_per_unit"]) * u, None, listed["flops_per_unit"] * u)
         check(listed["read_bytes_per_unit"] + listed["write_bytes_per_unit"] > 0, f"{where}: suite list declares no bytes")
@@ -201,9 +207,19 @@ def name_of(r):
     return r["name"]
 
 
+def flops_only(w):
+    """A kernel that moves no bytes (peak-flops): the table shows its GFLOP/s."""
+    return float(w["stream_bytes"]) == 0 and float(w["flops"]) > 0
+
+
 def check_json_run(stdout, doc, where):
     recs = doc["results"]
-    bw = lambda r, k, s: r["bandwidth_gbps"][k][s] if r["bandwidth_gbps"] else r["latency_ns"][s] if k == "stream" else None
+
+    def bw(r, k, s):
+        w, t = r["work_per_repetition"], r["time_s"]
+        if flops_only(w):
+            return None if k != "stream" else w["flops"] / (t["min"] if s == "best" else t["median"]) / 1e9
+        return r["bandwidth_gbps"][k][s] if r["bandwidth_gbps"] else r["latency_ns"][s] if k == "stream" else None
     check_table(table_rows(stdout), recs, where + " JSON", lambda r: bw(r, "stream", "best"), lambda r: bw(r, "stream", "median"),
                 lambda r: bw(r, "hardware_estimate", "best"), lambda r: r["time_s"]["cv"] * 100,
                 lambda r: r["repetitions"]["counted"], lambda r: r["verification"]["passed"])
@@ -228,10 +244,11 @@ def check_csv_run(stdout, text, where):
         for key, want in pairs:
             got = num(r, key)
             check((got is None and want is None) or close(got, want, 1e-5), f"{at}: {key} {got}, its own columns give {want}")
+    gf = lambda r, t: float(r["flops"]) / float(r[t]) / 1e9
     check_table(table_rows(stdout), rows, where + " CSV",
-                lambda r: num(r, "ns_per_load_best") if r["ns_per_load_best"] else num(r, "stream_gbps_best"),
-                lambda r: num(r, "ns_per_load_median") if r["ns_per_load_best"] else num(r, "stream_gbps_median"),
-                lambda r: num(r, "hardware_gbps_best"), lambda r: float(r["time_cv"]) * 100, lambda r: int(r["repetitions"]),
+                lambda r: gf(r, "time_min_s") if flops_only(r) else num(r, "ns_per_load_best") if r["ns_per_load_best"] else num(r, "stream_gbps_best"),
+                lambda r: gf(r, "time_median_s") if flops_only(r) else num(r, "ns_per_load_median") if r["ns_per_load_best"] else num(r, "stream_gbps_median"),
+                lambda r: None if flops_only(r) else num(r, "hardware_gbps_best"), lambda r: float(r["time_cv"]) * 100, lambda r: int(r["repetitions"]),
                 lambda r: r["verified"] == "true")
 
 
@@ -257,6 +274,10 @@ def check_gbench_run(stdout, doc, where):
         check(close(agg["median"]["real_time"] * 1e-9, statistics.median(times), 1e-9), f"{at}: median aggregate is not the samples' median")
         check(close(agg["mean"]["real_time"] * 1e-9, sum(times) / len(times), 1e-9), f"{at}: mean aggregate is not the samples' mean")
         fast = min(its, key=lambda b: b["real_time"])
+        if not lat and fast["bytes_per_second"] == 0 and fast.get("flops_per_second", 0) > 0:  # peak-flops: GFLOP/s
+            recs.append({"name": name, "best": fast["flops_per_second"] * 1e-9, "median": agg["median"]["flops_per_second"] * 1e-9,
+                         "hw": None, "cv": agg["cv"]["real_time"] * 100, "reps": len(its)})
+            continue
         recs.append({"name": name, "best": fast[key] * (1 if lat else 1e-9), "median": agg["median"][key] * (1 if lat else 1e-9),
                      "hw": None if lat else fast["hardware_bytes_per_second"] * 1e-9, "cv": agg["cv"]["real_time"] * 100,
                      "reps": len(its)})

@@ -73,7 +73,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     CLI::App app{"suite roofline: this machine's compute and bandwidth ceilings, measured, and a run's points placed on them"};
     app.footer(footer);
     app.get_formatter()->column_width(30);
-    std::string threads_text = "1,all", out, place, ceilings, pin = "compact";
+    std::string threads_text = "1,all", out, place, ceilings, pin = "compact", dram_size;
     double min_time = 0.2;
     bool no_probe = false, no_png = false;
     app.add_option("--threads,-t", threads_text, "thread counts: 1,2,4 | 1-8 | all (default 1,all)");
@@ -81,6 +81,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     app.add_option("--place", place, "a result file of this machine whose points are placed on the ceilings");
     app.add_option("--ceilings", ceilings, "with --place: a roofline file written earlier by `suite roofline --out` (default: measure now)");
     app.add_option("--pin", pin, "how the threads are pinned: compact | scatter | LIST (default compact)");
+    app.add_option("--dram-size", dram_size, "footprint of the memory ceiling, e.g. 1GiB (default: the default sweep's memory size, 16x the last level)");
     app.add_option("--min-time", min_time, "seconds of repetitions per point (default 0.2)");
     app.add_flag("--no-probe", no_probe, "take the cache sizes hwloc reports instead of measuring them (the probe takes seconds)");
     app.add_flag("--no-png", no_png, "write no figure");
@@ -105,6 +106,8 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
                              ": a point can only be placed on ceilings measured on its own machine; run `suite roofline` there");
         result = nlohmann::json::parse(text);
     }
+    const std::uint64_t dram_bytes = dram_size.empty() ? 0 : parse_bytes(dram_size);
+    if (!dram_size.empty() && dram_bytes < (1ULL << 20)) throw UsageError("--dram-size=" + dram_size + ": expected at least 1MiB, e.g. 1GiB");
     std::vector<int> threads;
     if (!given) {
         threads = parse_thread_list(threads_text, topo.pu_count());
@@ -125,6 +128,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         o.threads = threads;
         o.pin = parse_pin(topo.this_system ? pin : "none", topo);
         o.min_time_s = min_time;
+        o.dram_bytes = dram_bytes;
         o.probe = !no_probe;
         o.stop = frame.stop_flag();
         o.progress = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };

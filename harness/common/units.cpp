@@ -197,12 +197,6 @@ std::string format_number(double value) {
     return ec == std::errc() ? std::string(buf, end) : std::to_string(value);
 }
 
-std::string format_significant(double value, int digits) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
-    return buf;
-}
-
 std::uint64_t parse_seed(std::string_view text, std::string_view option) { return parse_whole(text, option, 0, UINT64_MAX); }
 
 std::vector<std::string> parse_name_list(std::string_view text, std::string_view option) {

@@ -3,6 +3,7 @@
 // thread lists. Every parser either returns a value or throws UsageError with a message
 // that names the bad text and what is accepted; none of them guesses.
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -35,7 +36,11 @@ double parse_finite(std::string_view text, std::string_view option);
 // The shortest text that reads back as the same double: 0.05, 1e-08, 12, -3.5.
 std::string format_number(double value);
 // A figure for people, to `digits` significant digits: 106.1, 0.0417, 2.1e+03.
-std::string format_significant(double value, int digits);
+inline std::string format_significant(double value, int digits) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+    return buf;
+}
 
 // The seed of every command's random orderings: 0 to 2^64-1, exactly as typed.
 std::uint64_t parse_seed(std::string_view text, std::string_view option = "--seed");

@@ -162,7 +162,7 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
                 lc.level = level.name;
                 const bool memory = level.capacity_bytes == 0;
                 const std::uint64_t holds = level_bytes(level, t);
-                const std::uint64_t footprint = memory ? std::max(dram, 4 * below) : holds / 2 / 4096 * 4096;
+                const std::uint64_t footprint = memory ? dram : holds / 2 / 4096 * 4096;
                 if (!memory && footprint <= below) {
                     lc.reason = "half of " + level.name + " for " + std::to_string(t) + " thread(s) (" + format_bytes(holds / 2) + ") fits in the levels above";
                 } else {

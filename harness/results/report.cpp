@@ -223,8 +223,8 @@ std::string table_header() {
 std::string table_row(std::size_t index, std::size_t total, const Record& r) {
     std::string best = "-", median = "-", hw = "-";
     if (r.work.stream_bytes == 0 && r.rates.gflops_best) {  // no memory traffic (peak-flops): its rate is its flops
-        best = fmt("%.1f GF/s", *r.rates.gflops_best);
-        median = fmt("%.1f", r.work.flops / r.time.median / 1e9);
+        best = fmt("%.2f GF/s", *r.rates.gflops_best);
+        median = fmt("%.2f", r.work.flops / r.time.median / 1e9);
     } else if (r.metric == Metric::bandwidth && r.rates.stream_gbps_best) {
         best = fmt("%.2f GB/s", *r.rates.stream_gbps_best);
         median = fmt("%.2f", *r.rates.stream_gbps_median);

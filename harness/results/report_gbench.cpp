@@ -40,6 +40,7 @@ void add_counters(json& entry, const Record& r, double t) {
         entry["ns_per_load"] = t / (r.work.units / r.threads) * 1e9;
     }
     entry["items_per_second"] = r.work.units / t;
+    if (r.work.flops > 0) entry["flops_per_second"] = r.work.flops / t;
     entry["omp_threads"] = r.threads;
 }
 

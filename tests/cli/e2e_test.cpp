@@ -8,6 +8,9 @@
 #include <sys/stat.h>
 
 #include <filesystem>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <thread>
 
 #include "harness/measure/plan.hpp"
@@ -17,6 +20,12 @@
 using namespace suite;
 using namespace suite::test;
 using nlohmann::json;
+
+#ifdef __FMA__
+#define FMA_INSTRUCTIONS_PER_UPDATE 1
+#else
+#define FMA_INSTRUCTIONS_PER_UPDATE 2  // a multiply and an add
+#endif
 
 namespace {
 
@@ -81,6 +90,71 @@ TEST(E2E, StoreNtEmitsStreamingStoresAndPlainStoreDoesNot) {
     EXPECT_TRUE(nt_found) << "no movntpd in Store::nt_store_loop (or its OpenMP body)";
     EXPECT_TRUE(plain_seen) << "Store::sequential_loop not found in the binary";
     EXPECT_FALSE(plain_has_nt) << "the plain store loop should use ordinary stores";
+}
+
+// peak-flops: each width's timed loop is exactly its 12 independent FMAs (or, in a build without
+// FMA, multiplies and adds) on registers of that width, plus the loop's counter: no load, no
+// store, no spill, nothing else the compiler added.
+TEST(E2E, PeakFlopsLoopsAreTwelveRegisterFmasOfTheirWidth) {
+    struct Width {
+        std::string isa, fma, reg;
+    };
+    std::vector<Width> widths = {{"Scalar", "sd", "%xmm"}, {"Sse", "pd", "%xmm"}};
+#ifdef __AVX__
+    widths.push_back({"Avx", "pd", "%ymm"});
+#endif
+#ifdef __AVX512F__
+    widths.push_back({"Avx512", "pd", "%zmm"});
+#endif
+    const auto functions = disassembly();
+    for (const auto& w : widths) {
+        std::string body;
+        for (const auto& [name, b] : functions)
+            if (name.find("peak_loop<suite::stream::(anonymous namespace)::" + w.isa + ">") != std::string::npos) body = b;
+        ASSERT_FALSE(body.empty()) << "peak_loop<" << w.isa << "> not found in the binary";
+        // The loop: from the target of the last backward jump to that jump.
+        std::vector<std::string> lines;
+        std::istringstream in(body);
+        for (std::string l; std::getline(in, l);)
+            if (!l.empty()) lines.push_back(l);
+        // A conditional jump back: "  1df48e:\tjne    1df440 <...>"; the loop starts at "  1df440:".
+        const std::regex jcc(R"(^\s*([0-9a-f]+):\s+j(?!mp)[a-z]+\s+([0-9a-f]+) <)");
+        std::size_t jump = lines.size(), target = lines.size();
+        std::string address;
+        for (std::size_t i = 0; i < lines.size(); ++i)
+            if (std::smatch mt; std::regex_search(lines[i], mt, jcc) && std::stoull(mt[2], nullptr, 16) < std::stoull(mt[1], nullptr, 16))
+                jump = i, address = mt[2];
+        ASSERT_LT(jump, lines.size()) << w.isa << ": no backward jump in\n" << body;
+        for (std::size_t i = 0; i < jump; ++i)
+            if (lines[i].find(" " + address + ":") != std::string::npos) target = i;
+        ASSERT_LT(target, jump) << w.isa << ": the loop's start " << address << " not found in\n" << body;
+        int fmas = 0, others = 0;
+        std::set<std::string> destinations;
+        std::string loop;
+        for (std::size_t i = target; i <= jump; ++i) {
+            const std::string& l = lines[i];
+            loop += l + "\n";
+            EXPECT_EQ(l.substr(0, l.find('<')).find('('), std::string::npos) << w.isa << ": a memory operand in the loop: " << l;
+#ifdef __FMA__
+            if (l.find("vfmadd") != std::string::npos && l.find(w.fma + " ") != std::string::npos && l.find(w.reg) != std::string::npos) {
+                ++fmas;
+                destinations.insert(l.substr(l.rfind('%')));
+                continue;
+            }
+#else
+            if ((l.find("mul" + w.fma) != std::string::npos || l.find("add" + w.fma) != std::string::npos) && l.find(w.reg) != std::string::npos) {
+                ++fmas;
+                continue;
+            }
+#endif
+            ++others;
+        }
+        EXPECT_EQ(fmas, 12 * (FMA_INSTRUCTIONS_PER_UPDATE)) << w.isa << ":\n" << loop;
+        EXPECT_LE(others, 4) << w.isa << ": more than the loop counter in the loop:\n" << loop;
+#ifdef __FMA__
+        EXPECT_EQ(destinations.size(), 12u) << w.isa << ": the 12 accumulators are not 12 registers:\n" << loop;
+#endif
+    }
 }
 
 // SIGINT (Ctrl-C) and SIGTERM mid-sweep: the finished points are kept, the file is valid JSON
