@@ -47,11 +47,15 @@ install: deps configure
 	cmake --install $(BUILD) --prefix "$(PREFIX)"
 
 # The default sweep, its sizes taken from the caches this process really gets (--probe-caches): a
-# table on the console, results/latest.json, and its figures in $(PLOTS)/. Builds the program only.
+# table on the console, results/latest.json, and its figures in $(PLOTS)/; then this machine's
+# measured ceilings (results/roofline.json, about 20 s on 2 cores) and the sweep placed on them
+# (results/roofline-latest.json and its figure). Builds the program only.
 run: run-deps configure
 	@cmake --build $(BUILD) -j $(JOBS) --target suite suite_link
 	./suite --probe-caches --out=results/latest.json
 	@$(MAKE) plots
+	./suite roofline --out=results/roofline.json
+	./suite roofline --place=results/latest.json --ceilings=results/roofline.json --out=$(PLOTS)/roofline-latest.json
 
 # The figures of results/latest.json (or RESULT=...), in $(PLOTS)/; the last line names them.
 RESULT ?= results/latest.json

@@ -239,13 +239,16 @@ json to_json(const Placement& pl, const std::string& roofline_path, const std::s
 
 std::string render_placement(const Placement& pl) {
     std::string out;
-    char buf[400];
-    std::snprintf(buf, sizeof buf, "%-48s %-22s %10s %9s %9s %10s %9s %7s\n", "point", "level", "GFLOP/s", "GB/s", "flop/B", "ceiling", "fraction",
+    char buf[600];
+    int width = 5;
+    for (const auto& p : pl.points) width = std::max(width, static_cast<int>(p.label.size()));
+    width = std::min(width, 200);
+    std::snprintf(buf, sizeof buf, "%-*s %-22s %10s %9s %9s %10s %9s %7s\n", width, "point", "level", "GFLOP/s", "GB/s", "flop/B", "ceiling", "fraction",
                   "hw-frac");
     out += buf;
     for (const auto& p : pl.points) {
-        const std::string ceiling = p.ceiling_gflops ? format_significant(*p.ceiling_gflops, 3) + " GF" : format_significant(p.ceiling_gbps, 3) + " GB";
-        std::snprintf(buf, sizeof buf, "%-48s %-22s %10s %9s %9s %10s %9.2f %7s%s\n", p.label.c_str(), p.level.c_str(),
+        const std::string ceiling = p.ceiling_gflops ? format_significant(*p.ceiling_gflops, 3) + " GF/s" : format_significant(p.ceiling_gbps, 3) + " GB/s";
+        std::snprintf(buf, sizeof buf, "%-*s %-22s %10s %9s %9s %10s %9.2f %7s%s\n", width, p.label.c_str(), p.level.c_str(),
                       p.gflops ? format_significant(*p.gflops, 3).c_str() : "-", p.bound == "compute" && p.gbps == 0 ? "-" : format_significant(p.gbps, 3).c_str(),
                       p.intensity ? format_significant(*p.intensity, 3).c_str() : "-", ceiling.c_str(), p.fraction,
                       p.hardware_fraction ? format_significant(*p.hardware_fraction, 2).c_str() : "-", p.verified ? "" : "  (FAILED verification)");
