@@ -37,6 +37,7 @@ Commands:
   traverse        how a loop walks a mesh, per ordering: ./suite traverse --mesh=... --out=DIR (see ./suite traverse --help)
   matrix          the fem matrix per vertex ordering (bandwidth, Cholesky fill, SpMV): ./suite matrix --mesh=... --out=DIR
   mpm             the MPM dam collapse as a simulation, snapshots for ParaView: ./suite mpm --out=DIR (see ./suite mpm --help)
+  roofline        this machine's measured ceilings, and a run placed on them: ./suite roofline [--out=FILE] [--place=RUN.json]
   --version       the version, git revision, compiler and flags, the parts this build has, where its data is
 
 Examples:
