@@ -92,11 +92,14 @@ bench-deps:
 	@scripts/install-deps.sh bench
 
 # The suite against likwid-bench's assembly and plain C loops, interleaved on this machine (about
-# 10 minutes): ratios on the console and in results/bench/vs_likwid.{json,md}. BENCH_FLAGS=--quick
-# checks in seconds that it all runs.
+# 10 minutes): ratios on the console and in results/bench/vs_likwid.{json,md}; then every
+# sequential stream kernel against the best of likwid-bench, STREAM's loops and glibc's memcpy and
+# memset (about 6 minutes), in results/bench/vs_peers.{json,md}. BENCH_FLAGS=--quick checks in
+# seconds that it all runs.
 BENCH_FLAGS ?=
 bench-vs: bench-deps build
 	/usr/bin/python3 bench/vs_likwid.py --suite ./suite --ref $(BUILD)/ref_random --out results/bench $(BENCH_FLAGS)
+	/usr/bin/python3 bench/vs_peers.py --suite ./suite --ref $(BUILD)/ref_stream --out results/bench $(BENCH_FLAGS)
 
 # The noise floor of bench-vs at 1 GiB: the suite and likwid-bench each against itself (about 12
 # minutes), to results/bench/aa_noise.{json,md}.

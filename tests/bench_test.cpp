@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,33 @@
 
 using namespace suite::test;
 using json = nlohmann::json;
+
+// bench/vs_peers.py --quick: every kind's best suite variant against its best peer at 32 KiB and
+// 1 MiB on one thread; ref_stream's kernels verified (the script stops on a failed check).
+TEST(Bench, VsPeersQuickHoldsEveryKindAgainstItsPeers) {
+    TempDir dir;
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/vs_peers.py", "--quick", "--suite", SUITE_BINARY, "--ref",
+                             SUITE_REF_STREAM, "--out", dir.path().string()},
+                            300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json doc = json::parse(slurp(dir.file("vs_peers_quick.json")));
+    const bool likwid = access("/usr/bin/likwid-bench", X_OK) == 0;
+    std::set<std::string> kinds;
+    for (const auto& row : doc["rows"]) {
+        kinds.insert(row["kind"].get<std::string>());
+        EXPECT_GT(row["ratio"].get<double>(), 0) << row.dump();
+        const double mine = row["suite"][row["suite_best"].get<std::string>()], theirs = row["peers"][row["peer_best"].get<std::string>()];
+        EXPECT_NEAR(row["ratio"].get<double>(), mine / theirs, 1e-12);
+        for (const auto& [name, v] : row["peers"].items()) EXPECT_LE(v.get<double>(), theirs) << name;
+        if (row["kind"] == "copy") EXPECT_TRUE(row["peers"].contains("ref:memcpy")) << row.dump();
+        if (row["kind"] == "store") EXPECT_TRUE(row["peers"].contains("ref:memset")) << row.dump();
+        if (row["kind"] == "copy" && likwid) EXPECT_TRUE(row["peers"].contains("likwid:copy")) << row.dump();
+    }
+    std::set<std::string> want{"copy", "scale", "add", "triad", "store"};
+    if (likwid) want.insert("load");  // its only peer is likwid-bench's
+    EXPECT_EQ(kinds, want);
+    EXPECT_EQ(doc["rows"].size(), 2 * kinds.size());
+}
 
 TEST(Bench, VsLikwidQuickRunsBothSidesAndWritesTheRatios) {
     TempDir dir;
