@@ -13,6 +13,8 @@
 // ns_median and ns_best (per dependent load), and verified.
 #include <omp.h>
 
+#include "ref_common.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,20 +27,13 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using ref::fresh;
+using ref::median;
+using ref::time_it;
+using ref::Timing;
 
 double b_at(std::uint64_t i) { return 1.0 + static_cast<double>(i % 1000) * 0.5; }
 double c_at(std::uint64_t i) { return 2.0 + static_cast<double>(i % 777) * 0.25; }
-
-template <class T>
-T* fresh(std::size_t n) {
-    void* p = std::aligned_alloc(4096, (n * sizeof(T) + 4095) / 4096 * 4096);
-    if (!p) {
-        std::fprintf(stderr, "ref_random: out of memory\n");
-        std::exit(1);
-    }
-    return static_cast<T*>(p);
-}
 
 // The permutation: i-th step swaps p[i] with a uniformly drawn p[j], j <= i, from the top down.
 void permutation(std::uint32_t* p, std::uint64_t n, std::uint64_t seed) {
@@ -48,35 +43,6 @@ void permutation(std::uint32_t* p, std::uint64_t n, std::uint64_t seed) {
         const auto j = static_cast<std::uint64_t>((static_cast<unsigned __int128>(rng()) * (i + 1)) >> 64);
         std::swap(p[i], p[j]);
     }
-}
-
-struct Timing {
-    std::vector<double> per_call;  // seconds per call, one per sample
-    int calls = 1;
-};
-
-// Calls `run(calls)` as the suite's runner does: one warm-up call, then samples of `calls`
-// calls each lasting at least 1 ms, until 0.2 s and at least 5 samples.
-template <class Run>
-Timing time_it(Run run) {
-    Timing t;
-    auto t0 = Clock::now();
-    run(1);
-    const double first = std::max(std::chrono::duration<double>(Clock::now() - t0).count(), 1e-9);
-    t.calls = first >= 1e-3 ? 1 : static_cast<int>(std::ceil(1e-3 / first));
-    const int samples = std::clamp(static_cast<int>(std::ceil(0.2 / (first * t.calls))), 5, 1000000);
-    for (int s = 0; s < samples; ++s) {
-        t0 = Clock::now();
-        run(t.calls);
-        t.per_call.push_back(std::chrono::duration<double>(Clock::now() - t0).count() / t.calls);
-    }
-    return t;
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t m = v.size() / 2;
-    return v.size() % 2 ? v[m] : (v[m - 1] + v[m]) / 2;
 }
 
 void report(const std::string& kernel, std::uint64_t size, int threads, const Timing& t, double bytes_or_loads, bool latency, bool ok) {
@@ -228,34 +194,17 @@ void latency_kernel(std::uint64_t size, int threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 4) {
-        std::fprintf(stderr, "usage: ref_random KERNELS SIZE_BYTES THREADS (KERNELS: copy,scale,add,triad,sin-add,load,store,latency)\n");
-        return 2;
-    }
-    const std::uint64_t size = std::strtoull(argv[2], nullptr, 10);
-    const int threads = std::atoi(argv[3]);
-    if (size < 4096 || threads < 1) {
-        std::fprintf(stderr, "ref_random: SIZE_BYTES must be at least 4096 and THREADS at least 1\n");
-        return 2;
-    }
-    omp_set_num_threads(threads);
-    std::string list = argv[1];
-    for (std::size_t from = 0; from <= list.size();) {
-        const std::size_t comma = std::min(list.find(',', from), list.size());
-        const std::string k = list.substr(from, comma - from);
-        from = comma + 1;
-        if (k == "copy") stream_kernel<1>(k, size, threads, [](double b, double) { return b; });
-        else if (k == "scale") stream_kernel<1>(k, size, threads, [](double b, double) { return 3.0 * b; });
-        else if (k == "add") stream_kernel<2>(k, size, threads, [](double b, double c) { return b + c; });
-        else if (k == "triad") stream_kernel<2>(k, size, threads, [](double b, double c) { return b + 3.0 * c; });
-        else if (k == "sin-add") stream_kernel<2>(k, size, threads, [](double b, double c) { return std::sin(b) + std::sin(c); });
-        else if (k == "load") load_kernel(size, threads);
-        else if (k == "store") store_kernel(size, threads);
-        else if (k == "latency") latency_kernel(size, threads);
-        else {
-            std::fprintf(stderr, "ref_random: unknown kernel '%s'\n", k.c_str());
-            return 2;
-        }
-    }
-    return 0;
+    return ref::run_kernels(argc, argv, "ref_random", "copy,scale,add,triad,sin-add,load,store,latency",
+                            [](const std::string& k, std::uint64_t size, int threads) {
+                                if (k == "copy") stream_kernel<1>(k, size, threads, [](double b, double) { return b; });
+                                else if (k == "scale") stream_kernel<1>(k, size, threads, [](double b, double) { return 3.0 * b; });
+                                else if (k == "add") stream_kernel<2>(k, size, threads, [](double b, double c) { return b + c; });
+                                else if (k == "triad") stream_kernel<2>(k, size, threads, [](double b, double c) { return b + 3.0 * c; });
+                                else if (k == "sin-add") stream_kernel<2>(k, size, threads, [](double b, double c) { return std::sin(b) + std::sin(c); });
+                                else if (k == "load") load_kernel(size, threads);
+                                else if (k == "store") store_kernel(size, threads);
+                                else if (k == "latency") latency_kernel(size, threads);
+                                else return false;
+                                return true;
+                            });
 }

@@ -19,6 +19,8 @@
 // gbps_median, gbps_best, verified.
 #include <omp.h>
 
+#include "ref_common.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,39 +33,16 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using ref::Timing;
 
-double* fresh(std::size_t n) {
-    void* p = std::aligned_alloc(4096, (n * sizeof(double) + 4095) / 4096 * 4096);
-    if (!p) {
-        std::fprintf(stderr, "ref_stream: out of memory\n");
-        std::exit(1);
-    }
-    return static_cast<double*>(p);
-}
+double* fresh(std::size_t n) { return ref::fresh<double>(n); }
 
-std::vector<double> time_it(const auto& run, int& calls) {
-    auto t0 = Clock::now();
-    run(1);
-    const double first = std::max(std::chrono::duration<double>(Clock::now() - t0).count(), 1e-9);
-    calls = first >= 1e-3 ? 1 : static_cast<int>(std::ceil(1e-3 / first));
-    const int samples = std::clamp(static_cast<int>(std::ceil(0.2 / (first * calls))), 5, 1000000);
-    std::vector<double> per_call;
-    for (int s = 0; s < samples; ++s) {
-        t0 = Clock::now();
-        run(calls);
-        per_call.push_back(std::chrono::duration<double>(Clock::now() - t0).count() / calls);
-    }
-    return per_call;
-}
-
-void report(const std::string& kernel, std::uint64_t size, int threads, std::vector<double> t, int calls, double bytes, bool ok) {
-    std::sort(t.begin(), t.end());
-    const std::size_t m = t.size() / 2;
-    const double med = t.size() % 2 ? t[m] : (t[m - 1] + t[m]) / 2;
+void report(const std::string& kernel, std::uint64_t size, int threads, const Timing& timing, double bytes, bool ok) {
+    const std::vector<double>& t = timing.per_call;
+    const double med = ref::median(t), best = *std::min_element(t.begin(), t.end());
     std::printf("{\"kernel\": \"%s\", \"size_bytes\": %llu, \"threads\": %d, \"samples\": %zu, \"calls\": %d, \"gbps_median\": %.6g, "
                 "\"gbps_best\": %.6g, \"verified\": %s}\n",
-                kernel.c_str(), static_cast<unsigned long long>(size), threads, t.size(), calls, bytes / med / 1e9, bytes / t.front() / 1e9,
+                kernel.c_str(), static_cast<unsigned long long>(size), threads, t.size(), timing.calls, bytes / med / 1e9, bytes / best / 1e9,
                 ok ? "true" : "false");
     std::fflush(stdout);
 }
@@ -88,8 +67,7 @@ void stream_loop(const char* name, std::uint64_t size, int threads) {
         if (c) c[j] = 2.0 + static_cast<double>(j % 777) * 0.25;
     }
     const double scalar = 3.0;
-    int calls = 1;
-    const auto t = time_it(
+    const Timing t = ref::time_it(
         [&](int k) {
             for (int r = 0; r < k; ++r) {
                 if constexpr (Kernel == 0) {
@@ -106,15 +84,14 @@ void stream_loop(const char* name, std::uint64_t size, int threads) {
                     for (std::int64_t j = 0; j < n; j++) a[j] = b[j] + scalar * c[j];
                 }
             }
-        },
-        calls);
+        });
     bool ok = true;
     for (std::int64_t j = 0; j < n && ok; ++j) {
         const double bj = 1.0 + static_cast<double>(j % 1000) * 0.5, cj = 2.0 + static_cast<double>(j % 777) * 0.25;
         const double want = Kernel == 0 ? bj : Kernel == 1 ? scalar * bj : Kernel == 2 ? bj + cj : bj + scalar * cj;
         ok = a[j] == want;
     }
-    report(name, size, threads, t, calls, 8.0 * arrays * static_cast<double>(n), ok);
+    report(name, size, threads, t, 8.0 * arrays * static_cast<double>(n), ok);
     std::free(a), std::free(b), std::free(c);
 }
 
@@ -127,8 +104,7 @@ void memcpy_blocks(std::uint64_t size, int threads) {
         block(n, lo, hi);
         for (std::int64_t j = lo; j < hi; ++j) a[j] = -1.0, b[j] = 1.0 + static_cast<double>(j % 1000) * 0.5;
     }
-    int calls = 1;
-    const auto t = time_it(
+    const Timing t = ref::time_it(
         [&](int k) {
 #pragma omp parallel
             {
@@ -139,10 +115,9 @@ void memcpy_blocks(std::uint64_t size, int threads) {
                     asm volatile("" ::: "memory");
                 }
             }
-        },
-        calls);
+        });
     bool ok = std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
-    report("memcpy", size, threads, t, calls, 16.0 * static_cast<double>(n), ok);
+    report("memcpy", size, threads, t, 16.0 * static_cast<double>(n), ok);
     std::free(a), std::free(b);
 }
 
@@ -156,9 +131,8 @@ void memset_blocks(std::uint64_t size, int threads) {
         block(n, lo, hi);
         for (std::int64_t j = lo; j < hi; ++j) a[j] = -1.0;
     }
-    int calls = 1;
     std::uint64_t done = 0;
-    const auto t = time_it(
+    const Timing t = ref::time_it(
         [&](int k) {
 #pragma omp parallel
             {
@@ -170,44 +144,26 @@ void memset_blocks(std::uint64_t size, int threads) {
                 }
             }
             done += k;
-        },
-        calls);
+        });
     const auto last = static_cast<unsigned char>(1 + (done - 1) % 255);
     bool ok = true;
     for (std::int64_t j = 0; j < n * 8 && ok; ++j) ok = bytes[j] == last;
-    report("memset", size, threads, t, calls, 8.0 * static_cast<double>(n), ok);
+    report("memset", size, threads, t, 8.0 * static_cast<double>(n), ok);
     std::free(a);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 4) {
-        std::fprintf(stderr, "usage: ref_stream KERNELS SIZE_BYTES THREADS (KERNELS: stream-copy,stream-scale,stream-add,stream-triad,memcpy,memset)\n");
-        return 2;
-    }
-    const std::uint64_t size = std::strtoull(argv[2], nullptr, 10);
-    const int threads = std::atoi(argv[3]);
-    if (size < 4096 || threads < 1) {
-        std::fprintf(stderr, "ref_stream: SIZE_BYTES must be at least 4096 and THREADS at least 1\n");
-        return 2;
-    }
-    omp_set_num_threads(threads);
-    std::string list = argv[1];
-    for (std::size_t from = 0; from <= list.size();) {
-        const std::size_t comma = std::min(list.find(',', from), list.size());
-        const std::string k = list.substr(from, comma - from);
-        from = comma + 1;
-        if (k == "stream-copy") stream_loop<0>("stream-copy", size, threads);
-        else if (k == "stream-scale") stream_loop<1>("stream-scale", size, threads);
-        else if (k == "stream-add") stream_loop<2>("stream-add", size, threads);
-        else if (k == "stream-triad") stream_loop<3>("stream-triad", size, threads);
-        else if (k == "memcpy") memcpy_blocks(size, threads);
-        else if (k == "memset") memset_blocks(size, threads);
-        else {
-            std::fprintf(stderr, "ref_stream: unknown kernel '%s'\n", k.c_str());
-            return 2;
-        }
-    }
-    return 0;
+    return ref::run_kernels(argc, argv, "ref_stream", "stream-copy,stream-scale,stream-add,stream-triad,memcpy,memset",
+                            [](const std::string& k, std::uint64_t size, int threads) {
+                                if (k == "stream-copy") stream_loop<0>("stream-copy", size, threads);
+                                else if (k == "stream-scale") stream_loop<1>("stream-scale", size, threads);
+                                else if (k == "stream-add") stream_loop<2>("stream-add", size, threads);
+                                else if (k == "stream-triad") stream_loop<3>("stream-triad", size, threads);
+                                else if (k == "memcpy") memcpy_blocks(size, threads);
+                                else if (k == "memset") memset_blocks(size, threads);
+                                else return false;
+                                return true;
+                            });
 }

@@ -2,9 +2,7 @@
 // a JSON file and a figure; and the points of a run placed on them (harness/results/
 // roofline_place.hpp). Everything given is checked before anything is measured or written.
 #include <cstdio>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -43,14 +41,6 @@ levels are those the cache probe measures. Placing a run: each point's flop/byte
 declared flops and bytes, the level its footprint lives in, min(peak, intensity x level GB/s) there,
 and the fraction of it the point reached. A run is placed only on its own machine's ceilings.
 )";
-
-std::string slurp_file(const std::string& path, const std::string& option) {
-    std::ifstream in(path);
-    if (!in) throw InputError(option + "=" + path + ": cannot read the file (missing or unreadable)");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 // FILE.json -> FILE.png
 std::string figure_path(const std::string& out) {
@@ -96,9 +86,10 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     std::optional<RooflineFile> given;
     if (!ceilings.empty()) given = load_roofline_file(ceilings);
     nlohmann::json result;
+    ResultFile file;
     if (!place.empty()) {
-        const std::string text = slurp_file(place, "--place");
-        const ResultFile file = parse_result_text(text, place);  // checks it is a result, of this schema
+        const std::string text = read_input_file(place, "a result file of this machine (e.g. results/latest.json)");
+        file = parse_result_text(text, place);  // checks it is a result, of this schema
         if (file.points.empty()) throw InputError(place + ": the result has no records to place");
         const std::string fp = given ? given->fingerprint : machine_fingerprint(context);
         if (machine_fingerprint(file.context) != fp)
@@ -118,7 +109,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     if (figure) require_plotter("roofline.py", "--no-png");
     std::vector<FileIdentity> inputs = identify_inputs({place, ceilings});
     CommandFrame frame("suite");
-    const OutputFile* file = out.empty() ? nullptr : &frame.claim_file(out, "--out", inputs);
+    const OutputFile* output = out.empty() ? nullptr : &frame.claim_file(out, "--out", inputs);
 
     RooflineFile roof;
     if (given) {
@@ -143,7 +134,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     const bool complete = roof.roofline.complete;
     nlohmann::json doc;
     if (!place.empty() && complete) {
-        const Placement pl = place_points(roof, result, place);
+        const Placement pl = place_points(roof, file, result);
         std::cout << "\n" << render_placement(pl);
         doc = to_json(pl, roof.path, place);
     } else {
@@ -151,8 +142,8 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         doc.update(to_json(roof.roofline));
     }
     std::string done = std::to_string(roof.roofline.ceilings.size()) + " of " + std::to_string(threads.size()) + " thread count(s)";
-    if (!file) return frame.finish(0, done, complete);
-    file->write(doc.dump(2) + "\n");
+    if (!output) return frame.finish(0, done, complete);
+    output->write(doc.dump(2) + "\n");
     std::printf("\nwrote %s\n", out.c_str());
     if (figure && complete) {
         const Plotter p = find_plotter("roofline.py");

@@ -255,18 +255,23 @@ ResultFile parse_result_text(const std::string& text, const std::string& path) {
     return f;
 }
 
-ResultFile load_result_file(const std::string& path) {
+std::string read_input_file(const std::string& path, const std::string& example) {
     struct stat st{};
     if (stat(path.c_str(), &st) != 0) throw InputError(path + ": cannot read it: " + std::strerror(errno));
-    if (S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory; give a result file (e.g. results/latest.json)");
-    if (st.st_size > (1LL << 30)) throw InputError(path + ": larger than 1 GiB; not a result file suite wrote");
+    if (S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory; give " + example);
+    if (st.st_size > (1LL << 30)) throw InputError(path + ": larger than 1 GiB; not a file suite wrote");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path + ": cannot open it: " + std::strerror(errno));
     std::ostringstream s;
     s << in.rdbuf();
     if (in.bad()) throw InputError(path + ": read error");
-    const std::string text = s.str();
-    if (text.empty()) throw InputError(path + ": the file is empty; give a result file written by suite --out=FILE.json");
+    std::string text = s.str();
+    if (text.empty()) throw InputError(path + ": the file is empty; give " + example);
+    return text;
+}
+
+ResultFile load_result_file(const std::string& path) {
+    const std::string text = read_input_file(path, "a result file written by suite --out=FILE.json (e.g. results/latest.json)");
     return parse_result_text(text, path);
 }
 

@@ -138,6 +138,9 @@ struct ResultFile {
     std::string machine_label() const;
 };
 
+// The text of an input file, read whole: InputError (naming the path) when it is missing,
+// unreadable, a directory, empty or over 1 GiB; `example` says what to give instead.
+std::string read_input_file(const std::string& path, const std::string& example);
 // Reads and checks `path`; throws InputError (with the path and the offending field) when the
 // file is missing, unreadable, not JSON, not a suite result, of another schema_version, or
 // lacks a field the tools need.

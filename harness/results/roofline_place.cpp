@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
@@ -121,15 +119,11 @@ RooflineFile parse_roofline_text(const std::string& text, const std::string& pat
 }
 
 RooflineFile load_roofline_file(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path + ": cannot read the roofline file (missing or unreadable)");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_roofline_text(ss.str(), path);
+    return parse_roofline_text(read_input_file(path, "a roofline file written by `suite roofline --out=FILE`"), path);
 }
 
-Placement place_points(const RooflineFile& roof, const json& result, const std::string& result_path) {
-    const ResultFile file = parse_result_text(result.dump(), result_path);
+Placement place_points(const RooflineFile& roof, const ResultFile& file, const json& result) {
+    const std::string& result_path = file.path;
     if (file.points.empty()) throw InputError(result_path + ": the result has no records to place");
     const std::string fp = machine_fingerprint(file.context);
     if (fp != roof.fingerprint)

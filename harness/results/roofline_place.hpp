@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/measure/roofline.hpp"
+#include "harness/results/result_file.hpp"
 
 namespace suite {
 
@@ -59,9 +60,10 @@ struct Placement {
     std::vector<std::pair<std::string, std::string>> not_placed;  // label, why
 };
 
-// The placement of every record of `result` (a result document as written) on `roof`. Throws
+// The placement of every record of a result file on `roof`: `file` as parse_result_text read
+// it, `result` the same document as JSON (for the work and footprint of each record). Throws
 // InputError when the result comes from another machine or has no records.
-Placement place_points(const RooflineFile& roof, const nlohmann::json& result, const std::string& result_path);
+Placement place_points(const RooflineFile& roof, const ResultFile& file, const nlohmann::json& result);
 
 nlohmann::json to_json(const Placement& placement, const std::string& roofline_path, const std::string& result_path);
 // The placement as a console table, one line a point, then the points not placed and why.

@@ -124,7 +124,8 @@ TEST(Roofline, PlacementArithmeticOnHandSetCeilings) {
     roof["ceilings"][0]["peak"] = json::array({{{"isa", "scalar"}, {"kernel", "peak-flops-scalar"}, {"gflops", 1e6}}});
     const RooflineFile file = parse_roofline_text(roof.dump(), "hand.json");
     const json run = json::parse(slurp(m.run));
-    const Placement pl = place_points(file, run, m.run);
+    const ResultFile result = parse_result_text(slurp(m.run), m.run);
+    const Placement pl = place_points(file, result, run);
     const PlacedPoint* triad = nullptr;
     for (const auto& p : pl.points)
         if (p.kernel == "triad") triad = &p;
@@ -136,7 +137,7 @@ TEST(Roofline, PlacementArithmeticOnHandSetCeilings) {
     EXPECT_NEAR(triad->fraction, triad->gbps / 1.0, 1e-12);
     // With a peak below I x B the compute ceiling bounds it.
     roof["ceilings"][0]["peak"][0]["gflops"] = 0.01;
-    const Placement low = place_points(parse_roofline_text(roof.dump(), "hand.json"), run, m.run);
+    const Placement low = place_points(parse_roofline_text(roof.dump(), "hand.json"), result, run);
     for (const auto& p : low.points)
         if (p.kernel == "triad") {
             EXPECT_EQ(p.bound, "compute");
@@ -168,7 +169,7 @@ TEST(Roofline, RefusesBadInputWithOneLineAndWritesNothing) {
         {{"--threads=100000"}, "100000"},
         {{"--place=" + m.run, "--ceilings=" + m.dir + "/v2.json"}, "schema_version 2"},
         {{"--place=" + m.run, "--ceilings=" + m.run}, "not a roofline file"},
-        {{"--place=" + m.dir + "/missing.json", "--ceilings=" + m.roof}, "missing"},
+        {{"--place=" + m.dir + "/missing.json", "--ceilings=" + m.roof}, "missing.json: cannot read it"},
         {{"--ceilings=" + m.roof}, "--place"},
         {{"--dram-size=12"}, "--dram-size"},
     };
