@@ -3,7 +3,7 @@
 # otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|run|test|bench]
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
-want+=(libboost-graph-dev)  # RCM ordering (kernels/sfc)
+want+=(libboost-graph-dev libboost-dev)  # RCM ordering (kernels/sfc); Boost.Math headers for the history gate's band
 want+=(libsuitesparse-dev libmetis-dev)  # suite matrix: AMD, CHOLMOD, nested dissection
 want+=(libsqlite3-dev)  # suite history: the database of every run added
 if [ "${1:-build}" = run ] || [ "${1:-build}" = test ]; then

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -72,6 +73,37 @@ std::string processes_differ(const ResultFile& base, const ResultFile& run) {
 std::string rule_text(const GateRule& r) {
     return "a change counts beyond " + pct(r.tolerance) + " when the repetitions tell the runs apart at p < " + num(r.alpha) +
            "; without repetitions, beyond " + pct(r.tolerance) + " plus the runs' spread";
+}
+
+std::string report_rule(const CheckReport& rep) { return rep.rule_text.empty() ? rule_text(rep.rule) : rep.rule_text; }
+
+// The band of the runs' medians a finding was held against: "[12.1, 14.3] of 9 runs"; "-" without one.
+std::string band_text(const Finding& f) {
+    if (!std::isfinite(f.band_low)) return "-";
+    return "[" + num(f.band_low) + ", " + num(f.band_high) + "] of " + std::to_string(f.band_runs) + " runs";
+}
+
+// The regressions, then the improvements, then the inconclusive figures; a column of the runs'
+// band where any finding was held against one (history check).
+TextTable findings_table(const CheckReport& rep, bool markdown, std::size_t max_rows = SIZE_MAX, bool with_inconclusive = true) {
+    bool banded = false;
+    for (const auto& f : rep.findings) banded = banded || std::isfinite(f.band_low);
+    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change [95% interval]", "p", "allowed"}, {}, {false, false, false, true, true, true, true, true}};
+    if (banded) {
+        t.header.push_back("runs' band");
+        t.right.push_back(true);
+    }
+    for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive}) {
+        if (v == Verdict::inconclusive && !with_inconclusive) break;
+        for (const auto& f : rep.findings) {
+            if (f.verdict != v || t.rows.size() >= max_rows) continue;
+            const std::string label = markdown ? "`" + finding_label(f) + "`" : finding_label(f);
+            t.rows.push_back({verdict_word(v), label, f.figure, shows_values(f) ? num(f.baseline) : "-", shows_values(f) ? num(f.run) : "-",
+                              change_text(f), p_text(f), shows_values(f) ? pct(f.allowed) : "-"});
+            if (banded) t.rows.back().push_back(band_text(f));
+        }
+    }
+    return t;
 }
 
 }  // namespace
@@ -217,14 +249,9 @@ CheckReport check_run(const ResultFile& base, const ResultFile& run, const GateR
 }
 
 std::string render_check_text(const CheckReport& rep) {
-    std::string out = "suite check: " + rep.run_path + " against the baseline " + rep.baseline_path + " (" + rule_text(rep.rule) + ")\n";
+    std::string out = "suite check: " + rep.run_path + " against the baseline " + rep.baseline_path + " (" + report_rule(rep) + ")\n";
     for (const auto& n : rep.notes) out += "note: " + n + "\n";
-    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change [95% interval]", "p", "allowed"}, {}, {false, false, false, true, true, true, true, true}};
-    for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
-        for (const auto& f : rep.findings)
-            if (f.verdict == v)
-                t.rows.push_back({verdict_word(v), finding_label(f), f.figure, shows_values(f) ? num(f.baseline) : "-", shows_values(f) ? num(f.run) : "-",
-                                  change_text(f), p_text(f), shows_values(f) ? pct(f.allowed) : "-"});
+    TextTable t = findings_table(rep, false);
     if (!t.rows.empty()) out += t.render_text();
     std::set<PointKey> said;  // a point's reasons once, however many of its figures were inconclusive
     for (const auto& f : rep.findings)
@@ -249,17 +276,37 @@ std::string render_check_markdown(const CheckReport& rep) {
                       (good ? ", " + std::to_string(good) + " improvement(s)" : "") +
                       (unsure ? ", " + std::to_string(unsure) + " inconclusive" : "") + "\n\n";
     out += "Run `" + rep.run_path + "` against the baseline `" + rep.baseline_path + "`: " + std::to_string(rep.points_compared) +
-           " point(s), " + std::to_string(rep.findings.size()) + " figure(s) compared; " + rule_text(rep.rule) + ".\n\n";
-    TextTable t{{"", "point", "figure (median)", "baseline", "run", "change [95% interval]", "p", "allowed"}, {}, {false, false, false, true, true, true, true, true}};
-    for (Verdict v : {Verdict::regressed, Verdict::improved, Verdict::inconclusive})
-        for (const auto& f : rep.findings)
-            if (f.verdict == v)
-                t.rows.push_back({verdict_word(v), "`" + finding_label(f) + "`", f.figure, shows_values(f) ? num(f.baseline) : "-",
-                                  shows_values(f) ? num(f.run) : "-", change_text(f), p_text(f), shows_values(f) ? pct(f.allowed) : "-"});
+           " point(s), " + std::to_string(rep.findings.size()) + " figure(s) compared; " + report_rule(rep) + ".\n\n";
+    TextTable t = findings_table(rep, true);
     if (!t.rows.empty()) out += t.render_markdown() + "\n";
     for (const auto& n : rep.notes) out += "- " + n + "\n";
     if (!rep.missing_from_run.empty()) out += "- " + std::to_string(rep.missing_from_run.size()) + " point(s) of the baseline are missing from the run\n";
     if (!rep.not_in_baseline.empty()) out += "- " + std::to_string(rep.not_in_baseline.size()) + " point(s) of the run are not in the baseline (not gated)\n";
+    return out;
+}
+
+std::string render_check_summary_markdown(const CheckReport& rep, const std::vector<std::string>& steps) {
+    constexpr std::size_t max_rows = 10, max_steps = 5;
+    const std::size_t bad = rep.count(Verdict::regressed), good = rep.count(Verdict::improved);
+    std::string out = "### suite history check: " + std::string(bad ? "**" + std::to_string(bad) + " regression(s)**" : "no regression") +
+                      (good ? ", " + std::to_string(good) + " improvement(s)" : "") + "\n\n";
+    out += "`" + rep.run_path + "` against " + rep.baseline_path + ": " + report_rule(rep) + ".\n\n";
+    const TextTable t = findings_table(rep, true, max_rows, false);
+    if (!t.rows.empty()) {
+        out += t.render_markdown();
+        if (bad + good > max_rows) out += "\n" + std::to_string(bad + good - max_rows) + " more changed figure(s): see the job's log.\n";
+        out += "\n";
+    }
+    out += "- " + std::to_string(rep.points_compared) + " point(s), " + std::to_string(rep.findings.size()) + " figure(s): " +
+           std::to_string(rep.count(Verdict::unchanged)) + " unchanged, " + std::to_string(rep.count(Verdict::inconclusive)) +
+           " inconclusive (unstable points, or changes the repetitions cannot tell from noise; not gated)\n";
+    if (!rep.notes.empty()) out += "- " + std::to_string(rep.notes.size()) + " note(s) in the job's log; the first: " + rep.notes.front() + "\n";
+    if (!rep.missing_from_run.empty() || !rep.not_in_baseline.empty())
+        out += "- " + std::to_string(rep.missing_from_run.size()) + " point(s) of the history missing from the run, " +
+               std::to_string(rep.not_in_baseline.size()) + " point(s) of the run without history (not gated)\n";
+    out += "- " + std::to_string(steps.size()) + " step(s) in this machine's history" + (steps.empty() ? "" : ":") + "\n";
+    for (std::size_t i = 0; i < steps.size() && i < max_steps; ++i) out += "  - " + steps[i] + "\n";
+    if (steps.size() > max_steps) out += "  - and " + std::to_string(steps.size() - max_steps) + " more (./suite history steps)\n";
     return out;
 }
 

@@ -11,6 +11,7 @@
 // tolerance + the runs' combined spread. Counts of fewer than `min_count` events a repetition in
 // both runs are not gated by ratio (0 -> 1 context switch is not infinitely worse). Exit 0:
 // nothing regressed; 1: something did; 2: the input cannot be used.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,9 @@ struct Finding {
     double p = NAN;
     double ratio_low = NAN, ratio_high = NAN;
     std::string note;  // e.g. "failed verification"
+    // Gated against a history (history_band.hpp): the band of the runs' medians, and how many runs it came from.
+    double band_low = NAN, band_high = NAN;
+    std::size_t band_runs = 0;
 };
 
 // The decision rule's settings.
@@ -53,6 +57,7 @@ struct CheckReport {
     std::size_t points_compared = 0;
     std::vector<PointKey> missing_from_run, not_in_baseline;
     std::vector<std::string> notes;  // context differences and anything else worth knowing
+    std::string rule_text;  // how the figures were judged, where not check's own rule (history check)
     std::size_t count(Verdict v) const;
 };
 
@@ -68,6 +73,10 @@ CheckReport check_run(const ResultFile& baseline, const ResultFile& run, const G
 
 std::string render_check_text(const CheckReport& report);
 std::string render_check_markdown(const CheckReport& report);
+// For a pull request: only what changed, in at most 30 lines however many points: the
+// regressions and improvements (the first 10), a count of the unchanged and inconclusive
+// figures, the notes counted, and `steps` (one line each: the first 5, then how many more).
+std::string render_check_summary_markdown(const CheckReport& report, const std::vector<std::string>& steps);
 
 // "10%", "10" (both 10 %), "2.5%"; throws UsageError for anything else or outside 0..1000 %.
 double parse_tolerance(const std::string& text);

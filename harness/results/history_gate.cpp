@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "harness/common/stats.hpp"
+#include "harness/common/units.hpp"
 
 namespace suite {
 
@@ -32,8 +33,14 @@ Measure pool_entries(const std::vector<const SeriesEntry*>& entries, const Measu
     return m;
 }
 
+bool same_commit(const std::string& stored, const std::string& given) {
+    if (stored == given) return true;
+    const std::size_t n = std::min(stored.size(), given.size());
+    return n >= 7 && stored.compare(0, n, given, 0, n) == 0;
+}
+
 WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFile& run, const RunIdentity& id, std::int64_t own_run_id,
-                               std::size_t window, const std::string& label) {
+                               std::size_t window, const std::string& label, const std::string& base_commit) {
     using SeriesId = std::tuple<std::string, PointKey, std::string, std::string>;  // class, point, figure, unit
     std::map<SeriesId, const Series*> by_id;
     for (const Series& s : series)
@@ -52,22 +59,32 @@ WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFi
         for (const Measure& m : p.measures) {
             auto it = by_id.find({series_class(id.context_class, p.hugepages), p.key, m.name, m.unit});
             if (it == by_id.end()) continue;
-            std::vector<const SeriesEntry*> stable, unstable;
+            std::vector<const SeriesEntry*> stable, unstable, base;
             const auto& entries = it->second->entries;
-            for (auto e = entries.rbegin(); e != entries.rend() && stable.size() < window; ++e) {
+            for (auto e = entries.rbegin(); e != entries.rend(); ++e) {
                 const bool own = (id.commit != "unknown" && e->commit == id.commit) || (own_run_id != 0 && e->run_id == own_run_id);
-                if (!own) (e->unstable ? unstable : stable).push_back(&*e);
+                if (own) continue;
+                if (!base_commit.empty() && !e->unstable && same_commit(e->commit, base_commit)) base.push_back(&*e);
+                if (stable.size() < window) (e->unstable ? unstable : stable).push_back(&*e);
             }
-            if (stable.empty() && unstable.empty()) continue;
-            if (stable.empty()) {
+            WindowBaseline::Medians med;
+            for (const SeriesEntry* e : stable) med.window.push_back(e->median);
+            std::vector<const SeriesEntry*>& pooled = base_commit.empty() ? stable : base;
+            if (!base_commit.empty() && base.empty()) continue;  // the base commit never ran this point
+            if (pooled.empty() && unstable.empty()) continue;
+            if (pooled.empty()) {
                 // Only unstable runs to compare with: pooled all the same, and flagged, so check calls it inconclusive.
                 if (unstable.size() > window) unstable.resize(window);
-                stable = unstable;
+                pooled = unstable;
                 all_unstable = true;
             }
-            std::reverse(stable.begin(), stable.end());  // oldest first, as the series
-            for (const SeriesEntry* e : stable) pooled_runs.insert(e->run_id);
-            b.measures.push_back(pool_entries(stable, m));
+            std::reverse(pooled.begin(), pooled.end());  // oldest first, as the series
+            for (const SeriesEntry* e : pooled) {
+                pooled_runs.insert(e->run_id);
+                med.centre.push_back(e->median);
+            }
+            b.measures.push_back(pool_entries(pooled, m));
+            out.medians[{p.key, m.name + " " + m.unit}] = std::move(med);
         }
         if (b.measures.empty()) continue;
         if (all_unstable) {
@@ -78,6 +95,75 @@ WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFi
     }
     out.runs_pooled = pooled_runs.size();
     return out;
+}
+
+CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, const HistoryRule& rule) {
+    CheckReport rep = check_run(base.file, run, rule.gate, true);
+    std::map<PointKey, const LoadedPoint*> in_base, in_run;
+    for (const auto& p : base.file.points) in_base[matching_key(p.key)] = &p;
+    for (const auto& p : run.points) in_run[matching_key(p.key)] = &p;
+    auto measure_of = [](const LoadedPoint* p, const std::string& figure) -> const Measure* {
+        for (const auto& m : p->measures)
+            if (m.name + " " + m.unit == figure) return &m;
+        return nullptr;
+    };
+    // The family of the Bonferroni correction: every figure judged that has runs enough for a band.
+    std::size_t family = 0;
+    for (const auto& f : rep.findings) {
+        auto it = base.medians.find({f.key, f.figure});
+        family += it != base.medians.end() && it->second.window.size() >= rule.min_runs;
+    }
+    const double alpha = family ? 2 * rule.gate.alpha / static_cast<double>(family) : rule.gate.alpha;
+    std::size_t without_band = 0;
+    for (Finding& f : rep.findings) {
+        const auto b = in_base.find(matching_key(f.key)), r = in_run.find(matching_key(f.key));
+        const auto med = base.medians.find({f.key, f.figure});
+        if (b == in_base.end() || r == in_run.end() || med == base.medians.end()) continue;  // verification failures
+        const Measure *bm = measure_of(b->second, f.figure), *rm = measure_of(r->second, f.figure);
+        if (!bm || !rm) continue;
+        const RunBand band = fit_band(med->second.window, med->second.centre, alpha, rule.min_runs);
+        Finding g = judge_with_band(*bm, *rm, band, rule);
+        g.key = f.key;
+        g.host = f.host;
+        without_band += !band.usable();
+        // check_run's verdict on an unstable point stands: inconclusive whatever the change.
+        const bool timed = bm->name.rfind("callgrind", 0) != 0;
+        if (timed && (b->second->unstable || r->second->unstable)) {
+            g.verdict = Verdict::inconclusive;
+            g.note = f.note;
+        }
+        f = std::move(g);
+    }
+    auto percent = [](double x) { return format_significant(x * 100, 3) + "%"; };
+    const std::string effect = rule.auto_tolerance ? "the band's edge (--tolerance=auto, at least " + percent(rule.auto_floor) + ")"
+                                                   : percent(rule.gate.tolerance);
+    rep.rule_text = "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval at " +
+                    format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) + " over " +
+                    std::to_string(family) + " figures), is beyond " + effect + ", and the repetitions tell it from the pool's at p < " +
+                    format_significant(rule.gate.alpha, 3);
+    if (without_band)
+        rep.notes.push_back(std::to_string(without_band) + " figure(s) have fewer than " + std::to_string(rule.min_runs) +
+                            " runs in the window: no band; check's rule at " +
+                            percent(rule.auto_tolerance ? rule.fallback_tolerance : rule.gate.tolerance));
+    return rep;
+}
+
+void confirm_findings(CheckReport& first, const CheckReport& second) {
+    std::map<std::pair<PointKey, std::string>, const Finding*> again;
+    for (const Finding& f : second.findings) again[{matching_key(f.key), f.figure}] = &f;
+    for (Finding& f : first.findings) {
+        if (f.verdict != Verdict::regressed && f.verdict != Verdict::improved) continue;
+        if (f.figure == "verification") continue;  // a failed verification needs no second opinion
+        const auto it = again.find({matching_key(f.key), f.figure});
+        if (it != again.end() && it->second->verdict == f.verdict) continue;
+        const std::string was = f.verdict == Verdict::regressed ? "regressed" : "improved";
+        f.verdict = Verdict::inconclusive;
+        f.note = was + " here but not in the confirming run " + second.run_path +
+                 (it == again.end() ? " (which lacks this figure)"
+                                    : " (" + std::string(it->second->run / it->second->baseline >= 1 ? "+" : "") +
+                                          format_significant((it->second->run / it->second->baseline - 1) * 100, 3) + "% there)");
+    }
+    first.notes.push_back("confirmed by " + second.run_path + ": a change counts only where both runs show it");
 }
 
 }  // namespace suite

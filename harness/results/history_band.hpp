@@ -1,0 +1,69 @@
+#pragma once
+// The between-run model of one series: how far one run's median strays from the runs before it.
+// A run's repetitions are taken seconds apart, so they show the noise within a run; a machine
+// also moves between runs (this VM's memory bandwidth changes state from run to run while each
+// run's repetitions stay tight), and only the runs' medians show that. From the medians of the
+// window's runs: the centre is the median of their logarithms, the spread 1.4826 times their
+// median absolute deviation (the standard deviation for normal medians, unmoved by a stray run),
+// and the band the Student-t prediction interval for one more run, centre ± t(1 - a/2, ν) ·
+// spread · sqrt(1 + 1/m), with n runs for the spread, ν = 0.37 (n - 1) degrees of freedom (the
+// MAD's efficiency: it knows the spread about as well as a standard deviation of that many), and
+// m runs for the centre (m = n, or the base
+// commit's runs with --base-commit). `a` is twice the gate's alpha divided by the number of
+// figures the run gates (Bonferroni over the figures, one-sided each way).
+//
+// This VM's medians have heavy tails: about one run in four is 20 to 45 % off at some point, every
+// repetition of it agreeing, with nothing changed. No band of one run absorbs that and still sees
+// a 1.25x slowdown: a standard deviation widens every band for the ten runs after a stray one, and
+// still false-alarmed on 3 of 14 left-out runs. So the spread is the robust one, which keeps the
+// band narrow, and a stray run is told from a change by a second run: with --confirm, a figure
+// regresses only where a rerun of the same build regresses too (docs/results-tools.md: 1 false
+// alarm in 26 confirmed trials against 11 in 26 single ones, on 26 unchanged reruns).
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "harness/results/check.hpp"
+
+namespace suite {
+
+// How `history check` and `history noise` judge a figure against its history.
+struct HistoryRule {
+    GateRule gate;                  // the minimum effect (tolerance), alpha and min_count of check
+    bool auto_tolerance = false;    // --tolerance=auto: the minimum effect is the band's edge
+    double auto_floor = 0.01;       // ...never below 1 %
+    // A series with fewer runs than the model needs is gated by check's rule at this tolerance
+    // under --tolerance=auto (the A/A reruns of docs/results-tools.md: no false alarm at 25 %).
+    double fallback_tolerance = 0.25;
+    std::size_t min_runs = 5;       // runs the band needs (the spread of 4 logarithms says little)
+};
+
+struct RunBand {
+    std::size_t runs = 0;         // medians the spread was estimated from
+    std::size_t centre_runs = 0;  // medians the centre was taken from
+    double centre = NAN;          // in the figure's units
+    double spread = NAN;          // relative: 1.4826 · the median absolute deviation of the log medians
+    double half_width = NAN;      // of the band, in log units; NAN: no band (too few runs)
+    double low = NAN, high = NAN; // the band, in the figure's units
+    bool usable() const { return std::isfinite(half_width); }
+};
+
+// The band of a series. `window`: the medians the spread is estimated from; `centre`: the ones
+// the centre is taken from (empty: the window's). `alpha`: the chance, for this one figure, that
+// an unchanged run leaves it (two-sided). Fewer than `min_runs` window medians, or any that is
+// not positive: no band (half_width NAN), the centre still set where there is one.
+RunBand fit_band(const std::vector<double>& window, const std::vector<double>& centre, double alpha, std::size_t min_runs);
+
+// One figure of a run against its history: `base` pooled from the runs (history_gate.hpp), the
+// band fitted from their medians. With a band, the baseline's median is the band's centre, the
+// minimum effect is --tolerance (or the floor under auto), and a change regresses or improves
+// only where the run's median also lies outside the band; `allowed` is then the larger of the
+// minimum effect and the band's edge on the worse side. Without a band, check's own judge at
+// --tolerance (at fallback_tolerance under auto), and the note says so.
+Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& band, const HistoryRule& rule);
+
+// "auto", or a tolerance as parse_tolerance reads it; sets rule.auto_tolerance or rule.gate.tolerance.
+void parse_history_tolerance(const std::string& text, HistoryRule& rule);
+
+}  // namespace suite

@@ -1,0 +1,250 @@
+// The between-run band of the history gate (harness/results/history_band.hpp) and what it is for:
+// a machine whose runs move from run to run while each run's repetitions stay tight (this VM's
+// memory) false-alarms under check's rule on the pooled window, however the repetitions are
+// tested, and not under the band; a 1.25x slowdown of a steady point is still caught at
+// --tolerance=auto. Then history check's --tolerance=auto, --base-commit and --markdown, and
+// history noise, through the command line.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "harness/results/history_gate.hpp"
+#include "harness/results/history_noise.hpp"
+#include "tests/process.hpp"
+#include "tests/results/history_fixtures.hpp"
+
+using namespace suite;
+using namespace suite::test;
+using nlohmann::json;
+
+namespace {
+
+void expect_one_line_error(const Outcome& r, const std::string& needle) {
+    EXPECT_EQ(r.status, 2) << describe(r);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr lacks '" << needle << "'\n" << describe(r);
+}
+
+// Run i of a history of 3 points whose first point moves `between` (a relative standard
+// deviation) from run to run and the others 1 %; every run's repetitions within 0.5 %.
+json drifting_run(std::size_t i, Gauss& g, double between, double slower = 1.0) {
+    json doc = fixture_run(3);
+    stamp(doc, i);
+    bool first = true;
+    for (auto& r : doc["results"]) {
+        const double level = slower * (1 + (first ? between : 0.01) * g());
+        set_times(r, noisy_times(r, level, 0.005, g, 7));
+        first = false;
+    }
+    return doc;
+}
+
+ResultFile band_file(const json& doc, const std::string& name) { return parse_result_text(doc.dump(), name); }
+
+struct BandHistory {
+    TempDir tmp;
+    std::string db = tmp.file("h.sqlite");
+    Gauss g{2026};
+    void add(std::size_t first, std::size_t n, double between, double slower = 1.0, const std::string& commit = "") {
+        History h = History::open_for_adding(db);
+        for (std::size_t i = first; i < first + n; ++i) h.add({band_file(drifting_run(i, g, between, slower), "run.json")}, commit, "main");
+    }
+    std::vector<Series> all() const { return History::open_for_reading(db).series(); }
+};
+
+// 1.4826 times the median absolute deviation of the logarithms, computed the long way.
+double log_mad(std::vector<double> v) {
+    for (double& x : v) x = std::log(x);
+    std::sort(v.begin(), v.end());
+    const double mid = v[v.size() / 2];  // odd counts only
+    for (double& x : v) x = std::fabs(x - mid);
+    std::sort(v.begin(), v.end());
+    return 1.4826 * v[v.size() / 2];
+}
+
+Measure rate(double median, std::vector<double> samples) {
+    Measure m;
+    m.name = "bandwidth";
+    m.unit = "GB/s";
+    m.direction = Direction::higher_is_better;
+    m.median = m.best = median;
+    m.samples = std::move(samples);
+    return m;
+}
+
+}  // namespace
+
+TEST(HistoryBand, IsTheStudentTPredictionIntervalOfTheLogMedians) {
+    const std::vector<double> medians = {10.0, 10.4, 9.7, 10.1, 9.9};
+    const RunBand b = fit_band(medians, {}, 0.05, 5);
+    ASSERT_TRUE(b.usable());
+    EXPECT_NEAR(b.centre, 10.0, 1e-12) << "the median of the medians";
+    EXPECT_NEAR(b.spread, log_mad(medians), 1e-12);
+    EXPECT_NEAR(b.spread, 1.4826 * std::log(10.0 / 9.9), 1e-12) << "the middle deviation is 9.9's";
+    // t(0.975) at 0.37 x 4 = 1.48 degrees of freedom (the MAD's efficiency) = 6.13186 (scipy.stats.t.ppf);
+    // sqrt(1 + 1/5) for one new run.
+    EXPECT_NEAR(b.half_width, 6.13186 * b.spread * std::sqrt(1.2), 1e-5);
+    EXPECT_NEAR(b.low * b.high, 100.0, 1e-9) << "symmetric in log units about the centre";
+    // A stray run moves neither the centre nor the spread much.
+    const RunBand stray = fit_band({10.0, 10.4, 9.7, 10.1, 6.0}, {}, 0.05, 5);
+    EXPECT_LT(stray.spread, 0.05) << "their standard deviation is 0.23";
+    // The centre from other runs (a base commit's two): the same spread, a wider band.
+    const RunBand based = fit_band(medians, {10.2, 10.3}, 0.05, 5);
+    EXPECT_NEAR(based.centre, std::sqrt(10.2 * 10.3), 1e-12) << "the middle of two logarithms";
+    EXPECT_NEAR(based.half_width / b.half_width, std::sqrt(1.5 / 1.2), 1e-12);
+    // Too few runs, or a median that is not positive: no band.
+    EXPECT_FALSE(fit_band({10, 10.4, 9.7, 10.1}, {}, 0.05, 5).usable());
+    EXPECT_FALSE(fit_band({10, 10.4, 9.7, 0, 10.1}, {}, 0.05, 5).usable());
+    EXPECT_NEAR(fit_band({10, 10.4, 9.7, 10.1}, {}, 0.05, 5).centre, std::sqrt(10 * 10.1), 1e-12) << "the centre is known all the same";
+}
+
+TEST(HistoryBand, AChangeInsideTheBandIsUnchangedWhateverTheRepetitionsSay) {
+    const RunBand band = fit_band({100, 97, 103, 99, 101, 96, 104}, {}, 0.01, 5);
+    ASSERT_TRUE(band.usable());
+    ASSERT_LT(band.low, 85.0);
+    // 14 % slower than the centre, every repetition below every pooled one: check alone regresses it.
+    const Measure base = rate(100, {99, 100, 101, 100, 99, 101}), run = rate(86, {86, 86.2, 85.8, 86.1, 85.9});
+    HistoryRule rule;
+    EXPECT_EQ(judge(base, run, rule.gate).verdict, Verdict::regressed);
+    const Finding inside = judge_with_band(base, run, band, rule);
+    EXPECT_EQ(inside.verdict, Verdict::unchanged);
+    EXPECT_NE(inside.note.find("inside the band of the last 7 runs"), std::string::npos) << inside.note;
+    EXPECT_NEAR(inside.allowed, 1 - band.low / band.centre, 1e-12) << "the band's lower edge, as a fall";
+    // Outside the band and confirmed by the repetitions: regressed.
+    ASSERT_GT(band.low, 55.0);
+    const Measure far = rate(50, {50, 50.1, 49.9, 50.2, 49.8});
+    EXPECT_EQ(judge_with_band(base, far, band, rule).verdict, Verdict::regressed);
+    // Outside the band, but the repetitions overlap the pool's: inconclusive, never regressed.
+    const Measure spread = rate(50, {30, 50, 101, 102, 45});
+    EXPECT_EQ(judge_with_band(base, spread, band, rule).verdict, Verdict::inconclusive);
+}
+
+TEST(HistoryBand, AutoToleranceFollowsEachSeriesSpreadWithAFloor) {
+    HistoryRule rule;
+    parse_history_tolerance("auto", rule);
+    ASSERT_TRUE(rule.auto_tolerance);
+    // A steady series (0.3 % between runs): 5 % slower is far outside its band and beyond 1 %.
+    const RunBand tight = fit_band({100, 100.3, 99.6, 100.2, 99.9, 100.4, 99.7}, {}, 0.01, 5);
+    const Measure base = rate(100, {99.9, 100, 100.1, 100, 100.05}), slow = rate(95, {95, 95.1, 94.9, 95.05, 94.95});
+    const Finding f = judge_with_band(base, slow, tight, rule);
+    EXPECT_EQ(f.verdict, Verdict::regressed) << f.note;
+    EXPECT_LT(f.allowed, 0.05);
+    EXPECT_GE(f.allowed, 0.01) << "never below the floor";
+    // At a fixed 10 % the same 5 % is within the minimum effect.
+    parse_history_tolerance("10%", rule);
+    EXPECT_FALSE(rule.auto_tolerance);
+    EXPECT_EQ(judge_with_band(base, slow, tight, rule).verdict, Verdict::unchanged);
+    // Without a band, under auto: check's rule at the fallback tolerance, said in the note.
+    parse_history_tolerance("auto", rule);
+    const Finding none = judge_with_band(base, rate(80, {80, 80.1, 79.9, 80.05, 79.95}), fit_band({100, 101}, {}, 0.01, 5), rule);
+    EXPECT_EQ(none.verdict, Verdict::unchanged) << "20 % is within the fallback's 25 %";
+    EXPECT_NE(none.note.find("no band; check's rule at 25.0%"), std::string::npos) << none.note;
+    EXPECT_THROW(parse_history_tolerance("automatic", rule), UsageError);
+}
+
+TEST(HistoryBand, LeaveOneOutOnADriftingMachineFalseAlarmsUnderTheOldRuleAndNotUnderTheBand) {
+    BandHistory h;
+    h.add(0, 20, 0.10);  // the first point moves 10 % between runs, its repetitions 0.5 %
+    const std::vector<Series> series = h.all();
+    HistoryRule rule;
+    const NoiseReport old_rule = measure_noise(series, 10, rule, false);
+    const NoiseReport band = measure_noise(series, 10, rule, true);
+    parse_history_tolerance("auto", rule);
+    const NoiseReport automatic = measure_noise(series, 10, rule, true);
+    EXPECT_EQ(old_rule.runs_tried.size(), 20u);
+    EXPECT_GE(old_rule.runs_alarmed.size(), 2u) << "a 10 % drift falls past 10 % in about one run in six, each confirmed by tight repetitions";
+    EXPECT_EQ(band.runs_alarmed.size(), 0u);
+    EXPECT_EQ(automatic.runs_alarmed.size(), 0u);
+    // The drifting series' spread is measured as about 10 %; the steady ones' as about 1 %.
+    ASSERT_EQ(band.series.size(), 3u);
+    const PointKey drifting = band_file(drifting_run(0, h.g, 0), "x.json").points.front().key;
+    for (const SeriesNoise& n : band.series) {
+        const bool drifts = n.series->key == drifting;
+        EXPECT_NEAR(n.band.spread, drifts ? 0.10 : 0.01, drifts ? 0.05 : 0.007) << n.series->key.label();
+    }
+}
+
+TEST(HistoryBand, AutoCatchesASlowdownOfASteadyPointAndNotOfTheDriftingOne) {
+    BandHistory h;
+    h.add(0, 10, 0.06);
+    WindowBaseline base;
+    json slow = drifting_run(40, h.g, 0.0, 1.25);  // every point 1.25x slower
+    const ResultFile run = band_file(slow, "slow.json");
+    const RunIdentity id = identify_run(run);
+    base = window_baseline(h.all(), run, id, 0, 10, h.db);
+    HistoryRule rule;
+    parse_history_tolerance("auto", rule);
+    const CheckReport rep = gate_with_bands(base, run, rule);
+    std::size_t steady_regressed = 0;
+    for (const Finding& f : rep.findings)
+        if (f.figure == "bandwidth GB/s") {
+            EXPECT_TRUE(std::isfinite(f.band_low)) << "every point has 10 runs: a band";
+            if (!(f.key == run.points.front().key)) steady_regressed += f.verdict == Verdict::regressed;
+        }
+    EXPECT_EQ(steady_regressed, 2u) << render_check_text(rep);
+    EXPECT_NE(render_check_text(rep).find("runs' band"), std::string::npos);
+}
+
+TEST(HistoryBandCli, AutoNeedsRunsBaseCommitNeedsItsRunsAndTheSummaryStaysShort) {
+    BandHistory h;
+    h.add(0, 3, 0.01, 1.0);
+    const std::string run = h.tmp.file("run.json");
+    save_json(drifting_run(30, h.g, 0.01), run);
+    // Three runs: no band for any point; auto says so and stops.
+    Outcome few = run_suite({"history", "check", run, "--db", h.db, "--tolerance=auto"});
+    EXPECT_EQ(few.status, 2) << describe(few);
+    expect_one_line_error(few, "--tolerance=auto needs 5 runs of a point in the window");
+    // With a fixed tolerance the same history gates by check's rule, and says which figures.
+    Outcome fixed = run_suite({"history", "check", run, "--db", h.db});
+    EXPECT_EQ(fixed.status, 0) << describe(fixed);
+    EXPECT_NE(fixed.out.find("runs in the window: no band; check's rule at 10%"), std::string::npos) << fixed.out;
+    h.add(3, 5, 0.01, 1.0);
+    // A base commit the history never ran, and a malformed one.
+    Outcome unknown = run_suite({"history", "check", run, "--db", h.db, "--base-commit", "0123456789abcdef"});
+    EXPECT_EQ(unknown.status, 2) << describe(unknown);
+    expect_one_line_error(unknown, "no run of --base-commit 0123456789abcdef");
+    expect_one_line_error(run_suite({"history", "check", run, "--db", h.db, "--base-commit", "main"}), "give a commit's hash");
+    // The base's runs, with all 40 digits of a hash whose first 12 the history stores.
+    const std::string base12 = made_up_commit(4), base40 = base12 + std::string(28, '0');
+    Outcome based = run_suite({"history", "check", run, "--db", h.db, "--base-commit", base40, "--tolerance=auto"});
+    EXPECT_EQ(based.status, 0) << describe(based);
+    EXPECT_NE(based.out.find("1 run(s) of the history pooled"), std::string::npos) << based.out;
+    // Base runs of another build only: one line naming it.
+    json other = drifting_run(50, h.g, 0.01);
+    other["context"]["compiler_flags"] = "-O0";
+    other["context"]["git_revision"] = "abcdef1234567";
+    History::open_for_adding(h.db).add({band_file(other, "other.json")}, "", "main");
+    expect_one_line_error(run_suite({"history", "check", run, "--db", h.db, "--base-commit", "abcdef1234567"}), "are of another build");
+    // The summary for a pull request: every point 40 % slower than a history that stepped to
+    // faster runs, 30 lines at most.
+    h.add(8, 6, 0.01, 0.7);
+    const std::string slow = h.tmp.file("slow.json"), md = h.tmp.file("gate.md");
+    save_json(drifting_run(60, h.g, 0.01, 1.4), slow);
+    Outcome bad = run_suite({"history", "check", slow, "--db", h.db, "--tolerance=auto", "--markdown", md, "--window=5"});
+    EXPECT_EQ(bad.status, 1) << describe(bad);
+    const std::string text = slurp(md);
+    std::size_t lines = 0;
+    for (char c : text) lines += c == '\n';
+    EXPECT_LE(lines, 30u) << text;
+    EXPECT_NE(text.find("regression(s)**"), std::string::npos) << text;
+    EXPECT_NE(text.find("step(s) in this machine's history:"), std::string::npos) << text;
+    EXPECT_EQ(text.find("inconclusive |"), std::string::npos) << "inconclusive figures are counted, not listed";
+}
+
+TEST(HistoryBandCli, NoiseMeasuresEachSeriesAndTheFalseAlarmsOfBothRules) {
+    BandHistory h;
+    h.add(0, 12, 0.10);
+    Outcome band = run_suite({"history", "noise", "--db", h.db, "--tolerance=auto"});
+    EXPECT_EQ(band.status, 0) << describe(band);
+    EXPECT_NE(band.out.find("0 of 12 run(s) called regressed somewhere"), std::string::npos) << band.out;
+    EXPECT_NE(band.out.find("next run's band"), std::string::npos) << band.out;
+    Outcome old = run_suite({"history", "noise", "--db", h.db, "--tolerance=5%", "--without-band"});
+    EXPECT_EQ(old.status, 0) << describe(old);
+    EXPECT_NE(old.out.find("(the pooled window alone at 5%)"), std::string::npos) << old.out;
+    Outcome confirmed = run_suite({"history", "noise", "--db", h.db, "--tolerance=auto", "--confirm"});
+    EXPECT_EQ(confirmed.status, 0) << describe(confirmed);
+    EXPECT_NE(confirmed.out.find("each confirmed by the next run): 0 of 11 run(s)"), std::string::npos) << confirmed.out;
+    expect_one_line_error(run_suite({"history", "noise", "--db", h.db, "--tolerance=auto", "--without-band"}), "--tolerance=auto needs the band");
+    expect_one_line_error(run_suite({"history", "noise", "--db", h.db, "--kernel", "nosuch"}), "nosuch");
+}
