@@ -1,6 +1,7 @@
-// `suite history add|list|steps|check|html`: their options and help; the work is in
+// `suite history add|list|steps|check|noise|html`: their options and help; the work is in
 // harness/results/ (history: the database; steps: step detection; history_gate: the window
-// gate; dashboard: the page).
+// gate; history_band: the between-run band; history_noise: the measured false alarms;
+// dashboard: the page).
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -13,11 +14,10 @@
 
 #include "app/suite/commands.hpp"
 #include "app/suite/data_dir.hpp"
+#include "app/suite/history_args.hpp"
 #include "app/suite/parse.hpp"
-#include "harness/results/check.hpp"
 #include "harness/results/dashboard.hpp"
 #include "harness/results/history.hpp"
-#include "harness/results/history_gate.hpp"
 #include "harness/results/steps.hpp"
 #include "harness/results/text_table.hpp"
 
@@ -30,7 +30,9 @@ const char* const history_usage = R"(suite history: every run's results in one S
   ./suite history add RUN.json... [--db FILE] [--commit SHA] [--branch NAME]
   ./suite history list  [--db FILE]
   ./suite history steps [--db FILE] [--kernel K] [--machine M]
-  ./suite history check RUN.json [--db FILE] [--window N] [--tolerance 10%] [--alpha 0.01]
+  ./suite history check RUN.json [--db FILE] [--window N] [--tolerance 10%|auto] [--alpha 0.01]
+                                 [--base-commit SHA] [--markdown FILE]
+  ./suite history noise [--db FILE] [--window N] [--tolerance 10%|auto] [--kernel K] [--machine M]
   ./suite history html --out DIR [--db FILE] [--kernel K] [--machine M]
 
 The database is results/history.sqlite unless --db says otherwise. A series is one figure of one
@@ -72,22 +74,6 @@ Examples:
   ./suite history steps --db /srv/perf/history.sqlite --machine 3f9a0c1d
 )";
 
-const char* const history_check_examples = R"(
-The run against the recent history of its own machine, build and points: for each figure of each
-point, the last N stable runs of its series (N = --window), leaving out runs of the run's own
-commit, pooled into one baseline (their repetitions together, the median of the pool). Then the
-rule of suite check decides: a change beyond --tolerance that the Mann-Whitney test on the
-repetitions confirms at --alpha regresses (or improves); see ./suite check --help.
-
-Examples:
-  ./suite history check run.json
-  ./suite history check run.json --window 20 --tolerance 5%
-  ./suite history add run.json && ./suite history check run.json    # its own commit is left out
-
-Exit status: 0 nothing regressed; 1 something regressed; 2 the run or the database cannot be
-used, or the history has no run of this machine and build to compare with.
-)";
-
 const char* const history_html_examples = R"(
 A static page (DIR/index.html, with Chart.js beside it, from Debian's libjs-chart.js) that opens
 from file:// with no network: a chart a series, its noise band and steps marked.
@@ -96,66 +82,6 @@ Examples:
   ./suite history html --out results/history-html
   ./suite history html --out /tmp/add --kernel add --machine ci-runner
 )";
-
-struct HistoryArgs {
-    std::string db = "results/history.sqlite";
-    unsigned wait_s = 10;
-    std::string kernel, machine;
-};
-
-void add_db_options(CLI::App& app, HistoryArgs& a) {
-    app.add_option("--db", a.db, "the history database (default results/history.sqlite)");
-    add_whole_option(app, "--wait", a.wait_s, 0, 3600, "seconds to wait while another process holds the database (default 10)");
-}
-
-void add_filter_options(CLI::App& app, HistoryArgs& a) {
-    app.add_option("--kernel", a.kernel, "only this kernel's series");
-    app.add_option("--machine", a.machine, "only this machine: a part of its label (host, CPU) or the start of its fingerprint");
-}
-
-HistoryOptions history_options(const HistoryArgs& a) {
-    HistoryOptions o;
-    o.wait_ms = static_cast<int>(a.wait_s * 1000);
-    return o;
-}
-
-// The series --kernel and --machine ask for, with their steps; a filter that matches nothing is
-// a usage error that names what there is.
-std::vector<Series> filtered_series(const History& h, const HistoryArgs& a) {
-    SeriesFilter f;
-    if (!a.machine.empty()) {
-        const auto found = h.machines_matching(a.machine);
-        if (found.empty()) {
-            std::string known;
-            for (const auto& [fp, label] : h.machines_matching("")) known += (known.empty() ? "" : "; ") + fp + " " + label;
-            throw UsageError("no machine in " + h.path() + " matches --machine '" + a.machine + "'; its machines: " + known);
-        }
-        for (const auto& m : found) f.fingerprints.push_back(m.first);
-    }
-    std::vector<Series> all = h.series(f);
-    if (a.kernel.empty()) return all;
-    std::vector<Series> out;
-    std::set<std::string> kernels;
-    for (auto& s : all) {
-        kernels.insert(s.key.kernel);
-        if (s.key.kernel == a.kernel) out.push_back(std::move(s));
-    }
-    if (out.empty()) require_known({a.kernel}, std::vector<std::string>(kernels.begin(), kernels.end()), "kernel in this history");
-    return out;
-}
-
-// filtered_series, each with its steps.
-std::vector<Series> series_with_steps(const History& h, const HistoryArgs& a) {
-    std::vector<Series> series = filtered_series(h, a);
-    for (auto& s : series) s.steps = detect_steps(s);
-    return series;
-}
-
-std::string signed_percent(double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%+.1f%%", x * 100);
-    return buf;
-}
 
 int history_add(const std::vector<std::string>& args) {
     CLI::App app{"suite history add: store runs in the history database"};
@@ -177,10 +103,6 @@ int history_add(const std::vector<std::string>& args) {
         files.push_back(load_result_file(p));
         if (!files.back().complete) throw InputError(p + ": the run was interrupted (\"complete\": false); add only complete runs");
         if (files.back().points.empty()) throw InputError(p + ": the run has no results (\"results\": []); there is nothing to add");
-        // The history's points have no rank: an MPI run's ranks and aggregate would mix in one series.
-        if (files.back().mpi)
-            throw InputError(p + ": a run of " + files.back().processes_label() + "; the history keeps runs of one process (an MPI run's ranks "
-                                 "would mix in one series); gate it with suite check --baseline");
     }
     History h = History::open_for_adding(a.db, history_options(a));
     for (const AddOutcome& o : h.add(files, commit, branch)) {
@@ -245,48 +167,6 @@ int history_steps(const std::vector<std::string>& args) {
     return 0;
 }
 
-int history_check(const std::vector<std::string>& args) {
-    CLI::App app{"suite history check: gate a run against the recent history of its machine, build and points"};
-    app.footer(history_check_examples);
-    HistoryArgs a;
-    std::vector<std::string> runs;
-    std::string commit, tolerance = "10%", alpha = "0.01";
-    unsigned window = 10;
-    app.add_option("run", runs, "the result file of the run to gate");
-    add_db_options(app, a);
-    add_whole_option(app, "--window", window, 1, 1000, "how many of the most recent runs of each series to pool (default 10)");
-    app.add_option("--tolerance", tolerance, "the smallest change that counts, in percent (default 10%)");
-    app.add_option("--alpha", alpha, "significance level of the one-sided test on the repetitions (default 0.01)");
-    app.add_option("--commit", commit, "the run's commit, left out of the window (default: its git_revision)");
-    if (!parse_command_line(app, "suite history check", args)) return 0;
-    if (runs.size() != 1) throw UsageError("history check needs exactly one run file, e.g. ./suite history check run.json");
-    GateRule rule;
-    rule.tolerance = parse_tolerance(tolerance);
-    rule.alpha = parse_alpha(alpha);
-    const ResultFile run = load_result_file(runs[0]);
-    if (!run.complete) throw InputError(run.path + ": the run was interrupted (\"complete\": false); gate only complete runs");
-    if (run.mpi)
-        throw InputError(run.path + ": a run of " + run.processes_label() + "; the history keeps runs of one process; gate it with suite check --baseline");
-    const History h = History::open_for_reading(a.db, history_options(a));
-    const RunIdentity id = identify_run(run, commit);
-    SeriesFilter f;
-    f.fingerprints = {id.fingerprint};
-    f.context_class = id.context_class;
-    const std::string label = h.path() + " (the last " + std::to_string(window) + " runs of each point on " + id.machine + ", commit " +
-                              id.commit + " left out)";
-    const WindowBaseline base = window_baseline(h.series(f), run, id, h.find_run(run_content_hash(run)), window, label);
-    if (base.file.points.empty())
-        throw InputError(h.path() + ": no run of this machine (" + id.machine + ") and build (" + id.context_class + ") besides commit " + id.commit +
-                         " has any point of " + run.path + "; add such runs first (./suite history add)");
-    // Same machine and build by construction; the one difference check_run could find is which
-    // huge-page settings the points asked for, when only some of the run's points have history.
-    CheckReport rep = check_run(base.file, run, rule, true);
-    rep.notes.insert(rep.notes.begin(), std::to_string(base.runs_pooled) + " run(s) of the history pooled");
-    rep.notes.insert(rep.notes.end(), run.notes.begin(), run.notes.end());
-    std::cout << render_check_text(rep) << std::flush;
-    return rep.count(Verdict::regressed) ? 1 : 0;
-}
-
 int history_html(const std::vector<std::string>& args) {
     CLI::App app{"suite history html: a static page of the history's trends"};
     app.footer(history_html_examples);
@@ -325,13 +205,14 @@ int cmd_history(const std::vector<std::string>& args) {
     if (sub == "list") return history_list(rest);
     if (sub == "steps") return history_steps(rest);
     if (sub == "check") return history_check(rest);
+    if (sub == "noise") return history_noise(rest);
     if (sub == "html") return history_html(rest);
     if (sub == "--help" || sub == "-h" || sub == "help") {
         std::cout << history_usage;
         return 0;
     }
-    if (sub.empty()) throw UsageError("history needs a subcommand: add, list, steps, check or html (see ./suite history --help)");
-    require_known({sub}, {"add", "list", "steps", "check", "html"}, "history subcommand");
+    if (sub.empty()) throw UsageError("history needs a subcommand: add, list, steps, check, noise or html (see ./suite history --help)");
+    require_known({sub}, {"add", "list", "steps", "check", "noise", "html"}, "history subcommand");
     return 2;  // not reached: require_known threw
 }
 
