@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize test-mutants clean bench-deps bench-vs bench-noise bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
+.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize test-mutants clean bench-deps bench-vs bench-noise bench-gate bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -105,6 +105,11 @@ bench-vs: bench-deps build
 # minutes), to results/bench/aa_noise.{json,md}.
 bench-noise: bench-deps build
 	/usr/bin/python3 bench/aa_noise.py --suite ./suite --out results/bench $(BENCH_FLAGS)
+
+# The timing gate's false alarms and reach on 12 fresh reruns of the CI recipe, 20 s apart (about
+# 15 minutes; run it on a quiet machine), to results/bench/gate_noise.{json,md}.
+bench-gate: build
+	/usr/bin/python3 bench/gate_noise.py --suite ./suite --runs 12 --out results/bench $(BENCH_FLAGS)
 
 # The fem SpMV against Eigen's sparse matrix-vector product on the same matrix, interleaved (the
 # thesis mesh, hilbert, 1 thread; a few minutes, most of it assembly). BENCH_FLAGS passes options,

@@ -13,7 +13,7 @@ each run in a fresh history under a commit of its own, and measures on the same 
 Nothing changes between the runs, so every regression found before the slowdown is a false alarm.
 
 Usage: bench/gate_noise.py [--runs 10] [--gap 20] [--from RUN.json ...] [--out results/bench] [--suite ./suite]
-Writes OUT/gate_noise.{json,md}. --quick: three runs of the committed fixture, a check that it all runs.
+Writes OUT/gate_noise.{json,md}. --quick: 12 scaled copies of a committed fixture run, a check that it all runs.
 """
 import argparse
 import copy
@@ -38,7 +38,7 @@ p.add_argument("--runs", type=int, default=10, help="reruns of the CI recipe (de
 p.add_argument("--gap", type=float, default=20, help="seconds between reruns (default 20)")
 p.add_argument("--from", dest="given", nargs="+", default=[], help="result files of earlier reruns, instead of running")
 p.add_argument("--slowdown", type=float, default=1.25, help="the slowdown the gate must catch (default 1.25)")
-p.add_argument("--quick", action="store_true", help="the committed fixture, three times: a check that it all runs")
+p.add_argument("--quick", action="store_true", help="12 scaled copies of a committed fixture run: a check that it all runs")
 a = p.parse_args()
 if not a.given and not a.quick and a.runs < 6:
     print(f"gate_noise: --runs must be at least 6 (a band needs 5 other runs; got {a.runs})", file=sys.stderr)
@@ -81,11 +81,11 @@ with tempfile.TemporaryDirectory() as tmp:
     files = list(a.given)
     if a.quick:
         fixture = os.path.join(top, "tests", "fixtures", "results", "vm-native.json")
-        for i in range(7):
+        for i in range(12):
             doc = json.load(open(fixture))
             doc["results"] = doc["results"][:3]
             files.append(os.path.join(tmp, f"q{i}.json"))
-            json.dump(slowed(doc, 1 + 0.01 * ((i * 7) % 5 - 2)), open(files[-1], "w"))
+            json.dump(slowed(doc, 1 + 0.004 * ((i * 3) % 7 - 3)), open(files[-1], "w"))
     elif not files:
         for i in range(a.runs):
             if i:

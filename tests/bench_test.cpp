@@ -105,6 +105,32 @@ TEST(Bench, AaNoiseQuickMeasuresEachProgramAgainstItself) {
     EXPECT_NE(r.err.find("--reps must be at least 1"), std::string::npos) << r.err;
 }
 
+// bench/gate_noise.py --quick: twelve copies of a fixture run, scaled by at most 1.2 %: no rule
+// false-alarms on them, and each copy slowed 1.25x with its rerun fails the gate at
+// --tolerance=auto --confirm in nearly every trial (these are the trials the note quotes on real reruns).
+TEST(Bench, GateNoiseQuickHasNoFalseAlarmAndCatchesTheSlowdown) {
+    TempDir dir;
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_noise.py", "--quick", "--suite", SUITE_BINARY, "--out",
+                             dir.path().string()},
+                            300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json doc = json::parse(slurp(dir.file("gate_noise_quick.json")));
+    EXPECT_EQ(doc["runs"].get<int>(), 12);
+    for (const auto& [rule, v] : doc["history_leave_one_out"].items()) {
+        EXPECT_EQ(v["alarmed"].get<int>(), 0) << rule;
+        EXPECT_GE(v["tried"].get<int>(), 11) << rule;
+    }
+    for (const auto& [tol, v] : doc["pairs_suite_check"].items()) EXPECT_EQ(v["tried"].get<int>(), 66) << tol;
+    std::size_t failed = 0;
+    for (const auto& t : doc["reach"]) failed += t["exit"] == "regressed";
+    EXPECT_GE(failed, 10u) << doc["reach"].dump();
+    EXPECT_NE(slurp(dir.file("gate_noise_quick.md")).find("auto, confirmed by a rerun"), std::string::npos);
+    r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_noise.py", "--runs", "3", "--suite", SUITE_BINARY, "--out",
+                     dir.path().string()});
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("--runs must be at least 6"), std::string::npos) << r.err;
+}
+
 // bench/mpm_implicit.py --quick: a step of implicit MPM split into assembly, solve and the rest,
 // for every grid ordering and both particle orders, from the three kernels' records. No speed is
 // asserted; that each part was found and is consistent with the step's counts is.
