@@ -7,7 +7,9 @@ on a pipe (--remote-debugging-pipe: no port, standard library only), so that eve
 message, uncaught exception and request is seen exactly. Checked: no console error, no
 exception, no request that leaves file://; every chart drawn (the page sets data-drawn to the
 number of canvases that show their medians); a label that tries to close the script element
-stays text; the machine, kernel and steps filters show the right cards; the empty page says so.
+stays text; every chart (each has 24 runs) draws the gate's runs' band over the last 10 runs, its
+caption giving the band and the spread in percent; the machine, kernel and steps filters show
+the right cards; the empty page says so.
 The screenshot is kept as OUT_DIR/screenshot.png for a person to look at.
 
 chromium is installed by scripts/install-deps.sh test: without it this test fails, saying so.
@@ -26,6 +28,7 @@ import tempfile
 import time
 
 SERIES = 5  # tests/results/synthetic_series.hpp: synthetic_history()
+RUNS, WINDOW = 24, 10  # its runs a series; DashboardOptions::window, the runs the band is drawn over
 WIDTH, HEIGHT = 1280, 900
 problems = []
 
@@ -156,6 +159,21 @@ def wait_drawn(browser, timeout=20):
     return {"drawn": None, "charts": None, "failed": f"data-drawn was not set within {timeout} s"}
 
 
+# For each chart: the runs' band's datasets (Chart.js's own record of what it drew), how many of
+# their points lie on the plot, whether the dashed centre line's colour (#b35c00) is on the
+# canvas, and the card's caption of the band.
+GATE_BANDS = """[...document.querySelectorAll("article.card")].map((card) => {
+  const canvas = card.querySelector("canvas"), chart = Chart.getChart(canvas);
+  const sets = chart.data.datasets.map((d, i) => ({d, i})).filter(({d}) => String(d.label || "").startsWith("runs' band"));
+  const drawn = sets.map(({i}) => chart.isDatasetVisible(i) ?
+      chart.getDatasetMeta(i).data.filter((p) => !p.skip && isFinite(p.y) && p.y >= chart.chartArea.top && p.y <= chart.chartArea.bottom).length : 0);
+  const px = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+  let centre = false;
+  for (let i = 0; i < px.length && !centre; i += 4)
+    centre = px[i + 3] > 120 && Math.abs(px[i] - 179) < 30 && Math.abs(px[i + 1] - 92) < 30 && px[i + 2] < 40;
+  return {sets: sets.length, drawn, centre, caption: (card.querySelector("p.gate") || {}).textContent || ""};
+})"""
+
 # Sets the filters and returns how many cards and machine headings are visible.
 FILTER = """(function (machineIndex, kernel, stepsOnly) {
   const machine = document.getElementById("machine");
@@ -186,6 +204,18 @@ def check_full_page(browser, page_dir, screenshot):
     check(any("</script>" in c for c in facts["contexts"]), "the hostile context is not shown as text")
     check(len(facts["steps"]) == 4, f"{len(facts['steps'])} steps listed, 4 in the fixture: {facts['steps']}")
     check(any(s.startswith("step at ") and "-15.0 %, worse" in s for s in facts["steps"]), f"no '-15.0 %, worse' step: {facts['steps']}")
+    bands = browser.evaluate(GATE_BANDS)
+    check(len(bands) == SERIES, f"{len(bands)} cards checked for the runs' band, {SERIES} series")
+    for i, b in enumerate(bands):
+        check(b["sets"] == 3 and b["drawn"] == [WINDOW] * 3,
+              f"chart {i} ({RUNS} runs): the runs' band is {b['sets']} datasets with {b['drawn']} points on the plot, "
+              f"expected its edges and centre over the last {WINDOW} runs")
+        check(b["centre"], f"chart {i}: no pixel of the band's dashed centre line")
+        check(b["caption"].startswith(f"runs' band: the gate's band (last {WINDOW} runs): ") and "runs' spread" in b["caption"]
+              and b["caption"].endswith(" %"), f"chart {i}: the caption does not give the band and its spread: {b['caption']!r}")
+    legend = browser.evaluate("document.querySelector('.legend').textContent")
+    check("repetitions' spread" in legend and f"the gate's band (last {WINDOW} runs)" in legend,
+          f"the legend does not tell the repetitions' spread from the runs' band: {legend!r}")
     # Machine B has two series; two series are of kernel add; three have a step.
     for args, cards, machines in (("1, '', false", 2, 1), ("-1, 'add', false", 2, 1), ("-1, '', true", 3, 2), ("0, 'triad', true", 0, 0),
                                   ("-1, '', false", SERIES, 2)):

@@ -16,6 +16,7 @@
 #include "app/suite/data_dir.hpp"
 #include "app/suite/history_args.hpp"
 #include "app/suite/parse.hpp"
+#include "harness/results/check.hpp"
 #include "harness/results/dashboard.hpp"
 #include "harness/results/history.hpp"
 #include "harness/results/steps.hpp"
@@ -33,7 +34,7 @@ const char* const history_usage = R"(suite history: every run's results in one S
   ./suite history check RUN.json [--db FILE] [--window N] [--tolerance 10%|auto] [--alpha 0.01]
                                  [--base-commit SHA] [--markdown FILE]
   ./suite history noise [--db FILE] [--window N] [--tolerance 10%|auto] [--kernel K] [--machine M]
-  ./suite history html --out DIR [--db FILE] [--kernel K] [--machine M]
+  ./suite history html --out DIR [--db FILE] [--kernel K] [--machine M] [--window N] [--alpha 0.01]
 
 The database is results/history.sqlite unless --db says otherwise. A series is one figure of one
 point (kernel, variant, pattern, size, threads, pinning, placement, parameters) on one machine
@@ -76,7 +77,9 @@ Examples:
 
 const char* const history_html_examples = R"(
 A static page (DIR/index.html, with Chart.js beside it, from Debian's libjs-chart.js) that opens
-from file:// with no network: a chart a series, its noise band and steps marked.
+from file:// with no network: a chart a series, the spread of its repetitions, the band of its
+last --window runs that history check will hold the next run against (at --alpha, shared among
+the series of a machine and build on the page), and its steps marked.
 
 Examples:
   ./suite history html --out results/history-html
@@ -171,10 +174,13 @@ int history_html(const std::vector<std::string>& args) {
     CLI::App app{"suite history html: a static page of the history's trends"};
     app.footer(history_html_examples);
     HistoryArgs a;
-    std::string out;
+    std::string out, alpha = "0.01";
+    unsigned window = 10;
     app.add_option("--out", out, "the directory to write index.html (and chart.min.js) into");
     add_db_options(app, a);
     add_filter_options(app, a);
+    add_whole_option(app, "--window", window, 1, 1000, "the runs each chart's band is fitted from, as history check's (default 10)");
+    app.add_option("--alpha", alpha, "as history check's (default 0.01)");
     if (!parse_command_line(app, "suite history html", args)) return 0;
     if (out.empty()) throw UsageError("history html needs --out=DIR, e.g. ./suite history html --out results/history-html");
     const History h = History::open_for_reading(a.db, history_options(a));
@@ -183,6 +189,8 @@ int history_html(const std::vector<std::string>& args) {
     for (const auto& s : series) steps += s.steps.size();
     DashboardOptions options;
     options.title = "suite history: " + h.path();
+    options.window = window;
+    options.alpha = parse_alpha(alpha);
     // An installed tree carries its own copy of Chart.js (copied from Debian's when installed).
     if (data_dir().installed) {
         std::string why;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -15,6 +16,7 @@
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
 #include "harness/results/dashboard_page.hpp"
+#include "harness/results/history_band.hpp"
 
 namespace suite {
 
@@ -52,7 +54,31 @@ std::string script_safe(const std::string& json) {
     return out;
 }
 
-nlohmann::json series_json(const Series& s) {
+// The band `history check` would gate this series' next run against (history_band.hpp): fitted
+// from the medians of its last `window` stable entries, as the gate's window is. "first" is the
+// index of the window's oldest entry, where the page starts to draw the band. Without a band,
+// null and the reason in "band_reason".
+void add_band(nlohmann::json& out, const Series& s, const DashboardOptions& options, double alpha) {
+    const std::size_t min_runs = HistoryRule{}.min_runs;
+    std::vector<double> medians;
+    std::size_t first = s.entries.size();
+    for (std::size_t i = s.entries.size(); i-- > 0 && medians.size() < options.window;) {
+        if (s.entries[i].unstable) continue;
+        medians.push_back(s.entries[i].median);
+        first = i;
+    }
+    const RunBand band = fit_band(medians, {}, alpha, min_runs);
+    if (band.usable()) {
+        out["band"] = {{"centre", band.centre}, {"low", band.low}, {"high", band.high}, {"spread", band.spread},
+                       {"runs", band.runs},     {"first", first},   {"alpha", alpha}};
+        return;
+    }
+    out["band"] = nullptr;
+    out["band_reason"] = medians.size() < min_runs ? "fewer than " + std::to_string(min_runs) + " runs: no band yet"
+                                                   : std::string("a median in the window is not a positive number: no band");
+}
+
+nlohmann::json series_json(const Series& s, const DashboardOptions& options, double alpha) {
     nlohmann::json entries = nlohmann::json::array(), steps = nlohmann::json::array();
     for (const auto& e : s.entries)
         entries.push_back({{"commit", e.commit}, {"branch", e.branch}, {"date", e.date}, {"run_id", e.run_id}, {"median", e.median},
@@ -60,16 +86,18 @@ nlohmann::json series_json(const Series& s) {
     for (const auto& st : s.steps)
         steps.push_back({{"index", st.index}, {"commit", st.commit}, {"before", st.before}, {"after", st.after}, {"change", st.change},
                          {"p", st.p}, {"worse", st.worse}});
-    return {{"machine", s.machine},
-            {"fingerprint", s.fingerprint},
-            {"context", s.context_class},
-            {"label", s.key.label()},
-            {"kernel", s.key.kernel},
-            {"figure", s.figure},
-            {"unit", s.unit},
-            {"direction", s.direction == Direction::higher_is_better ? "higher" : "lower"},
-            {"entries", std::move(entries)},
-            {"steps", std::move(steps)}};
+    nlohmann::json out = {{"machine", s.machine},
+                          {"fingerprint", s.fingerprint},
+                          {"context", s.context_class},
+                          {"label", s.key.label()},
+                          {"kernel", s.key.kernel},
+                          {"figure", s.figure},
+                          {"unit", s.unit},
+                          {"direction", s.direction == Direction::higher_is_better ? "higher" : "lower"},
+                          {"entries", std::move(entries)},
+                          {"steps", std::move(steps)}};
+    add_band(out, s, options, alpha);
+    return out;
 }
 
 std::string utc_now() {
@@ -114,8 +142,14 @@ std::string read_chart_library(const std::string& path) {
 }
 
 std::string page_html(const std::vector<Series>& series, const DashboardOptions& options) {
-    nlohmann::json doc = {{"title", options.title}, {"series", nlohmann::json::array()}};
-    for (const auto& s : series) doc["series"].push_back(series_json(s));
+    nlohmann::json doc = {{"title", options.title}, {"window", options.window}, {"series", nlohmann::json::array()}};
+    // The gate's Bonferroni rule (gate_with_bands, history_gate.hpp): check's alpha is one-sided
+    // and a band two-sided, so one run's 2 · alpha is shared among the figures it gates, here the
+    // series of its machine and build (fingerprint and context class) that the page shows.
+    std::map<std::pair<std::string, std::string>, std::size_t> gated;
+    for (const auto& s : series) ++gated[{s.fingerprint, s.context_class}];
+    for (const auto& s : series)
+        doc["series"].push_back(series_json(s, options, 2 * options.alpha / static_cast<double>(gated[{s.fingerprint, s.context_class}])));
     // A host name or label with bytes that are not UTF-8 must not cost the whole page.
     const std::string data = script_safe(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     const std::string title = html_text(options.title);

@@ -5,7 +5,7 @@
 
 namespace suite::dashboard_detail {
 
-const char* const page_style = R"css(:root { --ink: #1d2330; --muted: #5b6474; --line: #d9dee7; --median: #1f5fa8; --worse: #c62828; --better: #2e7d32; }
+const char* const page_style = R"css(:root { --ink: #1d2330; --muted: #5b6474; --line: #d9dee7; --median: #1f5fa8; --gate: #b35c00; --worse: #c62828; --better: #2e7d32; }
 * { box-sizing: border-box; }
 [hidden] { display: none !important; }
 body { margin: 0; font: 14px/1.45 system-ui, "DejaVu Sans", "Liberation Sans", sans-serif; color: var(--ink); background: #f3f5f8; }
@@ -20,6 +20,7 @@ h1 { font-size: 20px; margin: 0 0 2px; }
 .key.median { width: 10px; height: 10px; border-radius: 50%; background: var(--median); }
 .key.unstable { width: 10px; height: 10px; border-radius: 50%; border: 2px solid var(--median); background: #fff; }
 .key.band { width: 20px; height: 12px; background: linear-gradient(transparent 5px, var(--median) 5px, var(--median) 7px, transparent 7px), rgba(31, 95, 168, 0.16); }
+.key.gate { width: 20px; height: 12px; background: repeating-linear-gradient(90deg, var(--gate) 0 4px, transparent 4px 7px) center / 100% 2px no-repeat, rgba(214, 123, 0, 0.18); }
 .key.step { width: 0; height: 14px; border-left: 2px dashed; }
 .key.worse { border-color: var(--worse); }
 .key.better { border-color: var(--better); }
@@ -30,6 +31,8 @@ section.machine h2 { font-size: 16px; margin: 18px 0 8px; }
 .card.has-worse { border-left: 4px solid var(--worse); }
 .card h3 { font: 600 14px/1.3 ui-monospace, "DejaVu Sans Mono", monospace; margin: 0; overflow-wrap: anywhere; }
 .meta { margin: 2px 0 0; color: var(--muted); font-size: 12px; }
+.gate { margin: 2px 0 0; color: var(--gate); font-size: 12px; }
+.gate.none { color: var(--muted); font-style: italic; }
 .steps { list-style: none; margin: 4px 0 0; padding: 0; font-size: 12px; }
 .steps .worse { color: var(--worse); }
 .steps .better { color: var(--better); }
@@ -44,12 +47,13 @@ const char* const page_controls = R"html(<nav class="filters">
 <label><input type="checkbox" id="steps-only"> only series with a step</label>
 <span id="shown"></span>
 </nav>
-<p class="legend"><span><span class="key median"></span>median of a run</span><span><span class="key unstable"></span>unstable run (drawn, not used to find steps)</span><span><span class="key band"></span>noise band: median &plusmn; noise</span><span><span class="key step worse"></span>step, worse</span><span><span class="key step better"></span>step, better</span></p>
+<p class="legend"><span><span class="key median"></span>median of a run</span><span><span class="key unstable"></span>unstable run (drawn, not used to find steps or the band)</span><span><span class="key band"></span>repetitions' spread: median &plusmn; noise, within one run</span><span><span class="key gate"></span>runs' band: the gate's band (last <span id="band-window">N</span> runs), where <code>history check</code> expects the next run</span><span><span class="key step worse"></span>step, worse</span><span><span class="key step better"></span>step, better</span></p>
 )html";
 
 const char* const page_script = R"js("use strict";
 (function () {
   const MEDIAN = "#1f5fa8", BAND = "rgba(31, 95, 168, 0.16)", WORSE = "#c62828", BETTER = "#2e7d32";
+  const GATE = "#b35c00", GATE_FILL = "rgba(214, 123, 0, 0.18)";
   const body = document.body;
   const failure = document.getElementById("failure");
   function fail(why) {
@@ -70,6 +74,16 @@ const char* const page_script = R"js("use strict";
   const number = (v) => (typeof v !== "number" || !isFinite(v) ? "n/a" : String(Number(v.toPrecision(4))));
   const percent = (r) => (r > 0 ? "+" : "") + (100 * r).toFixed(1) + " %";
   const stepText = (st) => "step at " + short(st.commit) + ": " + percent(st.change);
+  // The runs' band, history check's (history_band.hpp): where it expects the next run's median
+  // if nothing changed. Its spread is taken over the runs' log medians, so it is relative and
+  // reads as a percentage.
+  const gateLabel = (band) => "runs' band: the gate's band (last " + band.runs + " runs)";
+  function bandText(series) {
+    const b = series.band;
+    if (!b) return "runs' band: " + (series.band_reason || "none");
+    return gateLabel(b) + ": " + number(b.low) + " to " + number(b.high) + " " + series.unit + ", centre " + number(b.centre) +
+           ", runs' spread " + (100 * b.spread).toFixed(1) + " %";
+  }
   function element(tag, className, text) {
     const e = document.createElement(tag);
     if (className) e.className = className;
@@ -112,9 +126,18 @@ const char* const page_script = R"js("use strict";
     };
   }
 
-  // Datasets: the band's lower and upper edges (filled between), the medians, the steps' points.
+  // Datasets: the repetitions' spread's lower and upper edges (filled between), the medians, the
+  // steps' points; then, drawn beneath them (order 1), the runs' band over the entries of its
+  // window, its edges filled between and its centre dashed.
   function draw(canvas, series) {
-    const entries = series.entries;
+    const entries = series.entries, band = series.band;
+    const overWindow = (v) => entries.map((e, i) => (i >= band.first ? v : null));
+    const edge = { borderWidth: 0, pointRadius: 0, pointHitRadius: 0, order: 1 };
+    const gate = !band ? [] : [
+      { ...edge, label: gateLabel(band) + ", low", data: overWindow(band.low), fill: false },
+      { ...edge, label: gateLabel(band) + ", high", data: overWindow(band.high), fill: "-1", backgroundColor: GATE_FILL },
+      { ...edge, label: gateLabel(band) + ", centre", data: overWindow(band.centre), fill: false, borderWidth: 1.5, borderColor: GATE, borderDash: [6, 4] },
+    ];
     const level = (e, k) => (typeof e.median === "number" ? e.median * (1 + k * e.noise) : null);
     const stepAt = new Map(series.steps.map((st) => [st.index, st]));
     const atStep = (i, yes, no) => (stepAt.has(i) ? yes(stepAt.get(i)) : no);
@@ -123,9 +146,11 @@ const char* const page_script = R"js("use strict";
       data: {
         labels: entries.map((e) => short(e.commit)),
         datasets: [
-          { data: entries.map((e) => level(e, -1)), borderWidth: 0, pointRadius: 0, pointHitRadius: 0, fill: false },
-          { data: entries.map((e) => level(e, 1)), borderWidth: 0, pointRadius: 0, pointHitRadius: 0, fill: "-1", backgroundColor: BAND },
+          { label: "repetitions' spread, low", data: entries.map((e) => level(e, -1)), borderWidth: 0, pointRadius: 0, pointHitRadius: 0, fill: false },
+          { label: "repetitions' spread, high", data: entries.map((e) => level(e, 1)), borderWidth: 0, pointRadius: 0, pointHitRadius: 0, fill: "-1",
+            backgroundColor: BAND },
           {
+            label: "median",
             data: entries.map((e) => e.median),
             borderColor: MEDIAN, borderWidth: 2, tension: 0,
             pointRadius: entries.map((e) => (e.unstable ? 4 : 3)),
@@ -139,6 +164,7 @@ const char* const page_script = R"js("use strict";
             pointRotation: entries.map((e, i) => atStep(i, (st) => (st.change < 0 ? 180 : 0), 0)),
             pointBackgroundColor: entries.map((e, i) => atStep(i, (st) => (st.worse ? WORSE : BETTER), BETTER)),
           },
+          ...gate,
         ],
       },
       options: {
@@ -157,8 +183,9 @@ const char* const page_script = R"js("use strict";
               afterLabel: (item) => {
                 const e = entries[item.dataIndex];
                 const lines = [e.date + ", run " + e.run_id + (e.samples ? ", " + e.samples + " repetitions" : "")];
-                if (e.unstable) lines.push("unstable: drawn, not used to find steps");
+                if (e.unstable) lines.push("unstable: drawn, not used to find steps or the band");
                 atStep(item.dataIndex, (st) => lines.push(stepText(st)), null);
+                lines.push(bandText(series));
                 return lines;
               },
             },
@@ -190,7 +217,8 @@ const char* const page_script = R"js("use strict";
     if (series.steps.some((st) => st.worse)) card.classList.add("has-worse");
     const runs = series.entries.length;
     const meta = [series.figure + " in " + series.unit, series.direction + " is better", series.context, runs + (runs === 1 ? " run" : " runs")];
-    card.append(element("h3", "", series.label), element("p", "meta", meta.filter(Boolean).join(" · ")));
+    card.append(element("h3", "", series.label), element("p", "meta", meta.filter(Boolean).join(" · ")),
+                element("p", series.band ? "gate" : "gate none", bandText(series)));
     if (series.steps.length) {
       const list = element("ul", "steps");
       for (const st of series.steps)
@@ -216,6 +244,7 @@ const char* const page_script = R"js("use strict";
     machine.appendChild(new Option(twice ? s.label + " [" + fingerprint.slice(0, 8) + "]" : s.label, fingerprint));
   }
   for (const k of [...new Set(data.series.map((s) => s.kernel))].sort()) kernel.appendChild(new Option(k, k));
+  document.getElementById("band-window").textContent = String(data.window);
   function applyFilters() {
     let visible = 0;
     for (const { card } of cards) {

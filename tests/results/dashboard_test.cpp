@@ -1,16 +1,19 @@
 // The history page as text: what write_dashboard puts in DIR/index.html (every series' label,
 // every step's commit, the data as JSON that parses back, nothing that can close its script
-// element), an empty history, and the refusals. That a browser draws it is the browser test's
+// element, each series' runs' band as history check fits it, or why it has none), an empty
+// history, and the refusals. That a browser draws it is the browser test's
 // (tests/dashboard_browser_test.py); here a stand-in file plays Chart.js.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 
 #include "harness/common/units.hpp"
 #include "harness/results/dashboard.hpp"
 #include "tests/process.hpp"
+#include "tests/results/history_fixtures.hpp"
 #include "tests/results/synthetic_series.hpp"
 
 using namespace suite;
@@ -37,6 +40,33 @@ json embedded_data(const std::string& page) {
     const auto from = begin + data_open.size();
     const auto end = page.find("</script>", from);
     return json::parse(page.substr(from, end - from));
+}
+
+// A steady series of `runs` made-up runs (history_fixtures.hpp's commits, a seeded 1 % noise
+// between runs) on machine `fingerprint`; the runs listed in `unstable` are flagged, and their
+// medians three times the level, far outside any band fitted from the others.
+Series steady_band_series(const std::string& fingerprint, const std::string& kernel, std::size_t runs, std::vector<std::size_t> unstable,
+                          std::uint64_t seed) {
+    Series s;
+    s.machine = "vm-" + fingerprint + " (made up, 4 cores)";
+    s.fingerprint = fingerprint;
+    s.context_class = "THP madvise, -O3 -march=native";
+    s.key = synthetic_key(kernel, "sequential", 1ULL << 30, 1);
+    s.figure = "bandwidth";
+    s.unit = "GB/s";
+    Gauss g(seed);
+    for (std::size_t i = 0; i < runs; ++i) {
+        SeriesEntry e;
+        e.commit = made_up_commit(i);
+        e.branch = "main";
+        e.date = "2026-01-01T00:00:00Z";
+        e.run_id = static_cast<std::int64_t>(i + 1);
+        e.unstable = std::find(unstable.begin(), unstable.end(), i) != unstable.end();
+        e.median = 12.4 * (1 + 0.01 * g()) * (e.unstable ? 3 : 1);
+        e.noise = 0.01;
+        s.entries.push_back(e);
+    }
+    return s;
 }
 
 std::size_t count(const std::string& text, const std::string& what) {
@@ -157,4 +187,68 @@ TEST(Dashboard, AnOutputThatIsAFileIsRefusedAndLeftAsItWas) {
 
 TEST(Dashboard, TheDefaultLibraryPathIsDebians) {
     EXPECT_EQ(DashboardOptions{}.chart_js, "/usr/share/javascript/chart.js/chart.min.js");
+}
+
+TEST(Dashboard, ASeriesOfFiveRunsOrMoreShowsTheGatesBandOfItsLastStableRuns) {
+    TempDir tmp;
+    auto options = stand_in_library(tmp);
+    options.window = 7;
+    // Two series of one machine and build (so each at 2 · 0.01 / 2, the gate's Bonferroni rule);
+    // the first has an unstable run inside its last seven, which the window passes over.
+    const std::vector<Series> history = {steady_band_series("f1", "triad", 16, {13}, 7), steady_band_series("f1", "add", 16, {}, 8)};
+    const json data = embedded_data(slurp(write_dashboard(history, tmp.file("page"), options)));
+    EXPECT_EQ(data["window"], 7);
+    const json& band = data["series"][0]["band"];
+    ASSERT_TRUE(band.is_object()) << data["series"][0].dump();
+    EXPECT_EQ(band["runs"], 7);
+    EXPECT_EQ(band["first"], 8) << "runs 15, 14, 12, 11, 10, 9, 8: run 13 is unstable";
+    EXPECT_DOUBLE_EQ(band["alpha"].get<double>(), 0.01);
+    std::vector<double> window;
+    for (std::size_t i = 8; i < 16; ++i)
+        if (i != 13) window.push_back(history[0].entries[i].median);
+    std::vector<double> sorted = window;
+    std::sort(sorted.begin(), sorted.end());
+    const double centre = band["centre"].get<double>(), low = band["low"].get<double>(), high = band["high"].get<double>();
+    EXPECT_NEAR(centre, sorted[3], 1e-12 * sorted[3]) << "the centre is the median of the window's medians";
+    for (double m : window) {
+        EXPECT_LT(low, m);
+        EXPECT_GT(high, m);
+    }
+    EXPECT_GT(band["spread"].get<double>(), 0.002);
+    EXPECT_LT(band["spread"].get<double>(), 0.03) << "a 1 % noise between runs";
+    EXPECT_GT(history[0].entries[13].median, high) << "the unstable run would lie far outside: it was left out";
+    EXPECT_FALSE(data["series"][0].contains("band_reason"));
+    EXPECT_TRUE(data["series"][1]["band"].is_object());
+
+    // The synthetic history: 24 runs a series, run 9 unstable, so every window is runs 14 to 23;
+    // machine A's three series share 2 · alpha, machine B's two differ in context and do not.
+    const json synthetic = embedded_data(slurp(write_dashboard(synthetic_history(), tmp.file("synthetic"), stand_in_library(tmp))));
+    EXPECT_EQ(synthetic["window"], 10);
+    const double alphas[] = {0.02 / 3, 0.02 / 3, 0.02 / 3, 0.02, 0.02};
+    for (std::size_t i = 0; i < 5; ++i) {
+        const json& b = synthetic["series"][i]["band"];
+        ASSERT_TRUE(b.is_object()) << i;
+        EXPECT_EQ(b["runs"], 10) << i;
+        EXPECT_EQ(b["first"], 14) << i;
+        EXPECT_DOUBLE_EQ(b["alpha"].get<double>(), alphas[i]) << i;
+        EXPECT_LT(b["low"].get<double>(), b["centre"].get<double>()) << i;
+        EXPECT_GT(b["high"].get<double>(), b["centre"].get<double>()) << i;
+    }
+}
+
+TEST(Dashboard, ASeriesOfFourRunsHasNoBandAndSaysWhy) {
+    TempDir tmp;
+    EXPECT_EQ(DashboardOptions{}.window, 10u);
+    EXPECT_DOUBLE_EQ(DashboardOptions{}.alpha, 0.01);
+    // Four runs; and six of which two are unstable, four stable: neither has runs enough.
+    const std::vector<Series> history = {steady_band_series("f1", "triad", 4, {}, 11), steady_band_series("f2", "add", 6, {1, 4}, 12)};
+    const std::string page = slurp(write_dashboard(history, tmp.file("page"), stand_in_library(tmp)));
+    const json data = embedded_data(page);
+    for (const json& s : data["series"]) {
+        EXPECT_TRUE(s["band"].is_null()) << s.dump();
+        EXPECT_EQ(s["band_reason"], "fewer than 5 runs: no band yet") << s.dump();
+    }
+    // The legend tells the two bands apart.
+    EXPECT_NE(page.find("repetitions' spread"), std::string::npos);
+    EXPECT_NE(page.find("runs' band"), std::string::npos);
 }
