@@ -49,10 +49,17 @@ std::string history_added_at() {
 
 const char* direction_text(Direction d) { return d == Direction::higher_is_better ? "higher" : "lower"; }
 
-// The columns of a series, in the order the queries below select them.
-constexpr const char* series_columns =
-    "r.fingerprint, r.machine, r.context_class, c.hugepages, c.kernel, c.variant, c.access, c.size_kind, c.size, c.threads, "
-    "c.pin, c.placement, c.params, c.figure, c.unit, c.direction";
+// The columns of a series, in the order the queries below select them. The rank scope is one:
+// an MPI run's ranks and its aggregate are never one series. A file of schema version 1 or 2,
+// read as it is, has no such column (migration 3 added it): every record in it is of a run of
+// one process (""). A rank's host (rank_host) is stored but is no part of the identity: the gate
+// looks a series up by its point (PointKey), which has none.
+std::string history_series_columns(int version) {
+    return std::string("r.fingerprint, r.machine, r.context_class, c.hugepages, c.kernel, c.variant, c.access, c.size_kind, c.size, c.threads, "
+                       "c.pin, c.placement, c.params, c.figure, c.unit, c.direction, ") +
+           (version >= 3 ? "c.rank_scope" : "''");
+}
+constexpr int history_series_column_count = 17;
 
 }  // namespace
 
@@ -110,8 +117,8 @@ std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const
         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)");
     SqlStatement record = db_.prepare(
         "INSERT INTO records (run_id, kernel, variant, access, size_kind, size, threads, pin, placement, params, hugepages, figure, unit, "
-        "direction, median, noise, count_per_call, samples, verified, unstable, unstable_why) "
-        "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21)");
+        "direction, median, noise, count_per_call, samples, verified, unstable, unstable_why, rank_scope, rank_host) "
+        "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, ?23)");
     const std::string now = history_added_at();
     for (const auto& f : files) {
         AddOutcome o;
@@ -142,7 +149,8 @@ std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const
                 record.bind(10, json(k.params).dump()).bind(11, p.hugepages).bind(12, m.name).bind(13, m.unit);
                 record.bind(14, std::string(direction_text(m.direction))).bind(15, m.median).bind(16, m.noise).bind(17, m.count_per_call);
                 record.bind(18, json(m.samples).dump()).bind(19, std::int64_t{p.verified}).bind(20, std::int64_t{p.unstable});
-                record.bind(21, p.unstable_why);
+                record.bind(21, p.unstable_why).bind(22, k.rank_scope);
+                record.bind(23, p.mpi.scope == RankOrigin::Scope::rank ? p.mpi.host : std::string());
                 record.run();
                 ++o.figures;
             }
@@ -170,7 +178,8 @@ std::vector<std::pair<std::string, std::string>> History::machines_matching(cons
 }
 
 std::vector<Series> History::series(const SeriesFilter& filter) const {
-    SqlStatement s = db_.prepare(std::string("SELECT ") + series_columns +
+    const std::string series_columns = history_series_columns(version_);
+    SqlStatement s = db_.prepare("SELECT " + series_columns +
                                  ", r.commit_sha, r.branch, r.date, r.id, c.median, c.noise, c.samples, c.unstable, c.count_per_call "
                                  "FROM records c JOIN runs r ON r.id = c.run_id "
                                  "WHERE c.verified = 1 AND (?1 = '' OR c.kernel = ?1) AND (?2 = '' OR r.context_class = ?2) ORDER BY " +
@@ -180,7 +189,7 @@ std::vector<Series> History::series(const SeriesFilter& filter) const {
     std::vector<std::string> last;  // the series columns of the previous row
     while (s.step()) {
         std::vector<std::string> cols;
-        for (int i = 0; i < 16; ++i) cols.push_back(s.text(i));
+        for (int i = 0; i < history_series_column_count; ++i) cols.push_back(s.text(i));
         if (!filter.fingerprints.empty() && std::find(filter.fingerprints.begin(), filter.fingerprints.end(), cols[0]) == filter.fingerprints.end())
             continue;
         if (out.empty() || cols != last) {
@@ -198,6 +207,7 @@ std::vector<Series> History::series(const SeriesFilter& filter) const {
             k.pin = cols[10];
             k.placement = cols[11];
             k.params = json::parse(cols[12]).get<std::map<std::string, double>>();
+            k.rank_scope = cols[16];
             x.figure = cols[13];
             x.unit = cols[14];
             x.direction = cols[15] == "higher" ? Direction::higher_is_better : Direction::lower_is_better;
@@ -205,15 +215,15 @@ std::vector<Series> History::series(const SeriesFilter& filter) const {
             last = std::move(cols);
         }
         SeriesEntry e;
-        e.commit = s.text(16);
-        e.branch = s.text(17);
-        e.date = s.text(18);
-        e.run_id = s.integer(19);
-        e.median = s.real(20);
-        e.noise = s.real(21);
-        e.samples = json::parse(s.text(22)).get<std::vector<double>>();
-        e.unstable = s.integer(23) != 0;
-        e.count_per_call = s.real(24);
+        e.commit = s.text(17);
+        e.branch = s.text(18);
+        e.date = s.text(19);
+        e.run_id = s.integer(20);
+        e.median = s.real(21);
+        e.noise = s.real(22);
+        e.samples = json::parse(s.text(23)).get<std::vector<double>>();
+        e.unstable = s.integer(24) != 0;
+        e.count_per_call = s.real(25);
         out.back().entries.push_back(std::move(e));
     }
     std::stable_sort(out.begin(), out.end(), [](const Series& a, const Series& b) {
@@ -233,7 +243,7 @@ std::vector<MachineSummary> History::summary() const {
     std::vector<MachineSummary> out;
     SqlStatement machines =
         db_.prepare("SELECT fingerprint, max(machine), count(*), count(DISTINCT context_class) FROM runs GROUP BY fingerprint ORDER BY 2, 1");
-    SqlStatement series = db_.prepare(std::string("SELECT count(*) FROM (SELECT DISTINCT ") + series_columns +
+    SqlStatement series = db_.prepare("SELECT count(*) FROM (SELECT DISTINCT " + history_series_columns(version_) +
                                       " FROM records c JOIN runs r ON r.id = c.run_id WHERE c.verified = 1 AND r.fingerprint = ?1)");
     SqlStatement commits = db_.prepare(
         "SELECT commit_sha, branch, max(date), count(*) FROM runs WHERE fingerprint = ?1 GROUP BY commit_sha, branch ORDER BY min(date), commit_sha");

@@ -1,6 +1,7 @@
 #pragma once
 // `suite history`: every record of every run added, in one SQLite file, keyed by machine
-// fingerprint, build (context class), commit, branch and point; read back as series for step
+// fingerprint, build (context class), commit, branch and point (each rank of an MPI run, and its
+// aggregate, a point of its own: PointKey::rank_scope); read back as series for step
 // detection (steps.hpp), the window gate (history_gate.hpp) and the dashboard. Adding the same
 // run twice stores it once; two processes adding at once both land (each add is one
 // BEGIN IMMEDIATE transaction, the other waits up to `wait_ms`). A file that cannot be used
@@ -18,7 +19,8 @@ namespace suite {
 
 // The schema this suite writes; each older version is migrated up in one transaction by `add`.
 // 1: meta, runs, records. 2: the indexes that series queries and the gate look runs up by.
-constexpr int history_schema_version = 2;
+// 3: each record's rank scope and host, so that an MPI run's ranks and aggregate are series of their own.
+constexpr int history_schema_version = 3;
 
 // The schema version a database file says it has: 0 for a new, empty file. Throws InputError
 // when it is not a suite history database (other tables, or no version). The file's structure

@@ -48,8 +48,10 @@ WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFi
     WindowBaseline out;
     out.file.path = label;
     out.file.schema_version = run.schema_version;
-    // The window was chosen to match the run's machine and build, so the run's context describes it.
+    // The window was chosen to match the run's machine and build, so the run's context describes
+    // it; and its processes: in an MPI run each point is one rank's (or the aggregate's) series.
     out.file.context = run.context;
+    out.file.mpi = run.mpi;
     std::set<std::int64_t> pooled_runs;
     for (const LoadedPoint& p : run.points) {
         LoadedPoint b;

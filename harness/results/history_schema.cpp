@@ -38,6 +38,11 @@ const char* const history_migrations[] = {
     R"(CREATE INDEX runs_by_machine ON runs (fingerprint, context_class, date);
        CREATE INDEX records_by_run ON records (run_id);
        CREATE INDEX records_by_point ON records (kernel, figure, size, threads);)",
+    // 3: which rank of an MPI run measured a record (PointKey::rank_scope: "rank 3 of 4",
+    // "aggregate of 4 ranks"; "" in a run of one process, as every record before it) and, for a
+    // rank, the host it ran on.
+    R"(ALTER TABLE records ADD COLUMN rank_scope TEXT NOT NULL DEFAULT '';
+       ALTER TABLE records ADD COLUMN rank_host TEXT NOT NULL DEFAULT '';)",
 };
 static_assert(std::size(history_migrations) == history_schema_version, "one migration a schema version");
 

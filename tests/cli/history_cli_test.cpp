@@ -150,7 +150,7 @@ TEST(HistoryCli, EachUnusableDatabaseIsOneLineExitTwoAndUntouched) {
 
 TEST(HistoryCli, UsageErrorsNameWhatIsAccepted) {
     TempDir tmp;
-    expect_one_line_refusal(run_suite({"history"}), "history needs a subcommand: add, list, steps, check or html");
+    expect_one_line_refusal(run_suite({"history"}), "history needs a subcommand: add, list, steps, check, noise or html");
     expect_one_line_refusal(run_suite({"history", "chek"}), "(did you mean 'check'?)");
     expect_one_line_refusal(run_suite({"history", "add", "--db", tmp.file("h.sqlite")}), "history add needs at least one result file");
     expect_one_line_refusal(run_suite({"history", "list", "--db", tmp.file("none.sqlite")}), "no history database there");

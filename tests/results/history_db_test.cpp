@@ -1,8 +1,8 @@
 // The history database (harness/results/history.hpp): a run is stored once however often it is
-// added; an older schema version is migrated and its rows kept; and every file that cannot be
-// used (a newer version, random bytes, a damaged page, another program's SQLite file, read-only,
-// locked) is refused with one InputError line before anything in it changes: the same bytes
-// before and after.
+// added; a file of an older schema version is read as it is and migrated by the next add, its
+// rows kept; and every file that cannot be used (a newer version, random bytes, a damaged page,
+// another program's SQLite file, read-only, locked) is refused with one InputError line before
+// anything in it changes: the same bytes before and after.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -89,33 +89,53 @@ TEST(HistoryDb, TheSameRunAddedTwiceIsStoredOnce) {
     }
 }
 
-TEST(HistoryDb, AnOlderSchemaVersionIsMigratedAndKeepsItsRows) {
-    TempDir tmp;
-    const std::string db = tmp.file("old.sqlite");
-    History::create_at_version(db, 1);
-    {
-        // A run as version 1 stored it.
-        SqlDatabase raw = SqlDatabase::open(db, {true, false, 1000});
-        raw.exec("INSERT INTO runs VALUES (7, 'hash', 'fp', 'old box (CPU, 2 cores)', 'class', 'abc123', 'main', '2025-01-01T00:00:00Z', 'a.json', "
-                 "'2025-01-01T00:00:00Z', '{}');"
-                 "INSERT INTO records VALUES (7, 'add', '', 'random', 'bytes', 65536, 1, 'compact', 'local', '{}', '', 'bandwidth', 'GB/s', "
-                 "'higher', 12.5, 0.01, NULL, '[12.0,12.5,13.0]', 1, 0, '');");
+TEST(HistoryDb, AnOlderSchemaVersionIsReadAsItIsAndMigratedKeepingItsRows) {
+    for (int version = 1; version < history_schema_version; ++version) {
+        SCOPED_TRACE("a file of schema version " + std::to_string(version));
+        TempDir tmp;
+        const std::string db = tmp.file("old.sqlite");
+        History::create_at_version(db, version);
+        {
+            // A run as versions 1 and 2 stored it: no rank columns (every run was of one process).
+            SqlDatabase raw = SqlDatabase::open(db, {true, false, 1000});
+            raw.exec("INSERT INTO runs VALUES (7, 'hash', 'fp', 'old box (CPU, 2 cores)', 'class', 'abc123', 'main', '2025-01-01T00:00:00Z', "
+                     "'a.json', '2025-01-01T00:00:00Z', '{}');"
+                     "INSERT INTO records VALUES (7, 'add', '', 'random', 'bytes', 65536, 1, 'compact', 'local', '{}', '', 'bandwidth', 'GB/s', "
+                     "'higher', 12.5, 0.01, NULL, '[12.0,12.5,13.0]', 1, 0, '');");
+        }
+        {
+            // Read as it is (reading never changes the file), its series and summary included.
+            const std::uint64_t before = file_hash(db);
+            const History old = History::open_for_reading(db);
+            EXPECT_EQ(old.schema_version(), version);
+            const auto series = old.series();
+            ASSERT_EQ(series.size(), 1u);
+            EXPECT_EQ(series[0].key.rank_scope, "");
+            EXPECT_EQ(series[0].entries.at(0).median, 12.5);
+            EXPECT_EQ(old.summary().at(0).series, 1u);
+            EXPECT_EQ(file_hash(db), before);
+        }
+        History h = History::open_for_adding(db);
+        EXPECT_EQ(h.schema_version(), history_schema_version);
+        h.add({made_up(0)}, "", "");
+        const auto series = h.series();
+        ASSERT_EQ(series.size(), 4u);
+        EXPECT_EQ(series.front().machine, "old box (CPU, 2 cores)");  // sorted by machine
+        EXPECT_EQ(series.front().entries.at(0).samples, (std::vector<double>{12.0, 12.5, 13.0}));
+        for (const auto& s : series) EXPECT_EQ(s.key.rank_scope, "") << s.key.label();
+        SqlDatabase raw = SqlDatabase::open(db, {false, false, 1000});
+        SqlStatement v = raw.prepare("SELECT value FROM meta WHERE key = 'schema_version'");
+        ASSERT_TRUE(v.step());
+        EXPECT_EQ(v.text(0), std::to_string(history_schema_version));
+        SqlStatement index = raw.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'records_by_point'");
+        index.step();
+        EXPECT_EQ(index.integer(0), 1);
+        // The old row has the new columns, empty: a record of a run of one process.
+        SqlStatement old_row = raw.prepare("SELECT rank_scope, rank_host FROM records WHERE run_id = 7");
+        ASSERT_TRUE(old_row.step());
+        EXPECT_EQ(old_row.text(0), "");
+        EXPECT_EQ(old_row.text(1), "");
     }
-    EXPECT_EQ(History::open_for_reading(db).schema_version(), 1) << "read as it is: reading never changes the file";
-    History h = History::open_for_adding(db);
-    EXPECT_EQ(h.schema_version(), history_schema_version);
-    h.add({made_up(0)}, "", "");
-    const auto series = h.series();
-    ASSERT_EQ(series.size(), 4u);
-    EXPECT_EQ(series.front().machine, "old box (CPU, 2 cores)");  // sorted by machine
-    EXPECT_EQ(series.front().entries.at(0).samples, (std::vector<double>{12.0, 12.5, 13.0}));
-    SqlDatabase raw = SqlDatabase::open(db, {false, false, 1000});
-    SqlStatement v = raw.prepare("SELECT value FROM meta WHERE key = 'schema_version'");
-    ASSERT_TRUE(v.step());
-    EXPECT_EQ(v.text(0), std::to_string(history_schema_version));
-    SqlStatement index = raw.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'records_by_point'");
-    index.step();
-    EXPECT_EQ(index.integer(0), 1);
 }
 
 TEST(HistoryDb, ANewerSchemaVersionIsRefusedUntouched) {

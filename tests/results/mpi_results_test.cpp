@@ -3,7 +3,8 @@
 // the ranks and the aggregate of a point are points of their own, two runs meet rank by rank,
 // one run's hosts (or ranks) are lined up against each other, a slow rank fails the gate when
 // the aggregate hides it, an MPI run against a plain one behaves as documented, a malformed
-// `mpi` is one line naming the field, and the history refuses what it cannot keep apart.
+// `mpi` is one line naming the field, and the history keeps each rank and the aggregate as series
+// of their own and gates a run rank by rank.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -11,12 +12,16 @@
 #include <algorithm>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <set>
 
 #include "harness/results/check.hpp"
 #include "harness/results/compare_figures.hpp"
+#include "harness/results/history.hpp"
+#include "harness/results/history_gate.hpp"
 #include "harness/results/result_file.hpp"
 #include "tests/process.hpp"
+#include "tests/results/history_fixtures.hpp"
 #include "tests/results/mpi_fixtures.hpp"
 
 using namespace suite;
@@ -56,6 +61,15 @@ std::string read_error(const json& doc) {
         return e.what();
     }
     return "";
+}
+
+// Run i of a made-up history of two ranks on vm: rank r at `slow_r` times the template's times,
+// with 1 % noise between runs (each rank's level) and between repetitions, stamped as run i.
+json noisy_two_rank_run(std::size_t i, Gauss& g, double slow0, double slow1) {
+    json doc = mpi_document(plain_doc(), bandwidth_templates(), two_ranks(slow0 * (1 + 0.01 * g()), slow1 * (1 + 0.01 * g())));
+    stamp(doc, i);
+    for (auto& r : doc["results"]) set_times(r, noisy_times(r, 1.0, 0.01, g));
+    return doc;
 }
 
 }  // namespace
@@ -262,12 +276,103 @@ TEST(MpiCheck, ASlowRankFailsTheGateThoughTheAggregateBarelyMoved) {
     EXPECT_EQ(four.out.find("rank 0 of 4 on node-a"), std::string::npos) << "node-a did not change\n" << four.out;
 }
 
-TEST(MpiCheck, TheHistoryRefusesAnMpiRunRatherThanMixItsRanks) {
-    // The history's points have no rank: the ranks and the aggregate would be one series.
+TEST(MpiHistory, EachRankAndTheAggregateAreSeriesOfTheirOwn) {
     TempDir dir;
-    save(mpi_document(plain_doc(), bandwidth_templates(), two_ranks(1, 1)), dir.file("two.json"));
+    Gauss g{7};
+    std::vector<std::string> args{"history", "add"};
+    std::vector<ResultFile> runs;
+    for (std::size_t i = 0; i < 3; ++i) {
+        const std::string path = dir.file("run" + std::to_string(i) + ".json");
+        save(noisy_two_rank_run(i, g, 1, 1.5), path);
+        args.push_back(path);
+        runs.push_back(load_result_file(path));
+    }
     const std::string db = dir.file("history.sqlite");
-    expect_one_line_error(run_suite({"history", "add", dir.file("two.json"), "--db", db}), "the history keeps runs of one process");
-    EXPECT_FALSE(std::filesystem::exists(db)) << "nothing is written for a refused file";
-    expect_one_line_error(run_suite({"history", "check", dir.file("two.json"), "--db", db}), "gate it with suite check --baseline");
+    args.insert(args.end(), {"--db", db});
+    const Outcome added = run_suite(args);
+    ASSERT_EQ(added.status, 0) << describe(added);
+
+    const History h = History::open_for_reading(db);
+    EXPECT_EQ(h.schema_version(), history_schema_version);
+    const std::vector<Series> series = h.series();
+    std::size_t figures = 0;
+    for (const auto& p : runs[0].points) figures += p.measures.size();
+    ASSERT_EQ(series.size(), figures) << "one series a figure of each rank's point and of each aggregate";
+    ASSERT_EQ(h.summary().at(0).series, figures);
+    std::map<std::string, std::size_t> per_scope;
+    for (const Series& s : series) {
+        ++per_scope[s.key.rank_scope];
+        ASSERT_EQ(s.entries.size(), runs.size()) << s.key.label();
+        // Entry i is run i's own median of this rank (or the aggregate): nothing of another mixed in.
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            const Measure* m = nullptr;
+            for (const auto& p : runs[i].points)
+                for (const auto& x : p.measures)
+                    if (p.key == s.key && x.name == s.figure && x.unit == s.unit) m = &x;
+            ASSERT_NE(m, nullptr) << s.key.label() << " " << s.figure;
+            EXPECT_DOUBLE_EQ(s.entries[i].median, m->median) << s.key.label() << " " << s.figure << ", run " << i;
+        }
+    }
+    EXPECT_EQ(per_scope, (std::map<std::string, std::size_t>{{"aggregate of 2 ranks", figures / 3}, {"rank 0 of 2", figures / 3}, {"rank 1 of 2", figures / 3}}));
+    // The slow rank's bandwidth series sits at its own level, two thirds of rank 0's.
+    auto bandwidth_of = [&](const std::string& scope) {
+        for (const Series& s : series)
+            if (s.key.kernel == "triad" && s.key.rank_scope == scope && s.figure == "bandwidth") return s.entries.at(0).median;
+        ADD_FAILURE() << "no triad bandwidth series of " << scope;
+        return 0.0;
+    };
+    EXPECT_NEAR(bandwidth_of("rank 1 of 2") / bandwidth_of("rank 0 of 2"), 1 / 1.5, 0.05);
+    // Each rank's record keeps the host it ran on; an aggregate has none.
+    SqlDatabase raw = SqlDatabase::open(db, {false, false, 1000});
+    SqlStatement hosts = raw.prepare("SELECT DISTINCT rank_scope, rank_host FROM records ORDER BY 1");
+    std::vector<std::pair<std::string, std::string>> seen;
+    while (hosts.step()) seen.emplace_back(hosts.text(0), hosts.text(1));
+    EXPECT_EQ(seen, (std::vector<std::pair<std::string, std::string>>{{"aggregate of 2 ranks", ""}, {"rank 0 of 2", "vm"}, {"rank 1 of 2", "vm"}}));
+}
+
+TEST(MpiHistory, HistoryCheckGatesRankWithRankAndNamesTheSlowOne) {
+    TempDir dir;
+    Gauss g{11};
+    const std::string db = dir.file("history.sqlite");
+    {
+        History h = History::open_for_adding(db);
+        for (std::size_t i = 0; i < 6; ++i) h.add({parse_result_text(noisy_two_rank_run(i, g, 1, 1).dump(), "run.json")}, "", "main");
+    }
+    save(noisy_two_rank_run(10, g, 1, 1), dir.file("same.json"));
+    save(noisy_two_rank_run(11, g, 1, 1.4), dir.file("slow.json"));
+    const Outcome same = run_suite({"history", "check", dir.file("same.json"), "--db", db});
+    EXPECT_EQ(same.status, 0) << describe(same);
+    EXPECT_NE(same.out.find("6 run(s) of the history pooled"), std::string::npos) << same.out;
+    EXPECT_NE(same.out.find("6 point(s) compared"), std::string::npos) << same.out;
+    EXPECT_EQ(same.out.find("REGRESSED"), std::string::npos) << same.out;
+    // The window is of the run's own processes, rank by rank: no context difference to note.
+    EXPECT_EQ(same.out.find("the context differs"), std::string::npos) << same.out;
+    // Rank 1 takes 40 % longer; the aggregate, which waits for it, too; rank 0 is as it was.
+    const Outcome slow = run_suite({"history", "check", dir.file("slow.json"), "--db", db});
+    EXPECT_EQ(slow.status, 1) << describe(slow);
+    EXPECT_NE(slow.out.find("REGRESSED  triad sequential 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos) << slow.out;
+    EXPECT_NE(slow.out.find("REGRESSED  add random 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos) << slow.out;
+    EXPECT_NE(slow.out.find("REGRESSED  triad sequential 64MiB t=2 compact/local aggregate of 2 ranks"), std::string::npos) << slow.out;
+    EXPECT_EQ(slow.out.find("rank 0 of 2"), std::string::npos) << "rank 0 did not change\n" << slow.out;
+
+    // The window's baseline holds each rank's own history: the run's rank against its own level.
+    const ResultFile run = load_result_file(dir.file("slow.json"));
+    const History h = History::open_for_reading(db);
+    const RunIdentity id = identify_run(run);
+    SeriesFilter f;
+    f.fingerprints = {id.fingerprint};
+    f.context_class = id.context_class;
+    const WindowBaseline base = window_baseline(h.series(f), run, id, 0, 10, db);
+    EXPECT_EQ(base.runs_pooled, 6u);
+    ASSERT_EQ(base.file.points.size(), run.points.size());
+    const CheckReport rep = check_run(base.file, run, GateRule{}, true);
+    std::set<std::string> scopes;
+    for (const Finding& x : rep.findings) {
+        if (x.figure != "bandwidth GB/s") continue;
+        scopes.insert(x.key.rank_scope);
+        const bool slowed = x.key.rank_scope != "rank 0 of 2";
+        EXPECT_EQ(x.verdict, slowed ? Verdict::regressed : Verdict::unchanged) << x.key.label();
+        EXPECT_NEAR(x.run / x.baseline, slowed ? 1 / 1.4 : 1.0, 0.04) << x.key.label();
+    }
+    EXPECT_EQ(scopes, (std::set<std::string>{"aggregate of 2 ranks", "rank 0 of 2", "rank 1 of 2"}));
 }
