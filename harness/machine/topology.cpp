@@ -3,7 +3,12 @@
 #include <hwloc.h>
 #include <sched.h>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
+#endif
+
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -62,6 +67,26 @@ void restrict_to_mask(hwloc_topology_t t, Topology& topo) {
     hwloc_bitmap_free(mask);
 }
 
+// The processor's brand string (CPUID 0x80000002..4), as hwloc's x86 backend reads it; "" where
+// there is none. hwloc's CPUModel comes from that backend or, where the backend does not run, from
+// /proc/cpuinfo, and the two differ on a VM ("Oxide Virtual Turin-like Processor" against "AMD
+// EPYC"): one unchanged machine was seen under both, 1 run in 12, which split its history in two
+// machines. Read here, it is the same every time.
+std::string cpuid_brand() {
+#if defined(__x86_64__) || defined(__i386__)
+    if (__get_cpuid_max(0x80000000, nullptr) < 0x80000004) return "";
+    char brand[49] = {};
+    for (unsigned i = 0; i < 3; ++i) {
+        unsigned regs[4] = {};
+        __get_cpuid(0x80000002 + i, &regs[0], &regs[1], &regs[2], &regs[3]);
+        std::memcpy(brand + 16 * i, regs, 16);
+    }
+    return brand;
+#else
+    return "";
+#endif
+}
+
 const char* cache_type_name(hwloc_obj_cache_type_t t) {
     switch (t) {
         case HWLOC_OBJ_CACHE_DATA: return "data";
@@ -84,6 +109,10 @@ Topology Topology::load(bool whole_machine) {
     topo.cores = hwloc_get_nbobjs_by_type(t, HWLOC_OBJ_CORE);
     if (hwloc_obj_t pkg = hwloc_get_obj_by_type(t, HWLOC_OBJ_PACKAGE, 0))
         if (const char* model = hwloc_obj_get_info_by_name(pkg, "CPUModel")) topo.cpu_model = model;
+    // This machine's own processor: its brand string, whichever hwloc backend ran (a topology
+    // read from a file keeps the file's model).
+    if (topo.this_system)
+        if (std::string brand = cpuid_brand(); !brand.empty()) topo.cpu_model = brand;
 
     int nnodes = hwloc_get_nbobjs_by_type(t, HWLOC_OBJ_NUMANODE);
     for (int i = 0; i < nnodes; ++i) {

@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <cstring>
+#include <string>
+#if defined(__x86_64__)
+#include <cpuid.h>
+#endif
 
 #include <omp.h>
 
@@ -88,6 +93,22 @@ TEST(Topology, ThisMachineIsConsistent) {
     std::size_t cpus_in_nodes = 0;
     for (const auto& n : t.nodes) cpus_in_nodes += n.cpus.size();
     EXPECT_EQ(cpus_in_nodes, t.pus.size());
+}
+
+// The model is part of the machine's fingerprint in the history: it must not depend on which of
+// hwloc's backends answered (this VM was seen as "AMD EPYC", /proc/cpuinfo's, in 1 run of 12,
+// and the x86 backend's brand string otherwise). On x86 it is the CPUID brand string, every time.
+TEST(Topology, TheCpuModelIsTheSameEveryTime) {
+    const std::string first = Topology::load().cpu_model;
+    EXPECT_FALSE(first.empty());
+    for (int i = 0; i < 20; ++i) ASSERT_EQ(Topology::load().cpu_model, first) << "load " << i;
+#if defined(__x86_64__)
+    unsigned regs[12] = {};
+    for (unsigned i = 0; i < 3; ++i) __get_cpuid(0x80000002 + i, &regs[4 * i], &regs[4 * i + 1], &regs[4 * i + 2], &regs[4 * i + 3]);
+    char brand[49] = {};
+    std::memcpy(brand, regs, 48);
+    EXPECT_EQ(first, std::string(brand));
+#endif
 }
 
 TEST(Placement, HistogramFindsEveryTouchedPageOnItsNode) {
