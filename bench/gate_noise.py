@@ -13,7 +13,7 @@ each run in a fresh history under a commit of its own, and measures on the same 
 Nothing changes between the runs, so every regression found before the slowdown is a false alarm.
 
 Usage: bench/gate_noise.py [--runs 10] [--gap 20] [--from RUN.json ...] [--out results/bench] [--suite ./suite]
-Writes OUT/gate_noise.{json,md}. --quick: 12 scaled copies of a committed fixture run, a check that it all runs.
+Writes OUT/gate_noise.{json,md}, and the reruns to OUT/gate_noise_runs/. --quick: 12 scaled copies of a committed fixture run, a check that it all runs.
 """
 import argparse
 import copy
@@ -85,12 +85,15 @@ with tempfile.TemporaryDirectory() as tmp:
             doc = json.load(open(fixture))
             doc["results"] = doc["results"][:3]
             files.append(os.path.join(tmp, f"q{i}.json"))
-            json.dump(slowed(doc, 1 + 0.004 * ((i * 3) % 7 - 3)), open(files[-1], "w"))
+            json.dump(slowed(doc, 1 + 0.002 * ((i * 5) % 12 - 6)), open(files[-1], "w"))
     elif not files:
+        # The reruns are kept, so that the rules can be measured on them again (--from).
+        kept = os.path.join(a.out, "gate_noise_runs")
+        os.makedirs(kept, exist_ok=True)
         for i in range(a.runs):
             if i:
                 time.sleep(a.gap)
-            files.append(os.path.join(tmp, f"run{i:02d}.json"))
+            files.append(os.path.join(kept, f"run{i:02d}.json"))
             run(["scripts/ci-gate.sh", "timing", files[-1]])
             print(f"rerun {i + 1}/{a.runs} done ({time.time() - started:.0f} s)", flush=True)
     db = os.path.join(tmp, "history.sqlite")

@@ -143,13 +143,12 @@ std::string read_chart_library(const std::string& path) {
 
 std::string page_html(const std::vector<Series>& series, const DashboardOptions& options) {
     nlohmann::json doc = {{"title", options.title}, {"window", options.window}, {"series", nlohmann::json::array()}};
-    // The gate's Bonferroni rule (gate_with_bands, history_gate.hpp): check's alpha is one-sided
-    // and a band two-sided, so one run's 2 · alpha is shared among the figures it gates, here the
-    // series of its machine and build (fingerprint and context class) that the page shows.
+    // The gate's share of alpha (band_alpha, history_band.hpp) among the figures a run gates, here
+    // the series of its machine and build (fingerprint and context class) that the page shows.
     std::map<std::pair<std::string, std::string>, std::size_t> gated;
     for (const auto& s : series) ++gated[{s.fingerprint, s.context_class}];
     for (const auto& s : series)
-        doc["series"].push_back(series_json(s, options, 2 * options.alpha / static_cast<double>(gated[{s.fingerprint, s.context_class}])));
+        doc["series"].push_back(series_json(s, options, band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}], options.confirmed)));
     // A host name or label with bytes that are not UTF-8 must not cost the whole page.
     const std::string data = script_safe(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     const std::string title = html_text(options.title);

@@ -115,7 +115,7 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         auto it = base.medians.find({f.key, f.figure});
         family += it != base.medians.end() && it->second.window.size() >= rule.min_runs;
     }
-    const double alpha = family ? 2 * rule.gate.alpha / static_cast<double>(family) : rule.gate.alpha;
+    const double alpha = band_alpha(rule.gate.alpha, family, rule.confirmed);
     std::size_t without_band = 0;
     for (Finding& f : rep.findings) {
         const auto b = in_base.find(matching_key(f.key)), r = in_run.find(matching_key(f.key));
@@ -140,7 +140,7 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
     const std::string effect = rule.auto_tolerance ? "the band's edge (--tolerance=auto, at least " + percent(rule.auto_floor) + ")"
                                                    : percent(rule.gate.tolerance);
     rep.rule_text = "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval at " +
-                    format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) + " over " +
+                    format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) + (rule.confirmed ? ", confirmed by a rerun," : "") + " over " +
                     std::to_string(family) + " figures), is beyond " + effect + ", and the repetitions tell it from the pool's at p < " +
                     format_significant(rule.gate.alpha, 3);
     if (without_band)
