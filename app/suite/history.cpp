@@ -34,7 +34,7 @@ const char* const history_usage = R"(suite history: every run's results in one S
   ./suite history check RUN.json [--db FILE] [--window N] [--tolerance 10%|auto] [--alpha 0.01]
                                  [--base-commit SHA] [--markdown FILE]
   ./suite history noise [--db FILE] [--window N] [--tolerance 10%|auto] [--kernel K] [--machine M]
-  ./suite history html --out DIR [--db FILE] [--kernel K] [--machine M] [--window N] [--alpha 0.01] [--confirm]
+  ./suite history html --out DIR [--db FILE] [--kernel K] [--machine M] [--window N] [--alpha 0.01]
 
 The database is results/history.sqlite unless --db says otherwise. A series is one figure of one
 point (kernel, variant, pattern, size, threads, pinning, placement, parameters) on one machine
@@ -181,8 +181,6 @@ int history_html(const std::vector<std::string>& args) {
     add_filter_options(app, a);
     add_whole_option(app, "--window", window, 1, 1000, "the runs each chart's band is fitted from, as history check's (default 10)");
     app.add_option("--alpha", alpha, "as history check's (default 0.01)");
-    bool confirmed = false;
-    app.add_flag("--confirm", confirmed, "draw the band of a gate confirmed by a rerun, as history check --confirm uses");
     if (!parse_command_line(app, "suite history html", args)) return 0;
     if (out.empty()) throw UsageError("history html needs --out=DIR, e.g. ./suite history html --out results/history-html");
     const History h = History::open_for_reading(a.db, history_options(a));
@@ -193,7 +191,6 @@ int history_html(const std::vector<std::string>& args) {
     options.title = "suite history: " + h.path();
     options.window = window;
     options.alpha = parse_alpha(alpha);
-    options.confirmed = confirmed;
     // An installed tree carries its own copy of Chart.js (copied from Debian's when installed).
     if (data_dir().installed) {
         std::string why;

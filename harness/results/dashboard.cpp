@@ -148,7 +148,7 @@ std::string page_html(const std::vector<Series>& series, const DashboardOptions&
     std::map<std::pair<std::string, std::string>, std::size_t> gated;
     for (const auto& s : series) ++gated[{s.fingerprint, s.context_class}];
     for (const auto& s : series)
-        doc["series"].push_back(series_json(s, options, band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}], options.confirmed)));
+        doc["series"].push_back(series_json(s, options, band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}])));
     // A host name or label with bytes that are not UTF-8 must not cost the whole page.
     const std::string data = script_safe(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     const std::string title = html_text(options.title);

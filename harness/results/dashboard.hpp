@@ -20,7 +20,6 @@ struct DashboardOptions {
     // medians of the last `window` stable runs, at the gate's one-sided `alpha` (--window, --alpha).
     std::size_t window = 10;
     double alpha = 0.01;
-    bool confirmed = false;  // the band of a gate confirmed by a rerun (history check --confirm)
 };
 
 // Writes DIR/index.html and DIR/chart.min.js (through the suite's one safe writer, so a failed

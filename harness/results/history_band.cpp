@@ -85,10 +85,7 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     return f;
 }
 
-double band_alpha(double alpha, std::size_t family, bool confirmed) {
-    const double f = static_cast<double>(std::max<std::size_t>(family, 1));
-    return std::min(1.0, confirmed ? 2 * std::sqrt(alpha / f) : 2 * alpha / f);
-}
+double band_alpha(double alpha, std::size_t family) { return std::min(1.0, 2 * alpha / static_cast<double>(std::max<std::size_t>(family, 1))); }
 
 void parse_history_tolerance(const std::string& text, HistoryRule& rule) {
     if (text == "auto") {

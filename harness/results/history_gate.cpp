@@ -115,7 +115,7 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         auto it = base.medians.find({f.key, f.figure});
         family += it != base.medians.end() && it->second.window.size() >= rule.min_runs;
     }
-    const double alpha = band_alpha(rule.gate.alpha, family, rule.confirmed);
+    const double alpha = band_alpha(rule.gate.alpha, family);
     std::size_t without_band = 0;
     for (Finding& f : rep.findings) {
         const auto b = in_base.find(matching_key(f.key)), r = in_run.find(matching_key(f.key));

@@ -76,7 +76,7 @@ NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window,
         n.series = &s;
         const std::vector<const SeriesEntry*> latest = nearest_window(s, s.entries.size(), window);
         const std::size_t latest_family = s.entries.empty() ? 1 : family[{group_of(s), s.entries.back().run_id}];
-        n.band = fit_band(medians_of(latest), {}, band_alpha(rule.gate.alpha, latest_family, confirm), rule.min_runs);
+        n.band = fit_band(medians_of(latest), {}, band_alpha(rule.gate.alpha, latest_family), rule.min_runs);
         n.sd_spread = sd_of_logs(medians_of(latest));
         for (std::size_t i = 0; i < s.entries.size(); ++i) {
             const SeriesEntry& e = s.entries[i];
@@ -87,7 +87,7 @@ NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window,
             if (confirm && j >= s.entries.size()) break;
             const std::vector<const SeriesEntry*> w = nearest_window(s, i, window, confirm ? j : SIZE_MAX);
             if (w.empty()) continue;
-            const double alpha = band_alpha(rule.gate.alpha, family[{group_of(s), e.run_id}], confirm);
+            const double alpha = band_alpha(rule.gate.alpha, family[{group_of(s), e.run_id}]);
             // Without the band: an unusable one, so that judge_with_band is check's rule at the tolerance.
             HistoryRule r = rule;
             if (!use_band) r.auto_tolerance = false;
