@@ -20,8 +20,9 @@ Kinds and their peers:
   triad  stream_avx512, stream_mem_avx512 (likwid's STREAM triad), stream-triad
   load   load_avx512
   store  store_avx512, store_mem_avx512, memset
-The suite's figure for a kind is its better variant at that point (plain or -nt: a user picks the
-one that suits the size); both are in the JSON. Writes DIR/vs_peers.{json,md}.
+The suite's figure for a kind is its best variant at that point (plain, -nt, or -rep for copy and
+store, the string instructions rep movsb / rep stosq: a user picks the one that suits the size);
+all are in the JSON. Writes DIR/vs_peers.{json,md}.
 """
 import argparse
 import json
@@ -49,12 +50,12 @@ a = ap.parse_args()
 
 KiB, MiB, GiB = 1 << 10, 1 << 20, 1 << 30
 KINDS = {
-    "copy": (["copy", "copy-nt"], ["likwid:copy", "likwid:copy_mem", "ref:stream-copy", "ref:memcpy"]),
+    "copy": (["copy", "copy-nt", "copy-rep"], ["likwid:copy", "likwid:copy_mem", "ref:stream-copy", "ref:memcpy"]),
     "scale": (["scale", "scale-nt"], ["ref:stream-scale"]),
     "add": (["add", "add-nt"], ["ref:stream-add"]),
     "triad": (["triad", "triad-nt"], ["likwid:stream", "likwid:stream_mem", "ref:stream-triad"]),
     "load": (["load"], ["likwid:load"]),
-    "store": (["store", "store-nt"], ["likwid:store", "likwid:store_mem", "ref:memset"]),
+    "store": (["store", "store-nt", "store-rep"], ["likwid:store", "likwid:store_mem", "ref:memset"]),
 }
 
 
@@ -76,9 +77,9 @@ have_likwid = os.access(a.likwid, os.X_OK)
 
 
 def suite_side(size, threads, tmp):
-    """{name: median GB/s} of every suite kernel of KINDS at this point (two runs: plain, nt)."""
+    """{name: median GB/s} of every suite kernel of KINDS at this point (three runs: plain, nt, rep)."""
     out, figures = os.path.join(tmp, "s.json"), {}
-    for stores, kernels in (("default", "copy,scale,add,triad,load,store"), ("nt", "copy,scale,add,triad,store")):
+    for stores, kernels in (("default", "copy,scale,add,triad,load,store"), ("nt", "copy,scale,add,triad,store"), ("rep", "copy,store")):
         run([a.suite, f"--kernel={kernels}", f"--stores={stores}", f"--size={size}", f"--threads={threads}", "--pin=compact",
              "--counters=none", "--energy=none", "--quiet", f"--out={out}"])
         for r in json.load(open(out))["results"]:

@@ -13,6 +13,7 @@ struct Add {
     static constexpr int reads = 2;
     static constexpr double flops = 1;
     static constexpr bool has_nt = true;
+    static constexpr bool has_rep = false;  // a string-instruction (rep movsb) variant
     static constexpr double tolerance = 0;
     template <class T>
     static T apply(T b, T c) { return b + c; }

@@ -11,6 +11,7 @@ struct Copy {
     static constexpr int reads = 1;
     static constexpr double flops = 0;
     static constexpr bool has_nt = true;
+    static constexpr bool has_rep = true;  // a string-instruction (rep movsb) variant
     static constexpr double tolerance = 0;
     template <class T>
     static T apply(T b, T) { return b; }

@@ -186,7 +186,7 @@ private:
 };
 
 const bool registered = [] {
-    KernelEntry e = stream_entry("load", "s += b[i]", false, 8, 0, 1,
+    KernelEntry e = stream_entry("load", "s += b[i]", false, false, 8, 0, 1,
                                  "read-only: one stream of loads, each thread's sum kept and checked");
     e.make = [](const KernelConfig& cfg) { return std::make_unique<Load>(cfg); };
     e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, "load", 1); };

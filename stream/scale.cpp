@@ -11,6 +11,7 @@ struct Scale {
     static constexpr int reads = 1;
     static constexpr double flops = 1;
     static constexpr bool has_nt = true;
+    static constexpr bool has_rep = false;  // a string-instruction (rep movsb) variant
     static constexpr double tolerance = 0;
     template <class T>
     static T apply(T b, T) { return scalar * b; }

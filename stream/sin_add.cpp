@@ -14,6 +14,7 @@ struct SinAdd {
     static constexpr int reads = 2;
     static constexpr double flops = 1;
     static constexpr bool has_nt = false;
+    static constexpr bool has_rep = false;  // a string-instruction (rep movsb) variant
     // A vectorised sine may differ from the scalar one in the last bits.
     static constexpr double tolerance = 1e-13;
     static double apply(double b, double c) { return std::sin(b) + std::sin(c); }

@@ -2,12 +2,13 @@
 // 8 B per element by the STREAM convention (nothing read, 8 written), no flops. The counterpart
 // of likwid-bench's store kernels: the writing half of the memory system alone. A plain store to
 // a line that is not in cache first reads it (write-allocate), so the hardware moves 16 B per
-// element; the nt variant streams the stores past the caches and moves 8 B.
+// element; the nt variant streams the stores past the caches and moves 8 B; the rep variant fills
+// each thread's block with one rep stosq, the instruction of glibc's memset.
 // Each call stores a value of its own, so verify() can tell that the latest call wrote every
 // element (not merely that some call did). Patterns as the other stream kernels.
+#include <bit>
+
 #include "stream/stream_kernel.hpp"
-
-
 
 namespace suite::stream {
 namespace {
@@ -51,6 +52,7 @@ public:
         const std::int64_t n = static_cast<std::int64_t>(n_), s = stride_;
         const int nt = cfg_.threads;
         if (cfg_.variant == "nt") nt_store_loop(a, n, nt, calls_, calls);
+        else if (cfg_.variant == "rep") rep_store_loop(a, n, nt, calls_, calls);
         else
             switch (pattern_) {
                 case Pattern::sequential: sequential_loop(a, n, nt, calls_, calls); break;
@@ -90,7 +92,8 @@ public:
         Work w;
         w.units = n;
         w.stream_bytes = n * 8.0;
-        const double store_cost = cfg_.variant == "nt" ? 1.0 : 2.0;  // write-allocate unless non-temporal
+        // Write-allocate unless non-temporal or a fast-string fill (an estimate there: see stream_kernel.hpp).
+        const double store_cost = is_store_variant(cfg_.variant) ? 1.0 : 2.0;
         double granule = 8.0;
         if (pattern_ == Pattern::random) granule = line_bytes;
         if (pattern_ == Pattern::strided) granule = std::min(line_bytes, 8.0 * static_cast<double>(stride_));
@@ -168,6 +171,21 @@ private:
         }
     }
 
+    // Each thread fills its own block with one rep stosq a call: memset's instruction (it uses rep
+    // stosb, for a byte; the stored double needs eight).
+    __attribute__((noinline)) static void rep_store_loop(double* a, std::int64_t n, int nt, std::uint64_t first_call, int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_line_block(n);
+            const std::size_t words = static_cast<std::size_t>(std::max<std::int64_t>(blk.hi - blk.lo, 0));
+            for (int k = 0; k < calls; ++k) {
+                rep_stosq(a + blk.lo, std::bit_cast<std::uint64_t>(stored_value(first_call + static_cast<std::uint64_t>(k))), words);
+                compiler_fence();
+            }
+            _mm_sfence();
+        }
+    }
+
     KernelConfig cfg_;
     Pattern pattern_ = Pattern::sequential;
     std::int64_t stride_ = 0;
@@ -178,7 +196,7 @@ private:
 };
 
 const bool registered = [] {
-    KernelEntry e = stream_entry("store", "a[i] = v", true, 0, 8, 0,
+    KernelEntry e = stream_entry("store", "a[i] = v", true, true, 0, 8, 0,
                                  "write-only: one stream of stores of a value that changes every call");
     e.make = [](const KernelConfig& cfg) { return std::make_unique<Store>(cfg); };
     e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, "store", 1); };

@@ -16,8 +16,8 @@ void validate_stream_config(const KernelConfig& cfg, const char* name, int array
         throw UsageError("--pattern=" + cfg.access.label() + " with " + std::to_string(threads) + " thread(s) needs at least " +
                          std::to_string(cfg.access.stride) + " elements per thread; use a size of at least " +
                          format_bytes(cfg.access.stride * threads * 8 * arrays));
-    if (cfg.variant == "nt" && cfg.access.name != "sequential")
-        throw UsageError("--stores=nt works with --pattern=sequential only, not '" + cfg.access.label() + "'");
+    if (is_store_variant(cfg.variant) && cfg.access.name != "sequential")
+        throw UsageError("--stores=" + cfg.variant + " works with --pattern=sequential only, not '" + cfg.access.label() + "'");
 }
 
 }  // namespace suite::stream

@@ -1,7 +1,8 @@
 #pragma once
 // The machinery shared by the STREAM-like kernels a = f(b, c). Each kernel file defines one
 // Op (its formula, as data and as code) and registers StreamKernel<Op>; this header supplies
-// the loops for every access pattern, first touch, the non-temporal-store loop and the check.
+// the loops for every access pattern, first touch, the non-temporal-store loop, the string-
+// instruction copy (rep movsb, copy's "rep" variant) and the check.
 //
 // Patterns (every one a permutation of 0..n-1, so each element is written exactly once per
 // repetition and the same check works for all):
@@ -51,6 +52,25 @@ inline void nt_store(double* p, ntvec v) { _mm_stream_pd(p, v); }
 inline ntvec nt_load(const double* p) { return _mm_loadu_pd(p); }
 #endif
 constexpr std::int64_t nt_width = sizeof(ntvec) / sizeof(double);
+
+// The string instructions of the "rep" variants: one instruction copies (rep movsb) or fills
+// (rep stosq) a thread's whole block, and the CPU's microcode picks the width, the alignment
+// handling and, on a CPU with fast strings (ERMS), stores of whole lines that skip the read of
+// the destination: what glibc's memcpy and memset do between a few KiB and their non-temporal
+// threshold. The ABI guarantees the direction flag clear on entry to a function.
+#if defined(__x86_64__)
+constexpr bool have_string_ops = true;
+inline void rep_movsb(void* dst, const void* src, std::size_t bytes) {
+    asm volatile("rep movsb" : "+D"(dst), "+S"(src), "+c"(bytes) : : "memory");
+}
+inline void rep_stosq(void* dst, std::uint64_t value, std::size_t words) {
+    asm volatile("rep stosq" : "+D"(dst), "+c"(words) : "a"(value) : "memory");
+}
+#else
+constexpr bool have_string_ops = false;  // the rep variants are not registered
+inline void rep_movsb(void*, const void*, std::size_t) {}
+inline void rep_stosq(void*, std::uint64_t, std::size_t) {}
+#endif
 
 enum class Pattern { sequential, random, strided };
 inline Pattern pattern_of(const Access& a) {
@@ -132,6 +152,9 @@ public:
         if constexpr (Op::has_nt) {
             if (cfg_.variant == "nt") return nt_store_loop(a, b, c, n, calls);
         }
+        if constexpr (Op::has_rep) {
+            if (cfg_.variant == "rep") return rep_copy_loop(a, b, n, calls);
+        }
         switch (pattern_) {
             case Pattern::sequential: return sequential_loop(a, b, c, n, calls);
             case Pattern::random: return random_loop(a, b, c, p, n, calls);
@@ -176,7 +199,9 @@ public:
         w.stream_bytes = n * 8.0 * (accesses_read + accesses_written);
         w.flops = n * Op::flops;
         // A store to a line not in cache first reads it (write-allocate) unless it is non-temporal.
-        const double store_cost = cfg_.variant == "nt" ? 1.0 : 2.0;
+        // The string instructions are counted as whole-line stores too: what a CPU with fast
+        // strings does with a large block (an estimate: the CPU chooses, and says nothing).
+        const double store_cost = is_store_variant(cfg_.variant) ? 1.0 : 2.0;
         double granule = 8.0;  // bytes the memory system moves per access
         if (pattern_ == Pattern::random) granule = line_bytes;
         if (pattern_ == Pattern::strided) granule = std::min(line_bytes, 8.0 * static_cast<double>(stride_));
@@ -263,6 +288,21 @@ private:
         }
     }
 
+    // Each thread copies its own block with one rep movsb a call (only copy has this variant:
+    // the string instructions move or fill, they do not compute).
+    __attribute__((noinline)) static void rep_copy_loop(double* a, const double* b, std::int64_t n, int calls) {
+#pragma omp parallel
+        {
+            const Block blk = my_line_block(n);
+            const std::size_t bytes = static_cast<std::size_t>(std::max<std::int64_t>(blk.hi - blk.lo, 0)) * sizeof(double);
+            for (int k = 0; k < calls; ++k) {
+                rep_movsb(a + blk.lo, b + blk.lo, bytes);
+                compiler_fence();
+            }
+            _mm_sfence();
+        }
+    }
+
     KernelConfig cfg_;
     Pattern pattern_ = Pattern::sequential;
     std::int64_t stride_ = 0;
@@ -275,8 +315,8 @@ private:
 
 // The registry entry every stream kernel shares: element unit, the three patterns, bytes.
 // The caller adds make and validate.
-inline KernelEntry stream_entry(const char* name, const char* formula, bool has_nt, double read_bytes, double write_bytes, double flops,
-                                const char* notes) {
+inline KernelEntry stream_entry(const char* name, const char* formula, bool has_nt, bool has_rep, double read_bytes, double write_bytes,
+                                double flops, const char* notes) {
     KernelEntry e;
     e.info.name = name;
     e.info.group = "stream";
@@ -284,7 +324,9 @@ inline KernelEntry stream_entry(const char* name, const char* formula, bool has_
     e.info.unit = "element";
     e.info.axis = AccessAxis::pattern;
     e.info.accesses = {"sequential", "random", "strided"};
-    e.info.variants = has_nt ? std::vector<std::string>{"", "nt"} : std::vector<std::string>{""};
+    e.info.variants = {""};
+    if (has_nt) e.info.variants.push_back("nt");
+    if (has_rep && have_string_ops) e.info.variants.push_back("rep");
     e.info.size_kind = SizeKind::bytes;
     e.info.metric = Metric::bandwidth;
     e.info.read_bytes_per_unit = read_bytes;
@@ -296,7 +338,7 @@ inline KernelEntry stream_entry(const char* name, const char* formula, bool has_
 
 template <class Op>
 bool register_stream_kernel() {
-    KernelEntry e = stream_entry(Op::name, Op::formula, Op::has_nt, 8.0 * Op::reads, 8.0, Op::flops, Op::notes);
+    KernelEntry e = stream_entry(Op::name, Op::formula, Op::has_nt, Op::has_rep, 8.0 * Op::reads, 8.0, Op::flops, Op::notes);
     e.make = [](const KernelConfig& cfg) { return std::make_unique<StreamKernel<Op>>(cfg); };
     e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, Op::name, StreamKernel<Op>::arrays()); };
     return register_kernel(std::move(e));

@@ -44,7 +44,7 @@ void print_kernel_options() {
         const auto& i = e.info;
         std::vector<std::string> named;
         for (const auto& v : i.variants)
-            if (!v.empty() && v != "nt")
+            if (!v.empty() && !is_store_variant(v))
                 named.push_back(v + (std::find(i.single_thread_variants.begin(), i.single_thread_variants.end(), v) != i.single_thread_variants.end()
                                          ? " (1 thread)" : ""));
         const bool plain = std::find(i.variants.begin(), i.variants.end(), "") != i.variants.end();
@@ -145,14 +145,16 @@ int cmd_list(const std::vector<std::string>& args) {
         std::cout << j.dump(2) << "\n";
         return 0;
     }
-    std::printf("%-9s %-8s %-30s %-28s %-6s %-12s %s\n", "kernel", "group", "formula", "patterns/orderings", "nt", "B/unit r+w", "flops");
+    std::printf("%-9s %-8s %-30s %-28s %-7s %-12s %s\n", "kernel", "group", "formula", "patterns/orderings", "stores", "B/unit r+w", "flops");
     for (const auto& e : kernels()) {
         const auto& i = e.info;
         char bytes[32];
         std::snprintf(bytes, sizeof bytes, "%g+%g", i.read_bytes_per_unit, i.write_bytes_per_unit);
-        const bool nt = std::find(i.variants.begin(), i.variants.end(), "nt") != i.variants.end();
-        std::printf("%-9s %-8s %-30s %-28s %-6s %-12s %g\n", i.name.c_str(), i.group.c_str(), i.formula.c_str(),
-                    accesses_text(i).c_str(), nt ? "yes" : "-", bytes, i.flops_per_unit);
+        std::string stores;  // the --stores choices beside default
+        for (const auto& v : i.variants)
+            if (is_store_variant(v)) stores += (stores.empty() ? "" : ",") + v;
+        std::printf("%-9s %-8s %-30s %-28s %-7s %-12s %g\n", i.name.c_str(), i.group.c_str(), i.formula.c_str(),
+                    accesses_text(i).c_str(), stores.empty() ? "-" : stores.c_str(), bytes, i.flops_per_unit);
     }
     print_kernel_options();
     std::printf("\nPlacements: local (first touch by the computing threads), node:N, remote (a node none of the threads\n"

@@ -48,6 +48,7 @@ Examples:
   ./suite --kernel=latency --sizes=4KiB:256MiB:x2 --threads=1
   ./suite --kernel=load,store --size=1GiB                  # one stream of loads, one of stores
   ./suite --kernel=store --stores=nt --size=1GiB           # streaming stores: no write-allocate
+  ./suite --kernel=copy,store --stores=rep --size=1MiB     # rep movsb / rep stosq, as memcpy and memset
   ./suite --kernel=triad --size=1GiB --hugepages=thp       # arrays on transparent huge pages
   ./suite --probe-caches --kernel=triad                    # default sizes from the measured caches
   ./suite info --probe                                     # caches measured beside hwloc's
@@ -136,7 +137,7 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
                    "particle orders of the MPM kernels, each its own point: unsorted, sorted, dynamic (default: all that the kernel has)");
     app.add_option("--isa", o.isas, "instruction widths of peak-flops, each its own point: scalar, sse, avx, avx512 (those the build targets; default: all)");
     run_command::add_param_options(app, o);
-    app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store; sequential only)");
+    app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store) | rep (string instructions rep movsb / rep stosq; copy, store); sequential only");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
     app.add_option("--sizes", o.sizes, "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
     app.add_option("--threads,-t", o.threads, "thread counts: 1,2,4 | 1-8 | 1-8:2 | all (default: 1 and all)");

@@ -33,9 +33,14 @@ struct Access {
     std::string label() const { return name == "strided" ? name + ":" + std::to_string(stride) : name; }
 };
 
+// The variants --stores picks, as opposed to the choices of a kernel's variant option: "nt"
+// (non-temporal stores) and "rep" (the x86 string instructions rep movsb / rep stosq, which a
+// CPU with fast strings (ERMS) runs in whole lines, as glibc's memcpy and memset do).
+inline bool is_store_variant(const std::string& v) { return v == "nt" || v == "rep"; }
+
 struct KernelConfig {
     Access access;
-    std::string variant;     // "" for the plain kernel, "nt" for non-temporal stores
+    std::string variant;     // "" for the plain kernel, a store variant (is_store_variant), or a variant option's choice
     std::uint64_t size = 0;  // footprint in bytes (SizeKind::bytes) or a count (SizeKind::count)
     std::uint64_t seed = 1;
     int threads = 1;
@@ -117,7 +122,7 @@ struct KernelInfo {
     AccessAxis axis = AccessAxis::pattern;
     std::vector<std::string> accesses;  // patterns or orderings supported ("strided" stands for strided:S)
     std::vector<std::string> variants = {""};
-    // The command-line option that picks variants other than "" and "nt": "phase" (--phase, where
+    // The command-line option that picks variants other than "" and the store variants: "phase" (--phase, where
     // "all" names the plain kernel ""), "strategy" (--strategy), "particles" or "isa".
     std::string variant_option = "phase";
     // The variants run when that option is not given; empty: the plain kernel "" alone.

@@ -55,12 +55,12 @@ std::string plural(const std::string& noun) {
     return noun.back() == 'y' ? noun.substr(0, noun.size() - 1) + "ies" : noun + "s";
 }
 
-// The names a kernel's variant option takes, each with the variant it stands for: the variants
-// other than "" and "nt", and the plain kernel by its name ("all" for phases, or plain_variant_name).
+// The names a kernel's variant option takes, each with the variant it stands for: the variants but
+// "" and the store ones, and the plain kernel by its name ("all" for phases, or plain_variant_name).
 std::vector<std::pair<std::string, std::string>> option_choices(const KernelInfo& info) {
     std::vector<std::pair<std::string, std::string>> out;
     for (const auto& v : info.variants)
-        if (!v.empty() && v != "nt") out.push_back({v, v});
+        if (!v.empty() && !is_store_variant(v)) out.push_back({v, v});
     const bool plain = std::find(info.variants.begin(), info.variants.end(), "") != info.variants.end();
     if (!out.empty() && plain && info.variant_option == "phase") out.insert(out.begin(), {"all", ""});
     else if (!out.empty() && plain && !info.plain_variant_name.empty()) out.insert(out.begin(), {info.plain_variant_name, ""});
@@ -236,12 +236,11 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
     auto sizes_for = [&](const KernelInfo& info, int t) {
         return default_size ? (info.default_count ? std::vector<std::uint64_t>{info.default_count} : default_sizes(topo, t, o.measured)) : given_sizes(info); };
 
-    // Stores.
-    if (o.stores != "default" && o.stores != "nt") throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt");
-    const std::string variant = o.stores == "nt" ? "nt" : "";
-    std::vector<std::string> with_nt;
-    for (const auto& e : kernels())
-        if (std::find(e.info.variants.begin(), e.info.variants.end(), "nt") != e.info.variants.end()) with_nt.push_back(e.info.name);
+    // Stores: "nt" or "rep" is a variant of the kernels that have it (is_store_variant).
+    if (o.stores != "default" && !is_store_variant(o.stores)) throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt, rep");
+    const std::string variant = o.stores == "default" ? "" : o.stores;
+    std::vector<std::string> with_variant;
+    for (const auto& e : kernels()) if (std::ranges::count(e.info.variants, variant)) with_variant.push_back(e.info.name);
 
     // Kernels on a mesh are sized by it (KernelEntry::mesh_elements).
     std::vector<std::string> on_mesh;
@@ -290,7 +289,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         std::vector<std::string> texts = by_pattern ? given_patterns : given_orderings;
         if (texts.empty()) texts = defaults.empty() ? std::vector<std::string>{info.accesses.front()} : defaults;
         if (!variant.empty() && std::find(info.variants.begin(), info.variants.end(), variant) == info.variants.end())
-            throw UsageError("--stores=nt: kernel '" + info.name + "' has no non-temporal-store variant; those that do: " + join(with_nt, ", "));
+            throw UsageError("--stores=" + variant + ": kernel '" + info.name + "' has no " + (variant == "nt" ? "non-temporal-store" : "string-instruction") +
+                             " variant; those that do: " + (with_variant.empty() ? std::string("none in this build") : join(with_variant, ", ")));
         // --phase and --strategy pick variants of the kernels that have them; without, the
         // kernel's default variants run.
         const Variants vs = plan_variants(info, variant, {{"phase", o.phases}, {"strategy", o.strategies}, {"particles", o.particles}, {"isa", o.isas}});

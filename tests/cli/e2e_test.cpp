@@ -92,6 +92,27 @@ TEST(E2E, StoreNtEmitsStreamingStoresAndPlainStoreDoesNot) {
     EXPECT_FALSE(plain_has_nt) << "the plain store loop should use ordinary stores";
 }
 
+TEST(E2E, RepVariantsAreOneStringInstructionAndThePlainLoopsAreNot) {
+    // copy-rep is one rep movsb a call, store-rep one rep stosq (the instructions of glibc's memcpy
+    // and memset); the plain loops are vector moves.
+    bool copy_rep = false, store_rep = false, plain_seen = false, plain_has_rep = false;
+    for (const auto& [name, body] : disassembly()) {
+        if (name.find("StreamKernel<suite::stream::(anonymous namespace)::Copy>::rep_copy_loop") != std::string::npos)
+            copy_rep = copy_rep || body.find("rep movsb") != std::string::npos;
+        if (name.find("suite::stream::(anonymous namespace)::Store::rep_store_loop") != std::string::npos)
+            store_rep = store_rep || body.find("rep stos %rax") != std::string::npos;
+        if (name.find("StreamKernel<suite::stream::(anonymous namespace)::Copy>::sequential_loop") != std::string::npos ||
+            name.find("suite::stream::(anonymous namespace)::Store::sequential_loop") != std::string::npos) {
+            plain_seen = true;
+            plain_has_rep = plain_has_rep || body.find("rep ") != std::string::npos;
+        }
+    }
+    EXPECT_TRUE(copy_rep) << "no rep movsb in StreamKernel<Copy>::rep_copy_loop (or its OpenMP body)";
+    EXPECT_TRUE(store_rep) << "no rep stosq in Store::rep_store_loop (or its OpenMP body)";
+    EXPECT_TRUE(plain_seen) << "the plain copy and store loops not found in the binary";
+    EXPECT_FALSE(plain_has_rep) << "the plain copy and store loops should be vector moves, not string instructions";
+}
+
 // peak-flops: each width's timed loop is exactly its 12 independent FMAs (or, in a build without
 // FMA, multiplies and adds) on registers of that width, plus the loop's counter: no load, no
 // store, no spill, nothing else the compiler added.

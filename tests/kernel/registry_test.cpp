@@ -23,7 +23,7 @@ std::vector<Case> all_cases() {
     for (const auto& k : kernels())
         for (const auto& a : k.info.accesses)
             for (const auto& v : k.info.variants) {
-                if (v == "nt" && a != "sequential") continue;  // nt is defined for sequential stores only
+                if (is_store_variant(v) && a != "sequential") continue;  // nt and rep are sequential stores only
                 Access access{a, a == "strided" ? 4u : 0u};
                 std::string label = display_name(k.info.name, v) + "_" + (a == "strided" ? "strided4" : a);
                 for (auto& c : label)
