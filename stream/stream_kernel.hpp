@@ -52,6 +52,12 @@ inline void nt_store(double* p, ntvec v) { _mm_stream_pd(p, v); }
 inline ntvec nt_load(const double* p) { return _mm_loadu_pd(p); }
 #endif
 constexpr std::int64_t nt_width = sizeof(ntvec) / sizeof(double);
+// How far ahead (elements: 4 KiB) the nt loops of the one-read kernels (copy, scale) prefetch
+// their source. Measured at 1 GiB on the 2-core Zen 5 VM, medians of 4-6 interleaved runs:
+// copy-nt +14 % (1 thread, 32.4 -> 37.4 GB/s; 2 threads 49.2 -> 55.9), scale-nt +12-14 %,
+// nothing at 1 MiB; 2 KiB ahead did as well. The two-read kernels (add, triad) gained nothing
+// from prefetching both sources (1 thread: triad-nt 34.1 against 38.0, add-nt 36.7 against 36.5).
+constexpr std::int64_t nt_prefetch = 512;
 
 // The string instructions of the "rep" variants: one instruction copies (rep movsb) or fills
 // (rep stosq) a thread's whole block, and the CPU's microcode picks the width, the alignment
@@ -262,7 +268,8 @@ private:
     }
     // A scalar prologue brings a[] to a vector boundary; the body is Op::apply on whole vectors
     // (GCC vector arithmetic, scalar operands broadcast) stored with streaming stores, two
-    // vectors a step. Each thread fences its own stores once, after its last call: a thread sees
+    // vectors a step (four, all loads first as likwid-bench's stream_mem does, measured no
+    // faster), with the source prefetched nt_prefetch ahead in the one-read kernels. Each thread fences its own stores once, after its last call: a thread sees
     // its own streaming stores in order anyway, and a fence after every call waited for the
     // write-combining buffers to drain, which in cache cost a third of the bandwidth.
     __attribute__((noinline)) static void nt_store_loop(double* __restrict a, const double* __restrict b, const double* __restrict c,
@@ -275,6 +282,8 @@ private:
                 for (; i < blk.hi && (reinterpret_cast<std::uintptr_t>(a + i) % sizeof(ntvec)) != 0; ++i)
                     a[i] = Op::apply(b[i], Op::reads > 1 ? c[i] : 0.0);
                 for (; i + 2 * nt_width <= blk.hi; i += 2 * nt_width) {
+                    if constexpr (Op::reads == 1)
+                        for (std::int64_t l = 0; l < 2 * nt_width; l += 8) _mm_prefetch(reinterpret_cast<const char*>(b + i + l + nt_prefetch), _MM_HINT_T0);
                     const ntvec vb0 = nt_load(b + i), vb1 = nt_load(b + i + nt_width);
                     const ntvec vc0 = Op::reads > 1 ? nt_load(c + i) : vb0;
                     const ntvec vc1 = Op::reads > 1 ? nt_load(c + i + nt_width) : vb1;
