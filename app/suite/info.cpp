@@ -32,7 +32,7 @@ int cmd_info(const std::vector<std::string>& args) {
     const nlohmann::json context = build_context(topo, {}, instruments);
     if (json) {
         nlohmann::json j = to_json(topo);
-        for (const char* key : {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set"}) j[key] = context[key];
+        for (const char* key : {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set", "string_ops"}) j[key] = context[key];
         if (measured) j["caches_measured"] = to_json(*measured, topo);
         std::cout << j.dump(2) << "\n";
         return 0;
@@ -61,6 +61,10 @@ int cmd_info(const std::vector<std::string>& args) {
     }
     std::cout << "  built for: " << (context["instruction_set"]["avx512f"].get<bool>() ? "AVX-512" : context["instruction_set"]["avx2"].get<bool>() ? "AVX2" : "SSE2")
               << ", " << context["instruction_set"]["nt_store_bits"].get<int>() << "-bit streaming stores\n";
+    const auto& strings = context["string_ops"];
+    auto flag = [&](const char* key) { return strings[key].is_null() ? std::string("unknown") : strings[key].get<bool>() ? "yes" : "no"; };
+    std::cout << "  fast strings (the rep variants): ERMS " << flag("erms") << ", FSRM " << flag("fsrm")
+              << (strings.contains("reason") ? " (" + strings["reason"].get<std::string>() + ")" : std::string()) << "\n";
     return 0;
 }
 

@@ -3,6 +3,9 @@
 #include <sys/utsname.h>
 #include <time.h>
 #include <unistd.h>
+#if defined(__x86_64__)
+#include <cpuid.h>
+#endif
 
 #include <chrono>
 #include <fstream>
@@ -59,6 +62,19 @@ std::string cpu_model_fallback() {
     return "";
 }
 
+// The CPU's fast-string features, which decide how fast the rep variants (rep movsb, rep stosq)
+// run: ERMS (enhanced rep movsb/stosb) and FSRM (fast short rep mov), from CPUID leaf 7.
+nlohmann::json string_ops_context() {
+#if defined(__x86_64__)
+    unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+    if (!__get_cpuid_count(7, 0, &eax, &ebx, &ecx, &edx))
+        return {{"erms", nullptr}, {"fsrm", nullptr}, {"reason", "this CPU has no CPUID leaf 7"}};
+    return {{"erms", ((ebx >> 9) & 1u) != 0}, {"fsrm", ((edx >> 4) & 1u) != 0}, {"source", "CPUID leaf 7: EBX bit 9, EDX bit 4"}};
+#else
+    return {{"erms", nullptr}, {"fsrm", nullptr}, {"reason", "not an x86-64 CPU: the rep variants are not built"}};
+#endif
+}
+
 }  // namespace
 
 nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments) {
@@ -101,6 +117,7 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
 #endif
         },
     };
+    c["string_ops"] = string_ops_context();
     c["date"] = utc_now();
     char host[256] = {0};
     gethostname(host, sizeof host - 1);
@@ -125,7 +142,7 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
         {"bandwidth", "STREAM convention: each array element read or written counts once, 8 B per double; "
                       "copy/scale 16 B, add/triad/sin-add 24 B per element; index arrays not counted"},
         {"gigabyte", "1 GB/s = 1e9 B/s"},
-        {"hardware_bytes", "estimate of memory-system traffic: +1 read per store (write-allocate) unless non-temporal, "
+        {"hardware_bytes", "estimate of memory-system traffic: +1 read per store (write-allocate) unless non-temporal or a string instruction (rep), "
                            "4 B per index for random, whole 64 B lines for random and wide-strided accesses"},
         {"headline", "best = minimum time over the counted repetitions; the first repetition is a warm-up, not counted"},
         {"timing", "monotonic clock around the whole parallel region, barriers included"},

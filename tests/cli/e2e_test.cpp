@@ -327,8 +327,17 @@ TEST(E2E, InfoSaysWhatCanBeMeasuredAndWhyNot) {
             EXPECT_FALSE(inst["reason"].get<std::string>().empty()) << name;
         }
     }
+    // The fast-string flags from CPUID, against the kernel's own reading of them.
+    const std::string cpuinfo = slurp("/proc/cpuinfo");
+    const auto flags_at = cpuinfo.find("\nflags");
+    if (flags_at != std::string::npos) {
+        const std::string flags = cpuinfo.substr(flags_at, cpuinfo.find('\n', flags_at + 1) - flags_at) + " ";
+        for (const char* flag : {"erms", "fsrm"})
+            EXPECT_EQ(info["string_ops"][flag], flags.find(" " + std::string(flag) + " ") != std::string::npos) << flag << ": " << info["string_ops"].dump();
+    }
     Outcome table = run_suite({"info"});
     ASSERT_EQ(table.status, 0);
+    EXPECT_NE(table.out.find("fast strings (the rep variants): ERMS "), std::string::npos) << table.out;
     EXPECT_NE(table.out.find("What can be measured here"), std::string::npos);
     EXPECT_NE(table.out.find("Caches (as reported by hwloc)"), std::string::npos);
 }
