@@ -7,8 +7,9 @@ Usage: bench/vs_peers.py [--rounds N] [--out DIR] [--suite ./suite] [--ref build
 
 Sizes: 32 KiB, 1 MiB, half the last level the cache probe measures (all instances), and 1 GiB
 (DRAM), each the footprint of all arrays together; 1 thread and all threads, pinned compact
-(likwid-bench pins to the same first CPUs). Each round measures every point of every side one
-after the other, so both sides of a ratio see the same machine state; the figure of a side is the
+(likwid-bench pins to the same first CPUs). Each round measures, point by point and kind by kind,
+the suite's variants of the kind and then its peers (or the peers first: the order alternates
+between rounds), so that both sides of a ratio are seconds apart; the figure of a side is the
 median over the rounds of its median sample (the suite's, ref_stream's: samples of at least 1 ms)
 or of one likwid-bench run of about 2 ms (50 ms for its non-temporal kernels, whose first tens of
 kilobytes of streaming stores are absorbed at core speed). GB/s by the STREAM convention.
@@ -22,7 +23,8 @@ Kinds and their peers:
   store  store_avx512, store_mem_avx512, memset
 The suite's figure for a kind is its best variant at that point (plain, -nt, or -rep for copy and
 store, the string instructions rep movsb / rep stosq: a user picks the one that suits the size);
-all are in the JSON. Writes DIR/vs_peers.{json,md}.
+all are in the JSON. Two ratios: of the sides' medians, and the median over the rounds of each
+round's ratio (best variant over best peer). Writes DIR/vs_peers.{json,md}.
 """
 import argparse
 import json
@@ -76,11 +78,15 @@ rounds = 1 if a.quick else a.rounds
 have_likwid = os.access(a.likwid, os.X_OK)
 
 
-def suite_side(size, threads, tmp):
-    """{name: median GB/s} of every suite kernel of KINDS at this point (three runs: plain, nt, rep)."""
+STORES = {"": "default", "nt": "nt", "rep": "rep"}
+
+
+def suite_side(kind, size, threads, tmp):
+    """{name: median GB/s} of the suite's variants of one kind at this point (a run per --stores)."""
     out, figures = os.path.join(tmp, "s.json"), {}
-    for stores, kernels in (("default", "copy,scale,add,triad,load,store"), ("nt", "copy,scale,add,triad,store"), ("rep", "copy,store")):
-        run([a.suite, f"--kernel={kernels}", f"--stores={stores}", f"--size={size}", f"--threads={threads}", "--pin=compact",
+    for name in KINDS[kind][0]:
+        variant = name.split("-", 1)[1] if "-" in name else ""
+        run([a.suite, f"--kernel={kind}", f"--stores={STORES[variant]}", f"--size={size}", f"--threads={threads}", "--pin=compact",
              "--counters=none", "--energy=none", "--quiet", f"--out={out}"])
         for r in json.load(open(out))["results"]:
             if not r["verification"]["passed"]:
@@ -89,10 +95,9 @@ def suite_side(size, threads, tmp):
     return figures
 
 
-def ref_side(size, threads):
-    kernels = "stream-copy,stream-scale,stream-add,stream-triad,memcpy,memset"
+def ref_side(kernels, size, threads):
     env = dict(os.environ, OMP_PROC_BIND="close", OMP_PLACES="cores")
-    r = subprocess.run([a.ref, kernels, str(size), str(threads)], capture_output=True, text=True, env=env)
+    r = subprocess.run([a.ref, ",".join(kernels), str(size), str(threads)], capture_output=True, text=True, env=env)
     if r.returncode != 0:
         sys.exit(f"vs_peers: ref_stream failed: {r.stderr.strip()}")
     figures = {}
@@ -104,29 +109,47 @@ def ref_side(size, threads):
     return figures
 
 
-def likwid_side(size, threads, guess):
+def likwid_side(names, size, threads, guess):
     figures = {}
     if not have_likwid:
         return figures
-    for name in ("copy", "copy_mem", "stream", "stream_mem", "load", "store", "store_mem"):
+    for name in names:
         test = f"{name.replace('_mem', '')}_mem_{width}" if name.endswith("_mem") else f"{name}_{width}"
         seconds = 0.05 if name.endswith("_mem") else 0.002
-        per_call = size / max(guess, 1.0) / 1e9  # from the suite's figure at this point
+        per_call = size / max(guess, 1.0) / 1e9
         iters = max(10, int(seconds / max(per_call, 1e-9)))
         text = run([a.likwid, "-t", test, "-W", f"S0:{size}B:{threads}", "-i", str(iters)])
         figures["likwid:" + name] = float(re.search(r"^MByte/s:\s+([0-9.]+)", text, re.M).group(1)) / 1e3
     return figures
 
 
-samples = {}
+def peer_side(kind, size, threads, guess):
+    peers = KINDS[kind][1]
+    ref = [p.split(":", 1)[1] for p in peers if p.startswith("ref:")]
+    lik = [p.split(":", 1)[1] for p in peers if p.startswith("likwid:")]
+    return {**(ref_side(ref, size, threads) if ref else {}), **likwid_side(lik, size, threads, guess)}
+
+
+# Each kind's suite variants and its peers run back to back, so that the two sides of a ratio
+# are seconds apart (this VM's bandwidth changes state from one minute to the next); which side
+# goes first alternates from round to round, so that a drift within the pair cancels.
+samples, guesses = {}, {}
 with tempfile.TemporaryDirectory() as tmp:
     for k in range(rounds):
         for threads in thread_counts:
             for size in sizes:
-                s = suite_side(size, threads, tmp)
-                fig = {**s, **ref_side(size, threads), **likwid_side(size, threads, s.get("copy", 10.0))}
-                for name, v in fig.items():
-                    samples.setdefault((threads, size, name), []).append(v)
+                for kind in KINDS:
+                    # likwid-bench's iteration count comes from the last figure at this point
+                    # (about 2 ms runs, 50 ms for its non-temporal kernels).
+                    guess = guesses.get((threads, size), 200.0 if size < 64 * MiB else 30.0)
+                    sides = [lambda: suite_side(kind, size, threads, tmp), lambda: peer_side(kind, size, threads, guess)]
+                    fig = {}
+                    for side in (sides if k % 2 == 0 else sides[::-1]):
+                        fig.update(side())
+                    if kind == "copy" and "copy" in fig:
+                        guesses[(threads, size)] = fig["copy"]
+                    for name, v in fig.items():
+                        samples.setdefault((threads, size, name), []).append(v)
                 print(f"round {k + 1}/{rounds}: {threads} thread(s), {size} B", file=sys.stderr, flush=True)
 
 med = {key: statistics.median(v) for key, v in samples.items()}
@@ -140,8 +163,13 @@ for threads in thread_counts:
                 continue
             best_mine, best_peer = max(mine, key=mine.get), max(theirs, key=theirs.get)
             ratio = mine[best_mine] / theirs[best_peer]
+            # Round by round, the suite's best variant over the best peer: the two sides of a
+            # round's ratio were seconds apart, so a change of the machine's state between rounds
+            # cancels in it.
+            per_round = [max(samples[(threads, size, n)][r] for n in mine) / max(samples[(threads, size, n)][r] for n in theirs)
+                         for r in range(rounds)]
             rows.append({"threads": threads, "size_bytes": size, "kind": kind, "suite": mine, "peers": theirs, "suite_best": best_mine,
-                         "peer_best": best_peer, "ratio": ratio})
+                         "peer_best": best_peer, "ratio": ratio, "round_ratios": per_round, "paired_ratio": statistics.median(per_round)})
 
 
 def size_text(n):
@@ -151,10 +179,11 @@ def size_text(n):
     return f"{n} B"
 
 
-md = ["| threads | size | kind | suite (its best) GB/s | best peer GB/s | suite / peer |", "| --- | --- | --- | --- | --- | --- |"]
+md = ["| threads | size | kind | suite (its best) GB/s | best peer GB/s | suite / peer | median of the rounds' ratios |",
+      "| --- | --- | --- | --- | --- | --- | --- |"]
 for r in rows:
     md.append(f"| {r['threads']} | {size_text(r['size_bytes'])} | {r['kind']} | {r['suite'][r['suite_best']]:.1f} ({r['suite_best']}) | "
-              f"{r['peers'][r['peer_best']]:.1f} ({r['peer_best']}) | {r['ratio']:.3f} |")
+              f"{r['peers'][r['peer_best']]:.1f} ({r['peer_best']}) | {r['ratio']:.3f} | {r['paired_ratio']:.3f} |")
 text = "\n".join(md) + "\n"
 print(text)
 os.makedirs(a.out, exist_ok=True)
