@@ -177,7 +177,7 @@ private:
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
-            const std::size_t words = static_cast<std::size_t>(std::max<std::int64_t>(blk.hi - blk.lo, 0));
+            const std::size_t words = static_cast<std::size_t>(blk.hi - blk.lo);  // line_block: hi >= lo
             for (int k = 0; k < calls; ++k) {
                 rep_stosq(a + blk.lo, std::bit_cast<std::uint64_t>(stored_value(first_call + static_cast<std::uint64_t>(k))), words);
                 compiler_fence();

@@ -269,9 +269,10 @@ private:
     // A scalar prologue brings a[] to a vector boundary; the body is Op::apply on whole vectors
     // (GCC vector arithmetic, scalar operands broadcast) stored with streaming stores, two
     // vectors a step (four, all loads first as likwid-bench's stream_mem does, measured no
-    // faster), with the source prefetched nt_prefetch ahead in the one-read kernels. Each thread fences its own stores once, after its last call: a thread sees
-    // its own streaming stores in order anyway, and a fence after every call waited for the
-    // write-combining buffers to drain, which in cache cost a third of the bandwidth.
+    // faster), with the source prefetched nt_prefetch ahead in the one-read kernels. Each thread
+    // fences its own stores once, after its last call: a thread sees its own streaming stores in
+    // order anyway, and a fence after every call waited for the write-combining buffers to
+    // drain, which in cache cost a third of the bandwidth.
     __attribute__((noinline)) static void nt_store_loop(double* __restrict a, const double* __restrict b, const double* __restrict c,
                                                         std::int64_t n, int calls) {
 #pragma omp parallel
@@ -303,7 +304,7 @@ private:
 #pragma omp parallel
         {
             const Block blk = my_line_block(n);
-            const std::size_t bytes = static_cast<std::size_t>(std::max<std::int64_t>(blk.hi - blk.lo, 0)) * sizeof(double);
+            const std::size_t bytes = static_cast<std::size_t>(blk.hi - blk.lo) * sizeof(double);  // line_block: hi >= lo
             for (int k = 0; k < calls; ++k) {
                 rep_movsb(a + blk.lo, b + blk.lo, bytes);
                 compiler_fence();
