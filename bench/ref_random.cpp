@@ -45,18 +45,23 @@ void permutation(std::uint32_t* p, std::uint64_t n, std::uint64_t seed) {
     }
 }
 
-void report(const std::string& kernel, std::uint64_t size, int threads, const Timing& t, double bytes_or_loads, bool latency, bool ok) {
+void report(const std::string& kernel, std::uint64_t size, int threads, const Timing& t, double bytes_or_loads,
+            bool latency, bool ok) {
     const double med = median(t.per_call), best = *std::min_element(t.per_call.begin(), t.per_call.end());
     if (latency)
-        std::printf("{\"kernel\": \"%s\", \"size_bytes\": %llu, \"threads\": %d, \"samples\": %zu, \"calls\": %d, \"ns_median\": %.6g, "
-                    "\"ns_best\": %.6g, \"verified\": %s}\n",
-                    kernel.c_str(), static_cast<unsigned long long>(size), threads, t.per_call.size(), t.calls, med / bytes_or_loads * 1e9,
-                    best / bytes_or_loads * 1e9, ok ? "true" : "false");
+        std::printf(
+            "{\"kernel\": \"%s\", \"size_bytes\": %llu, \"threads\": %d, \"samples\": %zu, \"calls\": %d, "
+            "\"ns_median\": %.6g, "
+            "\"ns_best\": %.6g, \"verified\": %s}\n",
+            kernel.c_str(), static_cast<unsigned long long>(size), threads, t.per_call.size(), t.calls,
+            med / bytes_or_loads * 1e9, best / bytes_or_loads * 1e9, ok ? "true" : "false");
     else
-        std::printf("{\"kernel\": \"%s\", \"size_bytes\": %llu, \"threads\": %d, \"samples\": %zu, \"calls\": %d, \"gbps_median\": %.6g, "
-                    "\"gbps_best\": %.6g, \"verified\": %s}\n",
-                    kernel.c_str(), static_cast<unsigned long long>(size), threads, t.per_call.size(), t.calls, bytes_or_loads / med / 1e9,
-                    bytes_or_loads / best / 1e9, ok ? "true" : "false");
+        std::printf(
+            "{\"kernel\": \"%s\", \"size_bytes\": %llu, \"threads\": %d, \"samples\": %zu, \"calls\": %d, "
+            "\"gbps_median\": %.6g, "
+            "\"gbps_best\": %.6g, \"verified\": %s}\n",
+            kernel.c_str(), static_cast<unsigned long long>(size), threads, t.per_call.size(), t.calls,
+            bytes_or_loads / med / 1e9, bytes_or_loads / best / 1e9, ok ? "true" : "false");
     std::fflush(stdout);
 }
 
@@ -87,7 +92,8 @@ void stream_kernel(const std::string& name, std::uint64_t size, int threads, F f
         }
     });
     bool ok = true;
-    for (std::int64_t i = 0; i < n && ok; ++i) ok = std::fabs(a[i] - f(b_at(i), Reads > 1 ? c_at(i) : 0.0)) <= 1e-13 * std::fabs(a[i]) + 1e-300;
+    for (std::int64_t i = 0; i < n && ok; ++i)
+        ok = std::fabs(a[i] - f(b_at(i), Reads > 1 ? c_at(i) : 0.0)) <= 1e-13 * std::fabs(a[i]) + 1e-300;
     report(name, size, threads, t, 8.0 * (1 + Reads) * static_cast<double>(n), false, ok);
     std::free(a), std::free(b), std::free(c), std::free(p);
 }
@@ -196,15 +202,25 @@ void latency_kernel(std::uint64_t size, int threads) {
 int main(int argc, char** argv) {
     return ref::run_kernels(argc, argv, "ref_random", "copy,scale,add,triad,sin-add,load,store,latency",
                             [](const std::string& k, std::uint64_t size, int threads) {
-                                if (k == "copy") stream_kernel<1>(k, size, threads, [](double b, double) { return b; });
-                                else if (k == "scale") stream_kernel<1>(k, size, threads, [](double b, double) { return 3.0 * b; });
-                                else if (k == "add") stream_kernel<2>(k, size, threads, [](double b, double c) { return b + c; });
-                                else if (k == "triad") stream_kernel<2>(k, size, threads, [](double b, double c) { return b + 3.0 * c; });
-                                else if (k == "sin-add") stream_kernel<2>(k, size, threads, [](double b, double c) { return std::sin(b) + std::sin(c); });
-                                else if (k == "load") load_kernel(size, threads);
-                                else if (k == "store") store_kernel(size, threads);
-                                else if (k == "latency") latency_kernel(size, threads);
-                                else return false;
+                                if (k == "copy")
+                                    stream_kernel<1>(k, size, threads, [](double b, double) { return b; });
+                                else if (k == "scale")
+                                    stream_kernel<1>(k, size, threads, [](double b, double) { return 3.0 * b; });
+                                else if (k == "add")
+                                    stream_kernel<2>(k, size, threads, [](double b, double c) { return b + c; });
+                                else if (k == "triad")
+                                    stream_kernel<2>(k, size, threads, [](double b, double c) { return b + 3.0 * c; });
+                                else if (k == "sin-add")
+                                    stream_kernel<2>(k, size, threads,
+                                                     [](double b, double c) { return std::sin(b) + std::sin(c); });
+                                else if (k == "load")
+                                    load_kernel(size, threads);
+                                else if (k == "store")
+                                    store_kernel(size, threads);
+                                else if (k == "latency")
+                                    latency_kernel(size, threads);
+                                else
+                                    return false;
                                 return true;
                             });
 }

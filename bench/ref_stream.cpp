@@ -40,10 +40,12 @@ double* fresh(std::size_t n) { return ref::fresh<double>(n); }
 void report(const std::string& kernel, std::uint64_t size, int threads, const Timing& timing, double bytes, bool ok) {
     const std::vector<double>& t = timing.per_call;
     const double med = ref::median(t), best = *std::min_element(t.begin(), t.end());
-    std::printf("{\"kernel\": \"%s\", \"size_bytes\": %llu, \"threads\": %d, \"samples\": %zu, \"calls\": %d, \"gbps_median\": %.6g, "
-                "\"gbps_best\": %.6g, \"verified\": %s}\n",
-                kernel.c_str(), static_cast<unsigned long long>(size), threads, t.size(), timing.calls, bytes / med / 1e9, bytes / best / 1e9,
-                ok ? "true" : "false");
+    std::printf(
+        "{\"kernel\": \"%s\", \"size_bytes\": %llu, \"threads\": %d, \"samples\": %zu, \"calls\": %d, \"gbps_median\": "
+        "%.6g, "
+        "\"gbps_best\": %.6g, \"verified\": %s}\n",
+        kernel.c_str(), static_cast<unsigned long long>(size), threads, t.size(), timing.calls, bytes / med / 1e9,
+        bytes / best / 1e9, ok ? "true" : "false");
     std::fflush(stdout);
 }
 
@@ -67,24 +69,23 @@ void stream_loop(const char* name, std::uint64_t size, int threads) {
         if (c) c[j] = 2.0 + static_cast<double>(j % 777) * 0.25;
     }
     const double scalar = 3.0;
-    const Timing t = ref::time_it(
-        [&](int k) {
-            for (int r = 0; r < k; ++r) {
-                if constexpr (Kernel == 0) {
+    const Timing t = ref::time_it([&](int k) {
+        for (int r = 0; r < k; ++r) {
+            if constexpr (Kernel == 0) {
 #pragma omp parallel for
-                    for (std::int64_t j = 0; j < n; j++) a[j] = b[j];
-                } else if constexpr (Kernel == 1) {
+                for (std::int64_t j = 0; j < n; j++) a[j] = b[j];
+            } else if constexpr (Kernel == 1) {
 #pragma omp parallel for
-                    for (std::int64_t j = 0; j < n; j++) a[j] = scalar * b[j];
-                } else if constexpr (Kernel == 2) {
+                for (std::int64_t j = 0; j < n; j++) a[j] = scalar * b[j];
+            } else if constexpr (Kernel == 2) {
 #pragma omp parallel for
-                    for (std::int64_t j = 0; j < n; j++) a[j] = b[j] + c[j];
-                } else {
+                for (std::int64_t j = 0; j < n; j++) a[j] = b[j] + c[j];
+            } else {
 #pragma omp parallel for
-                    for (std::int64_t j = 0; j < n; j++) a[j] = b[j] + scalar * c[j];
-                }
+                for (std::int64_t j = 0; j < n; j++) a[j] = b[j] + scalar * c[j];
             }
-        });
+        }
+    });
     bool ok = true;
     for (std::int64_t j = 0; j < n && ok; ++j) {
         const double bj = 1.0 + static_cast<double>(j % 1000) * 0.5, cj = 2.0 + static_cast<double>(j % 777) * 0.25;
@@ -104,18 +105,17 @@ void memcpy_blocks(std::uint64_t size, int threads) {
         block(n, lo, hi);
         for (std::int64_t j = lo; j < hi; ++j) a[j] = -1.0, b[j] = 1.0 + static_cast<double>(j % 1000) * 0.5;
     }
-    const Timing t = ref::time_it(
-        [&](int k) {
+    const Timing t = ref::time_it([&](int k) {
 #pragma omp parallel
-            {
-                std::int64_t lo, hi;
-                block(n, lo, hi);
-                for (int r = 0; r < k; ++r) {
-                    std::memcpy(a + lo, b + lo, static_cast<std::size_t>(hi - lo) * sizeof(double));
-                    asm volatile("" ::: "memory");
-                }
+        {
+            std::int64_t lo, hi;
+            block(n, lo, hi);
+            for (int r = 0; r < k; ++r) {
+                std::memcpy(a + lo, b + lo, static_cast<std::size_t>(hi - lo) * sizeof(double));
+                asm volatile("" ::: "memory");
             }
-        });
+        }
+    });
     bool ok = std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
     report("memcpy", size, threads, t, 16.0 * static_cast<double>(n), ok);
     std::free(a), std::free(b);
@@ -132,19 +132,19 @@ void memset_blocks(std::uint64_t size, int threads) {
         for (std::int64_t j = lo; j < hi; ++j) a[j] = -1.0;
     }
     std::uint64_t done = 0;
-    const Timing t = ref::time_it(
-        [&](int k) {
+    const Timing t = ref::time_it([&](int k) {
 #pragma omp parallel
-            {
-                std::int64_t lo, hi;
-                block(n, lo, hi);
-                for (int r = 0; r < k; ++r) {
-                    std::memset(a + lo, static_cast<int>(1 + (done + r) % 255), static_cast<std::size_t>(hi - lo) * sizeof(double));
-                    asm volatile("" ::: "memory");
-                }
+        {
+            std::int64_t lo, hi;
+            block(n, lo, hi);
+            for (int r = 0; r < k; ++r) {
+                std::memset(a + lo, static_cast<int>(1 + (done + r) % 255),
+                            static_cast<std::size_t>(hi - lo) * sizeof(double));
+                asm volatile("" ::: "memory");
             }
-            done += k;
-        });
+        }
+        done += k;
+    });
     const auto last = static_cast<unsigned char>(1 + (done - 1) % 255);
     bool ok = true;
     for (std::int64_t j = 0; j < n * 8 && ok; ++j) ok = bytes[j] == last;
@@ -157,13 +157,20 @@ void memset_blocks(std::uint64_t size, int threads) {
 int main(int argc, char** argv) {
     return ref::run_kernels(argc, argv, "ref_stream", "stream-copy,stream-scale,stream-add,stream-triad,memcpy,memset",
                             [](const std::string& k, std::uint64_t size, int threads) {
-                                if (k == "stream-copy") stream_loop<0>("stream-copy", size, threads);
-                                else if (k == "stream-scale") stream_loop<1>("stream-scale", size, threads);
-                                else if (k == "stream-add") stream_loop<2>("stream-add", size, threads);
-                                else if (k == "stream-triad") stream_loop<3>("stream-triad", size, threads);
-                                else if (k == "memcpy") memcpy_blocks(size, threads);
-                                else if (k == "memset") memset_blocks(size, threads);
-                                else return false;
+                                if (k == "stream-copy")
+                                    stream_loop<0>("stream-copy", size, threads);
+                                else if (k == "stream-scale")
+                                    stream_loop<1>("stream-scale", size, threads);
+                                else if (k == "stream-add")
+                                    stream_loop<2>("stream-add", size, threads);
+                                else if (k == "stream-triad")
+                                    stream_loop<3>("stream-triad", size, threads);
+                                else if (k == "memcpy")
+                                    memcpy_blocks(size, threads);
+                                else if (k == "memset")
+                                    memset_blocks(size, threads);
+                                else
+                                    return false;
                                 return true;
                             });
 }

@@ -66,7 +66,10 @@ struct Options {
 struct Side {
     TimeStats t;
     nlohmann::json to_json(double bytes) const {
-        return {{"best_s", t.min}, {"median_s", t.median}, {"best_gbs", bytes / t.min / 1e9}, {"median_gbs", bytes / t.median / 1e9}};
+        return {{"best_s", t.min},
+                {"median_s", t.median},
+                {"best_gbs", bytes / t.min / 1e9},
+                {"median_gbs", bytes / t.median / 1e9}};
     }
 };
 
@@ -92,7 +95,8 @@ nlohmann::json compare(const Options& o, const std::string& ordering) {
     const Eigen::Map<const Eigen::VectorXd> ex(x.data(), n);
     Eigen::Map<Eigen::VectorXd> ey(theirs.data(), n);
     const fem::SymmetricMatrix sym = fem::make_symmetric(p, a.a.data(), o.threads, fem::default_window);
-    const fem::Operator csr_op = fem::Operator::of_csr(p, a.a.data()), sym_op = fem::Operator::of_symmetric(sym.pattern, sym.values());
+    const fem::Operator csr_op = fem::Operator::of_csr(p, a.a.data()),
+                        sym_op = fem::Operator::of_symmetric(sym.pattern, sym.values());
 
     const double* const xv = x.data();
     const double* const av = a.a.data();
@@ -129,24 +133,34 @@ nlohmann::json compare(const Options& o, const std::string& ordering) {
     };
 
     for (std::size_t s = 0; s < sides.size(); ++s) run_side(s);
-    if (team != o.threads) throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP gave a team of " + std::to_string(team));
+    if (team != o.threads)
+        throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP gave a team of " + std::to_string(team));
     sides[3].y = theirs;
     double worst = 0;
     for (std::size_t s = 0; s < 3; ++s)
         for (std::int64_t i = 0; i < n; ++i) {
-            const double got = sides[s].y[i], rel = scale[i] == 0 ? std::fabs(got - theirs[i]) : std::fabs(got - theirs[i]) / scale[i];
+            const double got = sides[s].y[i],
+                         rel = scale[i] == 0 ? std::fabs(got - theirs[i]) : std::fabs(got - theirs[i]) / scale[i];
             worst = std::max(worst, rel);
             if (!(rel <= tolerance)) {
-                std::fprintf(stderr, "suite-spmv-eigen: %s: %s's y differs from Eigen's at row %lld: %.17g against %.17g (%.3g of the row's sum of |a x| > %.0e)\n",
-                             ordering.c_str(), sides[s].name, static_cast<long long>(i), got, theirs[i], rel, tolerance);
+                std::fprintf(stderr,
+                             "suite-spmv-eigen: %s: %s's y differs from Eigen's at row %lld: %.17g against %.17g (%.3g "
+                             "of the row's sum of |a x| > %.0e)\n",
+                             ordering.c_str(), sides[s].name, static_cast<long long>(i), got, theirs[i], rel,
+                             tolerance);
                 std::exit(1);
             }
         }
 
     for (int r = 0; r < o.reps; ++r)
         for (std::size_t s = 0; s < sides.size(); ++s) sides[s].times.push_back(run_side(s));
-    nlohmann::json out = {{"ordering", ordering}, {"rows", n}, {"nnz", nnz}, {"max_relative_difference", worst},
-                          {"symmetric_window", sym.pattern.counts.window}, {"symmetric_far_entries", static_cast<double>(sym.pattern.counts.far_nnz) / static_cast<double>(nnz)}};
+    nlohmann::json out = {
+        {"ordering", ordering},
+        {"rows", n},
+        {"nnz", nnz},
+        {"max_relative_difference", worst},
+        {"symmetric_window", sym.pattern.counts.window},
+        {"symmetric_far_entries", static_cast<double>(sym.pattern.counts.far_nnz) / static_cast<double>(nnz)}};
     std::vector<double> med;
     std::printf("%-8s", ordering.c_str());
     for (auto& c : sides) {
@@ -167,9 +181,13 @@ nlohmann::json compare(const Options& o, const std::string& ordering) {
 
 int run(int argc, char** argv) {
     Options o;
-    CLI::App app{"fem-spmv's products (plain and tuned CSR, symmetric) against Eigen's sparse matrix-vector product on the same matrix"};
+    CLI::App app{
+        "fem-spmv's products (plain and tuned CSR, symmetric) against Eigen's sparse matrix-vector product on the same "
+        "matrix"};
     app.add_option("--mesh", o.mesh, "mesh spec (as suite's --mesh)")->capture_default_str();
-    app.add_option("--ordering", o.orderings, "natural|random|morton|hilbert|rcm, or a comma list of them")->delimiter(',')->capture_default_str();
+    app.add_option("--ordering", o.orderings, "natural|random|morton|hilbert|rcm, or a comma list of them")
+        ->delimiter(',')
+        ->capture_default_str();
     add_whole_option(app, "--threads", o.threads, 1, 1024, "OpenMP threads for both (default 1)");
     add_whole_option(app, "--reps", o.reps, 1, 1000000, "timed products of each, after one warm-up each (default 50)");
     app.add_option("--json", o.json, "also write the results to this JSON file");
@@ -181,8 +199,10 @@ int run(int argc, char** argv) {
     }
     // Before the minutes of loading and assembly, not after them.
     for (const auto& ordering : o.orderings)
-        if (std::find(std::begin(fem::fem_orderings), std::end(fem::fem_orderings), ordering) == std::end(fem::fem_orderings))
-            throw UsageError("--ordering=" + ordering + ": expected natural, random, morton, hilbert or rcm, or a comma list of them");
+        if (std::find(std::begin(fem::fem_orderings), std::end(fem::fem_orderings), ordering) ==
+            std::end(fem::fem_orderings))
+            throw UsageError("--ordering=" + ordering +
+                             ": expected natural, random, morton, hilbert or rcm, or a comma list of them");
     OutputFile out;
     if (!o.json.empty()) out = OutputFile::claim(o.json, "--json", {});
 
@@ -191,24 +211,35 @@ int run(int argc, char** argv) {
     Eigen::setNbThreads(o.threads);
     char host[256] = {0};
     gethostname(host, sizeof host - 1);
-    std::printf("suite-spmv-eigen on %s: mesh %s, %d thread(s) (Eigen: %d), %d repetitions each, Eigen %d.%d.%d\n", host, o.mesh.c_str(),
-                o.threads, Eigen::nbThreads(), o.reps, EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION);
-    std::printf("median GB/s of each format's minimal traffic; speed-ups are ratios of median times (> 1: the first is faster)\n");
-    std::printf("%-8s %9s %9s %9s %9s   %8s %8s %8s   %s\n", "ordering", "plain", "csr", "symmetric", "Eigen", "csr/plain", "sym/csr", "csr/Eigen",
-                "max rel diff");
+    std::printf("suite-spmv-eigen on %s: mesh %s, %d thread(s) (Eigen: %d), %d repetitions each, Eigen %d.%d.%d\n",
+                host, o.mesh.c_str(), o.threads, Eigen::nbThreads(), o.reps, EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
+                EIGEN_MINOR_VERSION);
+    std::printf(
+        "median GB/s of each format's minimal traffic; speed-ups are ratios of median times (> 1: the first is "
+        "faster)\n");
+    std::printf("%-8s %9s %9s %9s %9s   %8s %8s %8s   %s\n", "ordering", "plain", "csr", "symmetric", "Eigen",
+                "csr/plain", "sym/csr", "csr/Eigen", "max rel diff");
     std::fflush(stdout);
     nlohmann::json results = nlohmann::json::array();
     for (const auto& ordering : o.orderings) results.push_back(compare(o, ordering));
     if (!o.json.empty()) {
         const nlohmann::json doc = {
-            {"machine", {{"host", host}, {"threads", o.threads}, {"eigen_threads", Eigen::nbThreads()}, {"compiler", build::compiler}, {"compiler_flags", build::flags},
-                         {"git_revision", build::git_revision}}},
-            {"eigen_version", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." + std::to_string(EIGEN_MINOR_VERSION)},
+            {"machine",
+             {{"host", host},
+              {"threads", o.threads},
+              {"eigen_threads", Eigen::nbThreads()},
+              {"compiler", build::compiler},
+              {"compiler_flags", build::flags},
+              {"git_revision", build::git_revision}}},
+            {"eigen_version", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                                  std::to_string(EIGEN_MINOR_VERSION)},
             {"mesh", o.mesh},
             {"delta", delta},
             {"reps", o.reps},
-            {"bytes_convention", "CSR and Eigen: 12 B a nonzero (8 value + 4 column index), 4 B a row pointer; symmetric: its structure's bytes; "
-                                 "all: 8 B a row of x and 8 of y; 1 GB = 1e9 B"},
+            {"bytes_convention",
+             "CSR and Eigen: 12 B a nonzero (8 value + 4 column index), 4 B a row pointer; symmetric: its structure's "
+             "bytes; "
+             "all: 8 B a row of x and 8 of y; 1 GB = 1e9 B"},
             {"speedups", "ratios of median times, > 1: the named first is faster"},
             {"results", results}};
         out.write(doc.dump(2) + "\n");

@@ -14,22 +14,22 @@
 #include <string>
 #include <vector>
 
+#include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "harness/machine/placement.hpp"
-#include "harness/results/report.hpp"
-#include "harness/measure/result.hpp"
-#include "harness/measure/plan.hpp"
 #include "harness/machine/team.hpp"
 #include "harness/machine/topology.hpp"
-#include "harness/common/units.hpp"
+#include "harness/measure/plan.hpp"
+#include "harness/measure/result.hpp"
+#include "harness/results/report.hpp"
 
 namespace {
 
 using namespace suite;
 
 struct Options {
-    std::string sizes;            // "" = the suite's default sizes for each thread count
-    std::string threads;          // "" = 1 and all
+    std::string sizes;    // "" = the suite's default sizes for each thread count
+    std::string threads;  // "" = 1 and all
     std::string pin = "compact";
 };
 
@@ -55,13 +55,17 @@ Options take_options(int& argc, char** argv) {
             const std::size_t n = std::strlen(flag);
             return a.size() > n && a.compare(0, n, flag) == 0 && a[n] == '=' ? argv[i] + n + 1 : nullptr;
         };
-        if (const char* v = value("--sizes")) o.sizes = v;
-        else if (const char* v2 = value("--threads")) o.threads = v2;
-        else if (const char* v3 = value("--pin")) o.pin = v3;
+        if (const char* v = value("--sizes"))
+            o.sizes = v;
+        else if (const char* v2 = value("--threads"))
+            o.threads = v2;
+        else if (const char* v3 = value("--pin"))
+            o.pin = v3;
         else if (a == "--help" || a == "-h") {
             std::fputs(usage, stdout);
             std::exit(0);
-        } else argv[kept++] = argv[i];
+        } else
+            argv[kept++] = argv[i];
     }
     argc = kept;
     return o;
@@ -86,7 +90,8 @@ void run_kernel(benchmark::State& state, const KernelEntry* entry, KernelConfig 
     const auto calls = static_cast<double>(state.iterations());
     if (entry->info.metric == Metric::bandwidth) {
         state.SetBytesProcessed(static_cast<std::int64_t>(w.stream_bytes * calls));
-        state.counters["hardware_bytes_per_second"] = benchmark::Counter(w.hardware_bytes * calls, benchmark::Counter::kIsRate);
+        state.counters["hardware_bytes_per_second"] =
+            benchmark::Counter(w.hardware_bytes * calls, benchmark::Counter::kIsRate);
     }
     state.SetItemsProcessed(static_cast<std::int64_t>(w.units * calls));
     state.counters["omp_threads"] = cfg.threads;
@@ -100,9 +105,10 @@ int main(int argc, char** argv) {
         static const Topology topo = Topology::load();
         static const PinSpec pin = parse_pin(opts.pin, topo);
         static const PlacementSpec placement = parse_placement("local", topo);
-        const std::vector<int> threads =
-            opts.threads.empty() ? std::vector<int>{1, topo.pu_count()} : parse_thread_list(opts.threads, topo.pu_count());
-        const std::vector<std::uint64_t> given = opts.sizes.empty() ? std::vector<std::uint64_t>{} : parse_size_list(opts.sizes);
+        const std::vector<int> threads = opts.threads.empty() ? std::vector<int>{1, topo.pu_count()}
+                                                              : parse_thread_list(opts.threads, topo.pu_count());
+        const std::vector<std::uint64_t> given =
+            opts.sizes.empty() ? std::vector<std::uint64_t>{} : parse_size_list(opts.sizes);
         std::vector<std::string> seen;
         for (const auto& entry : kernels()) {
             const KernelInfo& info = entry.info;
@@ -113,7 +119,9 @@ int main(int argc, char** argv) {
                     for (int t : threads) {
                         if (t > 1 && single_thread_only(info, variant)) continue;
                         std::vector<std::uint64_t> sizes = given;
-                        if (sizes.empty()) sizes = info.size_kind == SizeKind::bytes ? default_sizes(topo, t) : std::vector<std::uint64_t>{entry.test_size};
+                        if (sizes.empty())
+                            sizes = info.size_kind == SizeKind::bytes ? default_sizes(topo, t)
+                                                                      : std::vector<std::uint64_t>{entry.test_size};
                         for (std::uint64_t size : sizes) {
                             KernelConfig cfg{access, variant, size, 1, t, "", default_params(info)};
                             try {
@@ -121,12 +129,16 @@ int main(int argc, char** argv) {
                             } catch (const UsageError&) {
                                 continue;
                             }
-                            std::string name = gbench_name(display_name(info.name, variant), access.label(), size_label(info.size_kind, size), t);
+                            std::string name = gbench_name(display_name(info.name, variant), access.label(),
+                                                           size_label(info.size_kind, size), t);
                             name.resize(name.size() - std::strlen("/real_time"));  // Google Benchmark adds it back
-                            if (std::find(seen.begin(), seen.end(), name) != seen.end()) continue;  // e.g. two thread counts, same default size
+                            if (std::find(seen.begin(), seen.end(), name) != seen.end())
+                                continue;  // e.g. two thread counts, same default size
                             seen.push_back(name);
                             const KernelEntry* e = &entry;
-                            benchmark::RegisterBenchmark(name.c_str(), [e, cfg](benchmark::State& st) { run_kernel(st, e, cfg, pin, placement, topo); })
+                            benchmark::RegisterBenchmark(
+                                name.c_str(),
+                                [e, cfg](benchmark::State& st) { run_kernel(st, e, cfg, pin, placement, topo); })
                                 ->UseRealTime()
                                 ->Unit(benchmark::kMicrosecond);
                         }

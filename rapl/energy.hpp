@@ -72,11 +72,11 @@ private:
     std::string reason_, backend_;
     std::vector<EnergySource> sources_;
     std::vector<std::uint64_t> begin_;
-    std::vector<std::vector<double>> joules_;   // [source][repetition]
-    std::vector<double> seconds_;               // [repetition]
-    std::vector<std::uint64_t> advanced_;       // [source]: repetitions over which the counter moved
-    std::vector<std::uint64_t> last_;           // [source]: the last raw value read, for the reason when it never moved
-    std::vector<std::string> lost_;             // [source]: a read failed during the point
+    std::vector<std::vector<double>> joules_;  // [source][repetition]
+    std::vector<double> seconds_;              // [repetition]
+    std::vector<std::uint64_t> advanced_;      // [source]: repetitions over which the counter moved
+    std::vector<std::uint64_t> last_;          // [source]: the last raw value read, for the reason when it never moved
+    std::vector<std::string> lost_;            // [source]: a read failed during the point
     std::vector<std::optional<double>> idle_watts_;
 };
 

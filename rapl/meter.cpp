@@ -58,9 +58,12 @@ EnergyMeter EnergyMeter::open(EnergyBackend backend, const std::string& root) {
         if (s.fd >= 0) close(s.fd);
     m.sources_.clear();
     m.backend_.clear();
-    if (backend == EnergyBackend::sysfs) m.reason_ = sysfs_reason;
-    else if (backend == EnergyBackend::perf) m.reason_ = perf_reason;
-    else m.reason_ = "powercap sysfs: " + sysfs_reason + "; perf power PMU: " + perf_reason;
+    if (backend == EnergyBackend::sysfs)
+        m.reason_ = sysfs_reason;
+    else if (backend == EnergyBackend::perf)
+        m.reason_ = perf_reason;
+    else
+        m.reason_ = "powercap sysfs: " + sysfs_reason + "; perf power PMU: " + perf_reason;
     return m;
 }
 
@@ -149,12 +152,15 @@ EnergyReadings EnergyMeter::take(int batch, double units, double stream_bytes, d
         d.domain = s.domain;
         d.socket = s.socket;
         const std::vector<double> reps = i < joules_.size() ? joules_[i] : std::vector<double>{};
-        if (!s.reason.empty()) d.reason = s.reason;
-        else if (i < lost_.size() && !lost_[i].empty()) d.reason = lost_[i];
-        else if (reps.empty()) d.reason = "no repetition was measured";
+        if (!s.reason.empty())
+            d.reason = s.reason;
+        else if (i < lost_.size() && !lost_[i].empty())
+            d.reason = lost_[i];
+        else if (reps.empty())
+            d.reason = "no repetition was measured";
         else if (advanced_[i] == 0)
-            d.reason = "the " + describe(s) + " counter did not advance over " + std::to_string(reps.size()) + " repetitions: " +
-                       stuck_at(s, last_[i]);
+            d.reason = "the " + describe(s) + " counter did not advance over " + std::to_string(reps.size()) +
+                       " repetitions: " + stuck_at(s, last_[i]);
         d.available = d.reason.empty();
         if (d.available) {
             std::vector<double> per_call, watts;

@@ -13,9 +13,9 @@
 #include <map>
 #include <regex>
 
-#include "harness/instruments/counters.hpp"
 #include "harness/common/sysfs_file.hpp"
 #include "harness/common/units.hpp"
+#include "harness/instruments/counters.hpp"
 #include "rapl/energy.hpp"
 
 namespace fs = std::filesystem;
@@ -36,11 +36,15 @@ bool read_line(const std::string& path, std::string& out) {
 }
 
 // Text from the system, shown in a message: at most 40 characters.
-std::string shown(const std::string& text) { return "'" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "'"; }
+std::string shown(const std::string& text) {
+    return "'" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "'";
+}
 
 std::string unreadable_reason(const std::string& path, const AttributeText& a) {
     if (a.error == EACCES || a.error == EPERM)
-        return path + " is readable only by root (Linux 5.10 and later, CVE-2020-8694); run as root, or: sudo chmod o+r " + path;
+        return path +
+               " is readable only by root (Linux 5.10 and later, CVE-2020-8694); run as root, or: sudo chmod o+r " +
+               path;
     return a.reason;
 }
 
@@ -50,8 +54,11 @@ void name_zone(const std::string& name, std::optional<int> parent_socket, Energy
     std::smatch m;
     if (std::regex_match(name, m, package)) {
         s.domain = "package";
-        if (const auto socket = whole_number(m[1].str(), INT_MAX)) s.socket = static_cast<int>(*socket);
-        else s.reason = "the zone named " + shown(name) + " gives a socket number above " + std::to_string(INT_MAX) + ", which no socket has; not read";
+        if (const auto socket = whole_number(m[1].str(), INT_MAX))
+            s.socket = static_cast<int>(*socket);
+        else
+            s.reason = "the zone named " + shown(name) + " gives a socket number above " + std::to_string(INT_MAX) +
+                       ", which no socket has; not read";
     } else {
         s.domain = name;
         s.socket = name == "psys" ? std::nullopt : parent_socket;
@@ -89,7 +96,8 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
         if (std::regex_match(n, m, zone)) by_type[m[1]].push_back(n);
     }
     std::vector<EnergySource> out;
-    std::vector<std::pair<std::string, std::optional<int>>> seen;  // domain, socket: the MMIO interface repeats the MSR one
+    std::vector<std::pair<std::string, std::optional<int>>>
+        seen;  // domain, socket: the MMIO interface repeats the MSR one
     // The zone's numbers: intel-rapl:0:1 -> {0, 1}. The kernel numbers zones with an int; a
     // larger number is kept (sorted last) and that zone is refused below.
     auto numbers = [](const std::string& s) {
@@ -97,7 +105,9 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
         for (auto& p : split(s.substr(s.find(':') + 1), ':')) v.push_back(whole_number(p).value_or(UINT64_MAX));
         return v;
     };
-    auto order = [&](const std::string& a, const std::string& b) { return numbers(a) < numbers(b); };  // intel-rapl:1 before intel-rapl:10, parents first
+    auto order = [&](const std::string& a, const std::string& b) {
+        return numbers(a) < numbers(b);
+    };  // intel-rapl:1 before intel-rapl:10, parents first
     for (const char* type : {"intel-rapl", "amd-rapl", "intel-rapl-mmio"}) {
         auto it = by_type.find(type);
         if (it == by_type.end()) continue;
@@ -117,7 +127,8 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
             const std::string name = name_file.text;
             if (name.empty()) continue;  // not an energy zone
             std::optional<int> parent;
-            if (auto cut = z.rfind(':'); std::count(z.begin(), z.end(), ':') == 2) parent = zone_socket[z.substr(0, cut)];
+            if (auto cut = z.rfind(':'); std::count(z.begin(), z.end(), ':') == 2)
+                parent = zone_socket[z.substr(0, cut)];
             EnergySource s;
             name_zone(name, parent, s);
             zone_socket[z] = s.socket;
@@ -126,18 +137,23 @@ std::vector<EnergySource> discover_powercap(const std::string& root, std::string
             s.where = (dir / "energy_uj").string();
             const auto zone_numbers = numbers(z);
             if (std::any_of(zone_numbers.begin(), zone_numbers.end(), [](std::uint64_t n) { return n > INT_MAX; }))
-                s.reason = "powercap zone " + z + " has a number above " + std::to_string(INT_MAX) + ", which the kernel never gives a zone; not read";
+                s.reason = "powercap zone " + z + " has a number above " + std::to_string(INT_MAX) +
+                           ", which the kernel never gives a zone; not read";
             if (s.reason.empty()) {
                 std::string text;
-                s.max_raw = read_line((dir / "max_energy_range_uj").string(), text) ? whole_number(text).value_or(0) : 0;
+                s.max_raw =
+                    read_line((dir / "max_energy_range_uj").string(), text) ? whole_number(text).value_or(0) : 0;
                 const AttributeText e = read_attribute(s.where);
-                if (!e.ok) s.reason = unreadable_reason(s.where, e);
-                else if (!whole_number(e.text)) s.reason = s.where + " holds " + shown(e.text) + ", not a count of microjoules";
+                if (!e.ok)
+                    s.reason = unreadable_reason(s.where, e);
+                else if (!whole_number(e.text))
+                    s.reason = s.where + " holds " + shown(e.text) + ", not a count of microjoules";
             }
             out.push_back(std::move(s));
         }
     }
-    if (out.empty()) reason = "no RAPL zone under " + base.string() + " (a virtual machine, or the intel_rapl driver is not loaded)";
+    if (out.empty())
+        reason = "no RAPL zone under " + base.string() + " (a virtual machine, or the intel_rapl driver is not loaded)";
     return out;
 }
 
@@ -146,7 +162,8 @@ std::vector<EnergySource> discover_perf_power(const std::string& root, std::stri
     std::string text;
     const AttributeText type_file = read_attribute((dir / "type").string());
     if (!type_file.ok) {
-        reason = type_file.error == ENOENT ? "no perf power PMU (" + (dir / "type").string() + " is missing)" : type_file.reason;
+        reason = type_file.error == ENOENT ? "no perf power PMU (" + (dir / "type").string() + " is missing)"
+                                           : type_file.reason;
         return {};
     }
     const auto type = whole_number(type_file.text, UINT32_MAX);
@@ -164,8 +181,11 @@ std::vector<EnergySource> discover_perf_power(const std::string& root, std::stri
         }
     }
     if (cpus.empty()) cpus = {0};
-    static const std::map<std::string, std::string> domains = {
-        {"energy-pkg", "package"}, {"energy-cores", "core"}, {"energy-gpu", "uncore"}, {"energy-ram", "dram"}, {"energy-psys", "psys"}};
+    static const std::map<std::string, std::string> domains = {{"energy-pkg", "package"},
+                                                               {"energy-cores", "core"},
+                                                               {"energy-gpu", "uncore"},
+                                                               {"energy-ram", "dram"},
+                                                               {"energy-psys", "psys"}};
     std::vector<EnergySource> out;
     for (const auto& [event, domain] : domains) {
         std::string config;
@@ -177,7 +197,8 @@ std::vector<EnergySource> discover_perf_power(const std::string& root, std::stri
         const std::string code_text = m[1].str();
         const bool hex = code_text.rfind("0x", 0) == 0;
         const char* first = code_text.data() + (hex ? 2 : 0);
-        const bool code_ok = std::from_chars(first, code_text.data() + code_text.size(), code_value, hex ? 16 : 10).ec == std::errc();
+        const bool code_ok =
+            std::from_chars(first, code_text.data() + code_text.size(), code_value, hex ? 16 : 10).ec == std::errc();
         double scale = 0;
         if (read_line((dir / "events" / (event + ".scale")).string(), text)) scale = std::strtod(text.c_str(), nullptr);
         std::string unit;
@@ -190,17 +211,24 @@ std::vector<EnergySource> discover_perf_power(const std::string& root, std::stri
             s.where = "perf power/" + event + "/ on CPU " + std::to_string(cpu);
             if (domain != "psys") {
                 // The socket from the CPU's topology; by position when the file is not there.
-                const fs::path p = fs::path(root) / "devices" / "system" / "cpu" / ("cpu" + std::to_string(cpu)) / "topology" / "physical_package_id";
+                const fs::path p = fs::path(root) / "devices" / "system" / "cpu" / ("cpu" + std::to_string(cpu)) /
+                                   "topology" / "physical_package_id";
                 const AttributeText pkg = read_attribute(p.string());
                 const auto socket = pkg.ok ? whole_number(pkg.text, INT_MAX) : std::nullopt;
-                if (socket) s.socket = static_cast<int>(*socket);
-                else if (!pkg.ok && pkg.error == ENOENT) s.socket = static_cast<int>(i);
-                else s.reason = pkg.ok ? p.string() + " holds " + shown(pkg.text) + ", not a package number" : pkg.reason;
+                if (socket)
+                    s.socket = static_cast<int>(*socket);
+                else if (!pkg.ok && pkg.error == ENOENT)
+                    s.socket = static_cast<int>(i);
+                else
+                    s.reason =
+                        pkg.ok ? p.string() + " holds " + shown(pkg.text) + ", not a package number" : pkg.reason;
             }
             s.joules_per_unit = scale;
             if (s.reason.empty() && (!(scale > 0) || !std::isfinite(scale) || unit != "Joules"))
-                s.reason = "the power PMU gives " + event + " no usable scale and unit (" + std::to_string(scale) + " " + unit + ")";
-            if (s.reason.empty() && !code_ok) s.reason = "the power PMU's " + event + " event code " + shown(code_text) + " is not a 64-bit number";
+                s.reason = "the power PMU gives " + event + " no usable scale and unit (" + std::to_string(scale) +
+                           " " + unit + ")";
+            if (s.reason.empty() && !code_ok)
+                s.reason = "the power PMU's " + event + " event code " + shown(code_text) + " is not a 64-bit number";
             if (!s.reason.empty()) {
                 out.push_back(std::move(s));
                 continue;
@@ -213,7 +241,9 @@ std::vector<EnergySource> discover_perf_power(const std::string& root, std::stri
             if (s.fd < 0) {
                 const int err = errno;
                 s.reason = "cannot open " + s.where + ": " + std::strerror(err) +
-                           (err == EACCES || err == EPERM ? " (system-wide events need root, or sudo sysctl kernel.perf_event_paranoid=0)" : "");
+                           (err == EACCES || err == EPERM
+                                ? " (system-wide events need root, or sudo sysctl kernel.perf_event_paranoid=0)"
+                                : "");
             }
             out.push_back(std::move(s));
         }
@@ -244,7 +274,8 @@ bool read_raw(const EnergySource& s, std::uint64_t& raw, std::string& error) {
 
 double joules_between(const EnergySource& s, std::uint64_t begin, std::uint64_t end) {
     std::uint64_t delta = end - begin;  // 64-bit counters (perf) never wrap in practice
-    if (end < begin && s.max_raw > 0) delta = (s.max_raw - begin) + end;  // powercap wraps to 0 after max_energy_range_uj
+    if (end < begin && s.max_raw > 0)
+        delta = (s.max_raw - begin) + end;  // powercap wraps to 0 after max_energy_range_uj
     return static_cast<double>(delta) * s.joules_per_unit;
 }
 

@@ -16,7 +16,9 @@ struct Add {
     static constexpr bool has_rep = false;  // a string-instruction (rep movsb) variant
     static constexpr double tolerance = 0;
     template <class T>
-    static T apply(T b, T c) { return b + c; }
+    static T apply(T b, T c) {
+        return b + c;
+    }
 };
 const bool registered = register_stream_kernel<Add>();
 }  // namespace

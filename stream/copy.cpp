@@ -14,7 +14,9 @@ struct Copy {
     static constexpr bool has_rep = true;  // a string-instruction (rep movsb) variant
     static constexpr double tolerance = 0;
     template <class T>
-    static T apply(T b, T) { return b; }
+    static T apply(T b, T) {
+        return b;
+    }
 };
 const bool registered = register_stream_kernel<Copy>();
 }  // namespace

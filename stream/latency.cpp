@@ -12,8 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "harness/kernel/kernel.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/kernel.hpp"
 
 namespace suite::stream {
 namespace {
@@ -96,8 +96,8 @@ public:
                 ++length;
             } while (p != start_[t] && length <= per_thread_);
             if (length != per_thread_)
-                problems[t] = "thread " + std::to_string(t) + "'s chain has a cycle of " + std::to_string(length) + " lines, not " +
-                              std::to_string(per_thread_);
+                problems[t] = "thread " + std::to_string(t) + "'s chain has a cycle of " + std::to_string(length) +
+                              " lines, not " + std::to_string(per_thread_);
             else if (pos_[t] != expect)
                 problems[t] = "thread " + std::to_string(t) + " does not stand where " + std::to_string(calls_) +
                               " repetitions of the chase lead";
@@ -142,7 +142,8 @@ const bool registered = [] {
     e.make = [](const KernelConfig& cfg) { return std::make_unique<Latency>(cfg); };
     e.validate = [](const KernelConfig& cfg) {
         if (Latency::lines_per_thread(cfg) < 2)
-            throw UsageError("size " + format_bytes(cfg.size) + " is too small for latency with " + std::to_string(cfg.threads) +
+            throw UsageError("size " + format_bytes(cfg.size) + " is too small for latency with " +
+                             std::to_string(cfg.threads) +
                              " thread(s): each thread needs at least 2 cache lines; use at least " +
                              format_bytes(2 * sizeof(Line) * static_cast<std::uint64_t>(cfg.threads)));
     };

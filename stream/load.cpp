@@ -58,9 +58,15 @@ public:
         ThreadSum* sums = sums_.data();
         const int nt = cfg_.threads;
         switch (pattern_) {
-            case Pattern::sequential: sequential_loop(b, sums, n, nt, calls); break;
-            case Pattern::random: random_loop(b, p, sums, n, nt, calls); break;
-            case Pattern::strided: strided_loop(b, sums, n, s, nt, calls); break;
+            case Pattern::sequential:
+                sequential_loop(b, sums, n, nt, calls);
+                break;
+            case Pattern::random:
+                random_loop(b, p, sums, n, nt, calls);
+                break;
+            case Pattern::strided:
+                strided_loop(b, sums, n, s, nt, calls);
+                break;
         }
         calls_ += static_cast<std::uint64_t>(calls);
     }
@@ -87,8 +93,10 @@ public:
             const double want = expected[static_cast<std::size_t>(t)] * static_cast<double>(calls_);
             v.max_error = std::max(v.max_error, std::fabs(got.total - want));
             std::string problem;
-            if (got.calls != calls_) problem = "ran " + std::to_string(got.calls) + " of " + std::to_string(calls_) + " calls";
-            else if (got.total != want) problem = "summed " + std::to_string(got.total) + " over its calls, expected " + std::to_string(want);
+            if (got.calls != calls_)
+                problem = "ran " + std::to_string(got.calls) + " of " + std::to_string(calls_) + " calls";
+            else if (got.total != want)
+                problem = "summed " + std::to_string(got.total) + " over its calls, expected " + std::to_string(want);
             if (!problem.empty()) {
                 v.detail = "thread " + std::to_string(t) + " " + problem;
                 return v;
@@ -132,7 +140,8 @@ private:
         std::memcpy(&v, p, sizeof v);  // an unaligned vector load
         return v;
     }
-    __attribute__((noinline)) static void sequential_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n, int nt, int calls) {
+    __attribute__((noinline)) static void sequential_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n,
+                                                          int nt, int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
@@ -163,7 +172,8 @@ private:
             record(slot, sum, calls);
         }
     }
-    static void random_loop(const double* __restrict b, const std::uint32_t* __restrict p, ThreadSum* sums, std::int64_t n, int nt, int calls) {
+    static void random_loop(const double* __restrict b, const std::uint32_t* __restrict p, ThreadSum* sums,
+                            std::int64_t n, int nt, int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
@@ -176,7 +186,8 @@ private:
             record(slot, sum, calls);
         }
     }
-    static void strided_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n, std::int64_t s, int nt, int calls) {
+    static void strided_loop(const double* __restrict b, ThreadSum* sums, std::int64_t n, std::int64_t s, int nt,
+                             int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);

@@ -28,8 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/kernel/kernel.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/kernel.hpp"
 
 namespace suite::stream {
 namespace {
@@ -196,15 +196,16 @@ public:
                     const double expect = start_value(t, k, j) + updates * step;
                     const double got = s.x[k * isa_.lanes + j];
                     if (got != expect && first.empty())
-                        first = "thread " + std::to_string(t) + " accumulator " + std::to_string(k) + " lane " + std::to_string(j) + ": " +
-                                format_number(got) + ", expected " + format_number(expect);
+                        first = "thread " + std::to_string(t) + " accumulator " + std::to_string(k) + " lane " +
+                                std::to_string(j) + ": " + format_number(got) + ", expected " + format_number(expect);
                     worst = std::max(worst, std::abs(got - expect));
                 }
         }
         if (!first.empty()) return {false, first, worst};
         return {true,
-                "every lane of the " + std::to_string(accumulators) + " accumulators of each thread equals its start plus " +
-                    "calls x " + std::to_string(cfg_.size) + " updates of 2^-20, exactly",
+                "every lane of the " + std::to_string(accumulators) +
+                    " accumulators of each thread equals its start plus " + "calls x " + std::to_string(cfg_.size) +
+                    " updates of 2^-20, exactly",
                 0};
     }
 
@@ -245,12 +246,15 @@ const bool registered = [] {
     e.test_size = 1 << 12;
     e.info.metric = Metric::bandwidth;
     e.info.flops_per_unit = 2;
-    e.info.notes = "the roofline's compute ceiling: size = iterations per thread per call, each 12 FMAs of one width; no memory traffic";
+    e.info.notes =
+        "the roofline's compute ceiling: size = iterations per thread per call, each 12 FMAs of one width; no memory "
+        "traffic";
     e.make = [](const KernelConfig& cfg) { return std::make_unique<PeakFlops>(cfg); };
     e.validate = [](const KernelConfig& cfg) {
         if (cfg.size < 1) throw UsageError("peak-flops needs a size of at least 1 (iterations per thread per call)");
         if (cfg.size > (1ULL << 32))
-            throw UsageError("peak-flops: size " + std::to_string(cfg.size) + " is above 2^32 iterations per call (the check's sums must stay exact)");
+            throw UsageError("peak-flops: size " + std::to_string(cfg.size) +
+                             " is above 2^32 iterations per call (the check's sums must stay exact)");
     };
     return register_kernel(std::move(e));
 }();

@@ -14,7 +14,9 @@ struct Scale {
     static constexpr bool has_rep = false;  // a string-instruction (rep movsb) variant
     static constexpr double tolerance = 0;
     template <class T>
-    static T apply(T b, T) { return scalar * b; }
+    static T apply(T b, T) {
+        return scalar * b;
+    }
 };
 const bool registered = register_stream_kernel<Scale>();
 }  // namespace

@@ -10,7 +10,8 @@ namespace {
 struct SinAdd {
     static constexpr const char* name = "sin-add";
     static constexpr const char* formula = "a[i] = sin(b[i]) + sin(c[i])";
-    static constexpr const char* notes = "compute-bound; 2 sin calls per element (not counted as flops); random = thesis kernel 4";
+    static constexpr const char* notes =
+        "compute-bound; 2 sin calls per element (not counted as flops); random = thesis kernel 4";
     static constexpr int reads = 2;
     static constexpr double flops = 1;
     static constexpr bool has_nt = false;

@@ -51,13 +51,21 @@ public:
         const std::uint32_t* __restrict p = p_;
         const std::int64_t n = static_cast<std::int64_t>(n_), s = stride_;
         const int nt = cfg_.threads;
-        if (cfg_.variant == "nt") nt_store_loop(a, n, nt, calls_, calls);
-        else if (cfg_.variant == "rep") rep_store_loop(a, n, nt, calls_, calls);
+        if (cfg_.variant == "nt")
+            nt_store_loop(a, n, nt, calls_, calls);
+        else if (cfg_.variant == "rep")
+            rep_store_loop(a, n, nt, calls_, calls);
         else
             switch (pattern_) {
-                case Pattern::sequential: sequential_loop(a, n, nt, calls_, calls); break;
-                case Pattern::random: random_loop(a, p, n, nt, calls_, calls); break;
-                case Pattern::strided: strided_loop(a, n, s, nt, calls_, calls); break;
+                case Pattern::sequential:
+                    sequential_loop(a, n, nt, calls_, calls);
+                    break;
+                case Pattern::random:
+                    random_loop(a, p, n, nt, calls_, calls);
+                    break;
+                case Pattern::strided:
+                    strided_loop(a, n, s, nt, calls_, calls);
+                    break;
             }
         calls_ += static_cast<std::uint64_t>(calls);
     }
@@ -82,8 +90,8 @@ public:
         v.passed = first_bad == n;
         v.detail = "every a[i] holds the value of the latest of " + std::to_string(calls_) + " calls";
         if (!v.passed)
-            v.detail += "; first mismatch at i=" + std::to_string(first_bad) + ": got " + std::to_string(a_[first_bad]) + ", expected " +
-                        std::to_string(expect);
+            v.detail += "; first mismatch at i=" + std::to_string(first_bad) + ": got " +
+                        std::to_string(a_[first_bad]) + ", expected " + std::to_string(expect);
         return v;
     }
 
@@ -104,8 +112,8 @@ public:
 
 private:
     // Unrolled by hand like the other sequential loops (see stream_kernel.hpp).
-    __attribute__((noinline)) static void sequential_loop(double* __restrict a, std::int64_t n, int nt, std::uint64_t first_call,
-                                                          int calls) {
+    __attribute__((noinline)) static void sequential_loop(double* __restrict a, std::int64_t n, int nt,
+                                                          std::uint64_t first_call, int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
@@ -121,8 +129,8 @@ private:
             }
         }
     }
-    static void random_loop(double* __restrict a, const std::uint32_t* __restrict p, std::int64_t n, int nt, std::uint64_t first_call,
-                            int calls) {
+    static void random_loop(double* __restrict a, const std::uint32_t* __restrict p, std::int64_t n, int nt,
+                            std::uint64_t first_call, int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
@@ -133,7 +141,8 @@ private:
             }
         }
     }
-    static void strided_loop(double* __restrict a, std::int64_t n, std::int64_t s, int nt, std::uint64_t first_call, int calls) {
+    static void strided_loop(double* __restrict a, std::int64_t n, std::int64_t s, int nt, std::uint64_t first_call,
+                             int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
@@ -147,7 +156,8 @@ private:
     }
     // Streaming stores of a broadcast value from a vector boundary on, four vectors a step;
     // each thread fences its own stores once, after its last call (see StreamKernel's nt loop).
-    __attribute__((noinline)) static void nt_store_loop(double* __restrict a, std::int64_t n, int nt, std::uint64_t first_call, int calls) {
+    __attribute__((noinline)) static void nt_store_loop(double* __restrict a, std::int64_t n, int nt,
+                                                        std::uint64_t first_call, int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
@@ -173,13 +183,16 @@ private:
 
     // Each thread fills its own block with one rep stosq a call: memset's instruction (it uses rep
     // stosb, for a byte; the stored double needs eight).
-    __attribute__((noinline)) static void rep_store_loop(double* a, std::int64_t n, int nt, std::uint64_t first_call, int calls) {
+    __attribute__((noinline)) static void rep_store_loop(double* a, std::int64_t n, int nt, std::uint64_t first_call,
+                                                         int calls) {
 #pragma omp parallel num_threads(nt)
         {
             const Block blk = my_line_block(n);
             const std::size_t words = static_cast<std::size_t>(blk.hi - blk.lo);  // line_block: hi >= lo
             for (int k = 0; k < calls; ++k) {
-                rep_stosq(a + blk.lo, std::bit_cast<std::uint64_t>(stored_value(first_call + static_cast<std::uint64_t>(k))), words);
+                rep_stosq(a + blk.lo,
+                          std::bit_cast<std::uint64_t>(stored_value(first_call + static_cast<std::uint64_t>(k))),
+                          words);
                 compiler_fence();
             }
             _mm_sfence();

@@ -22,10 +22,10 @@
 #include <memory>
 #include <string>
 
+#include "harness/common/units.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "harness/kernel/permutation.hpp"
-#include "harness/common/units.hpp"
 
 namespace suite::stream {
 
@@ -162,9 +162,12 @@ public:
             if (cfg_.variant == "rep") return rep_copy_loop(a, b, n, calls);
         }
         switch (pattern_) {
-            case Pattern::sequential: return sequential_loop(a, b, c, n, calls);
-            case Pattern::random: return random_loop(a, b, c, p, n, calls);
-            case Pattern::strided: return strided_loop(a, b, c, n, s, calls);
+            case Pattern::sequential:
+                return sequential_loop(a, b, c, n, calls);
+            case Pattern::random:
+                return random_loop(a, b, c, p, n, calls);
+            case Pattern::strided:
+                return strided_loop(a, b, c, n, s, calls);
         }
     }
 
@@ -191,8 +194,8 @@ public:
         v.detail = "every a[i] against " + std::string(Op::formula) + " of the initial b, c";
         if (!v.passed) {
             const auto i = static_cast<std::uint64_t>(first_bad);
-            v.detail += "; first mismatch at i=" + std::to_string(i) + ": got " + std::to_string(a_[i]) + ", expected " +
-                        std::to_string(expected(i));
+            v.detail += "; first mismatch at i=" + std::to_string(i) + ": got " + std::to_string(a_[i]) +
+                        ", expected " + std::to_string(expected(i));
         }
         return v;
     }
@@ -224,8 +227,8 @@ private:
     // compiler turns into four vector operations of each kind) because GCC does not unroll a
     // vectorised loop at -O3, and the loop overhead of one vector per iteration costs a third
     // of the L1 bandwidth.
-    __attribute__((noinline)) static void sequential_loop(double* __restrict a, const double* __restrict b, const double* __restrict c,
-                                                          std::int64_t n, int calls) {
+    __attribute__((noinline)) static void sequential_loop(double* __restrict a, const double* __restrict b,
+                                                          const double* __restrict c, std::int64_t n, int calls) {
 #pragma omp parallel
         {
             const Block blk = my_line_block(n);
@@ -233,7 +236,8 @@ private:
                 std::int64_t i = blk.lo;
                 for (; i + unroll_elements <= blk.hi; i += unroll_elements) {
 #pragma omp simd
-                    for (std::int64_t j = i; j < i + unroll_elements; ++j) a[j] = Op::apply(b[j], Op::reads > 1 ? c[j] : 0.0);
+                    for (std::int64_t j = i; j < i + unroll_elements; ++j)
+                        a[j] = Op::apply(b[j], Op::reads > 1 ? c[j] : 0.0);
                 }
                 for (; i < blk.hi; ++i) a[i] = Op::apply(b[i], Op::reads > 1 ? c[i] : 0.0);
                 compiler_fence();
@@ -254,14 +258,15 @@ private:
             }
         }
     }
-    static void strided_loop(double* __restrict a, const double* __restrict b, const double* __restrict c, std::int64_t n,
-                             std::int64_t s, int calls) {
+    static void strided_loop(double* __restrict a, const double* __restrict b, const double* __restrict c,
+                             std::int64_t n, std::int64_t s, int calls) {
 #pragma omp parallel
         {
             const Block blk = my_line_block(n);
             for (int k = 0; k < calls; ++k) {
                 for (std::int64_t r = 0; r < s; ++r)
-                    for (std::int64_t j = blk.lo + r; j < blk.hi; j += s) a[j] = Op::apply(b[j], Op::reads > 1 ? c[j] : 0.0);
+                    for (std::int64_t j = blk.lo + r; j < blk.hi; j += s)
+                        a[j] = Op::apply(b[j], Op::reads > 1 ? c[j] : 0.0);
                 compiler_fence();
             }
         }
@@ -273,8 +278,8 @@ private:
     // fences its own stores once, after its last call: a thread sees its own streaming stores in
     // order anyway, and a fence after every call waited for the write-combining buffers to
     // drain, which in cache cost a third of the bandwidth.
-    __attribute__((noinline)) static void nt_store_loop(double* __restrict a, const double* __restrict b, const double* __restrict c,
-                                                        std::int64_t n, int calls) {
+    __attribute__((noinline)) static void nt_store_loop(double* __restrict a, const double* __restrict b,
+                                                        const double* __restrict c, std::int64_t n, int calls) {
 #pragma omp parallel
         {
             const Block blk = my_line_block(n);
@@ -284,7 +289,8 @@ private:
                     a[i] = Op::apply(b[i], Op::reads > 1 ? c[i] : 0.0);
                 for (; i + 2 * nt_width <= blk.hi; i += 2 * nt_width) {
                     if constexpr (Op::reads == 1)
-                        for (std::int64_t l = 0; l < 2 * nt_width; l += 8) _mm_prefetch(reinterpret_cast<const char*>(b + i + l + nt_prefetch), _MM_HINT_T0);
+                        for (std::int64_t l = 0; l < 2 * nt_width; l += 8)
+                            _mm_prefetch(reinterpret_cast<const char*>(b + i + l + nt_prefetch), _MM_HINT_T0);
                     const ntvec vb0 = nt_load(b + i), vb1 = nt_load(b + i + nt_width);
                     const ntvec vc0 = Op::reads > 1 ? nt_load(c + i) : vb0;
                     const ntvec vc1 = Op::reads > 1 ? nt_load(c + i + nt_width) : vb1;
@@ -304,7 +310,8 @@ private:
 #pragma omp parallel
         {
             const Block blk = my_line_block(n);
-            const std::size_t bytes = static_cast<std::size_t>(blk.hi - blk.lo) * sizeof(double);  // line_block: hi >= lo
+            const std::size_t bytes =
+                static_cast<std::size_t>(blk.hi - blk.lo) * sizeof(double);  // line_block: hi >= lo
             for (int k = 0; k < calls; ++k) {
                 rep_movsb(a + blk.lo, b + blk.lo, bytes);
                 compiler_fence();
@@ -325,8 +332,8 @@ private:
 
 // The registry entry every stream kernel shares: element unit, the three patterns, bytes.
 // The caller adds make and validate.
-inline KernelEntry stream_entry(const char* name, const char* formula, bool has_nt, bool has_rep, double read_bytes, double write_bytes,
-                                double flops, const char* notes) {
+inline KernelEntry stream_entry(const char* name, const char* formula, bool has_nt, bool has_rep, double read_bytes,
+                                double write_bytes, double flops, const char* notes) {
     KernelEntry e;
     e.info.name = name;
     e.info.group = "stream";
@@ -348,7 +355,8 @@ inline KernelEntry stream_entry(const char* name, const char* formula, bool has_
 
 template <class Op>
 bool register_stream_kernel() {
-    KernelEntry e = stream_entry(Op::name, Op::formula, Op::has_nt, Op::has_rep, 8.0 * Op::reads, 8.0, Op::flops, Op::notes);
+    KernelEntry e =
+        stream_entry(Op::name, Op::formula, Op::has_nt, Op::has_rep, 8.0 * Op::reads, 8.0, Op::flops, Op::notes);
     e.make = [](const KernelConfig& cfg) { return std::make_unique<StreamKernel<Op>>(cfg); };
     e.validate = [](const KernelConfig& cfg) { validate_stream_config(cfg, Op::name, StreamKernel<Op>::arrays()); };
     return register_kernel(std::move(e));

@@ -14,7 +14,9 @@ struct Triad {
     static constexpr bool has_rep = false;  // a string-instruction (rep movsb) variant
     static constexpr double tolerance = 0;
     template <class T>
-    static T apply(T b, T c) { return b + scalar * c; }
+    static T apply(T b, T c) {
+        return b + scalar * c;
+    }
 };
 const bool registered = register_stream_kernel<Triad>();
 }  // namespace

@@ -19,8 +19,8 @@ using json = nlohmann::json;
 // 1 MiB on one thread; ref_stream's kernels verified (the script stops on a failed check).
 TEST(Bench, VsPeersQuickHoldsEveryKindAgainstItsPeers) {
     TempDir dir;
-    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/vs_peers.py", "--quick", "--suite", SUITE_BINARY, "--ref",
-                             SUITE_REF_STREAM, "--out", dir.path().string()},
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/vs_peers.py", "--quick", "--suite",
+                             SUITE_BINARY, "--ref", SUITE_REF_STREAM, "--out", dir.path().string()},
                             300);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(dir.file("vs_peers_quick.json")));
@@ -29,12 +29,15 @@ TEST(Bench, VsPeersQuickHoldsEveryKindAgainstItsPeers) {
     for (const auto& row : doc["rows"]) {
         kinds.insert(row["kind"].get<std::string>());
         EXPECT_GT(row["ratio"].get<double>(), 0) << row.dump();
-        const double mine = row["suite"][row["suite_best"].get<std::string>()], theirs = row["peers"][row["peer_best"].get<std::string>()];
+        const double mine = row["suite"][row["suite_best"].get<std::string>()],
+                     theirs = row["peers"][row["peer_best"].get<std::string>()];
         EXPECT_NEAR(row["ratio"].get<double>(), mine / theirs, 1e-12);
         for (const auto& [name, v] : row["peers"].items()) EXPECT_LE(v.get<double>(), theirs) << name;
         // copy and store against glibc's string functions, with the suite's own string-instruction variants.
-        if (row["kind"] == "copy") EXPECT_TRUE(row["peers"].contains("ref:memcpy") && row["suite"].contains("copy-rep")) << row.dump();
-        if (row["kind"] == "store") EXPECT_TRUE(row["peers"].contains("ref:memset") && row["suite"].contains("store-rep")) << row.dump();
+        if (row["kind"] == "copy")
+            EXPECT_TRUE(row["peers"].contains("ref:memcpy") && row["suite"].contains("copy-rep")) << row.dump();
+        if (row["kind"] == "store")
+            EXPECT_TRUE(row["peers"].contains("ref:memset") && row["suite"].contains("store-rep")) << row.dump();
         if (row["kind"] == "copy" && likwid) EXPECT_TRUE(row["peers"].contains("likwid:copy")) << row.dump();
     }
     std::set<std::string> want{"copy", "scale", "add", "triad", "store"};
@@ -45,8 +48,8 @@ TEST(Bench, VsPeersQuickHoldsEveryKindAgainstItsPeers) {
 
 TEST(Bench, VsLikwidQuickRunsBothSidesAndWritesTheRatios) {
     TempDir dir;
-    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/vs_likwid.py", "--quick", "--suite", SUITE_BINARY,
-                             "--ref", SUITE_REF_RANDOM, "--out", dir.path().string()},
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/vs_likwid.py", "--quick", "--suite",
+                             SUITE_BINARY, "--ref", SUITE_REF_RANDOM, "--out", dir.path().string()},
                             300);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(dir.file("vs_likwid_quick.json")));
@@ -80,8 +83,8 @@ TEST(Bench, VsLikwidQuickRunsBothSidesAndWritesTheRatios) {
 // measured figures per point and program, and the suite's points are its seven kernels.
 TEST(Bench, AaNoiseQuickMeasuresEachProgramAgainstItself) {
     TempDir dir;
-    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/aa_noise.py", "--quick", "--suite", SUITE_BINARY, "--out",
-                             dir.path().string()},
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/aa_noise.py", "--quick", "--suite",
+                             SUITE_BINARY, "--out", dir.path().string()},
                             300);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(dir.file("aa_noise_quick.json")));
@@ -94,14 +97,15 @@ TEST(Bench, AaNoiseQuickMeasuresEachProgramAgainstItself) {
         ASSERT_EQ(row["gbps_pairs"].size(), 1u) << row.dump();
         EXPECT_GT(row["gbps_pairs"][0][0].get<double>(), 0) << row.dump();
         EXPECT_GT(row["gbps_pairs"][0][1].get<double>(), 0) << row.dump();
-        EXPECT_DOUBLE_EQ(row["ratio"].get<double>(), row["gbps_pairs"][0][0].get<double>() / row["gbps_pairs"][0][1].get<double>());
+        EXPECT_DOUBLE_EQ(row["ratio"].get<double>(),
+                         row["gbps_pairs"][0][0].get<double>() / row["gbps_pairs"][0][1].get<double>());
     }
     EXPECT_EQ(suite_points, 7u);  // copy, copy-nt, triad, triad-nt, load, store, store-nt
     EXPECT_EQ(likwid_points, likwid ? 7u : 0u);
     EXPECT_NE(slurp(dir.file("aa_noise_quick.md")).find("suite against itself"), std::string::npos);
 
-    r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/aa_noise.py", "--reps", "0", "--suite", SUITE_BINARY, "--out",
-                     dir.path().string()});
+    r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/aa_noise.py", "--reps", "0", "--suite",
+                     SUITE_BINARY, "--out", dir.path().string()});
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("--reps must be at least 1"), std::string::npos) << r.err;
 }
@@ -111,8 +115,8 @@ TEST(Bench, AaNoiseQuickMeasuresEachProgramAgainstItself) {
 // --tolerance=auto --confirm in nearly every trial (these are the trials the note quotes on real reruns).
 TEST(Bench, GateNoiseQuickHasNoFalseAlarmAndCatchesTheSlowdown) {
     TempDir dir;
-    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_noise.py", "--quick", "--suite", SUITE_BINARY, "--out",
-                             dir.path().string()},
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_noise.py", "--quick", "--suite",
+                             SUITE_BINARY, "--out", dir.path().string()},
                             300);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(dir.file("gate_noise_quick.json")));
@@ -126,8 +130,8 @@ TEST(Bench, GateNoiseQuickHasNoFalseAlarmAndCatchesTheSlowdown) {
     for (const auto& t : doc["reach"]) failed += t["exit"] == "regressed";
     EXPECT_GE(failed, 10u) << doc["reach"].dump();
     EXPECT_NE(slurp(dir.file("gate_noise_quick.md")).find("auto, confirmed by a rerun"), std::string::npos);
-    r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_noise.py", "--runs", "3", "--suite", SUITE_BINARY, "--out",
-                     dir.path().string()});
+    r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_noise.py", "--runs", "3", "--suite",
+                     SUITE_BINARY, "--out", dir.path().string()});
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("--runs must be at least 6"), std::string::npos) << r.err;
 }
@@ -137,22 +141,29 @@ TEST(Bench, GateNoiseQuickHasNoFalseAlarmAndCatchesTheSlowdown) {
 // asserted; that each part was found and is consistent with the step's counts is.
 TEST(Bench, MpmImplicitQuickSplitsAStepIntoItsParts) {
     TempDir dir;
-    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/mpm_implicit.py", "--quick", "--suite", SUITE_BINARY, "--out",
-                             dir.path().string()},
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/mpm_implicit.py", "--quick",
+                             "--suite", SUITE_BINARY, "--out", dir.path().string()},
                             300);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(dir.file("mpm_implicit.json")));
     ASSERT_EQ(doc["points"].size(), 6u) << doc.dump(1);
-    for (const char* key : {"natural/seeded", "natural/dynamic", "morton/seeded", "morton/dynamic", "hilbert/seeded", "hilbert/dynamic"}) {
+    for (const char* key : {"natural/seeded", "natural/dynamic", "morton/seeded", "morton/dynamic", "hilbert/seeded",
+                            "hilbert/dynamic"}) {
         const json& p = doc["points"][key];
         EXPECT_GT(p["step"].get<double>(), 0) << key;
         EXPECT_GT(p["assembly"].get<double>(), 0) << key;
         EXPECT_GT(p["solve"].get<double>(), 0) << key;
-        EXPECT_NEAR(p["rest"].get<double>(), p["step"].get<double>() - p["assembly"].get<double>() - p["solve"].get<double>(), 1e-12) << key;
+        EXPECT_NEAR(p["rest"].get<double>(),
+                    p["step"].get<double>() - p["assembly"].get<double>() - p["solve"].get<double>(), 1e-12)
+            << key;
         EXPECT_GE(p["newton"].get<double>(), 1) << key;
         EXPECT_GT(p["cg"].get<double>(), p["newton"].get<double>()) << key;  // more than one CG iteration a Newton step
-        if (!p["cholmod"].is_null()) EXPECT_GT(p["cholmod"].get<double>(), 0) << key;  // null where built without CHOLMOD
+        if (!p["cholmod"].is_null())
+            EXPECT_GT(p["cholmod"].get<double>(), 0) << key;  // null where built without CHOLMOD
     }
     const std::string md = slurp(dir.file("mpm_implicit.md"));
-    EXPECT_NE(md.find("| grid / particles | step | assembly | solve (CG) | rest | Newton/step | CG/step | CHOLMOD factor |"), std::string::npos) << md;
+    EXPECT_NE(
+        md.find("| grid / particles | step | assembly | solve (CG) | rest | Newton/step | CG/step | CHOLMOD factor |"),
+        std::string::npos)
+        << md;
 }

@@ -47,7 +47,8 @@ public:
 private:
     // The value's own file beside energy_uj, then the link to it, swapped in.
     void write(std::uint64_t uj) {
-        const std::string name = std::filesystem::path(path_).filename().string() + ".value" + std::to_string(written_ % 64);
+        const std::string name =
+            std::filesystem::path(path_).filename().string() + ".value" + std::to_string(written_ % 64);
         const std::string file = std::filesystem::path(path_).parent_path() / name;
         std::filesystem::remove(file);  // 64 steps old: no reader still has it open
         std::ofstream(file) << uj << "\n";

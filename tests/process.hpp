@@ -50,7 +50,8 @@ inline pid_t spawn(const std::vector<std::string>& argv, int& out_fd, int& err_f
     if (pipe2(o, O_CLOEXEC) != 0) throw std::system_error(errno, std::generic_category(), "pipe2");
     if (pipe2(e, O_CLOEXEC) != 0) {
         const int saved = errno;
-        close(o[0]); close(o[1]);
+        close(o[0]);
+        close(o[1]);
         throw std::system_error(saved, std::generic_category(), "pipe2");
     }
     std::vector<char*> args;
@@ -59,7 +60,10 @@ inline pid_t spawn(const std::vector<std::string>& argv, int& out_fd, int& err_f
     const pid_t pid = fork();
     if (pid < 0) {
         const int saved = errno;
-        close(o[0]); close(o[1]); close(e[0]); close(e[1]);
+        close(o[0]);
+        close(o[1]);
+        close(e[0]);
+        close(e[1]);
         throw std::system_error(saved, std::generic_category(), "fork");
     }
     if (pid == 0) {
@@ -92,7 +96,8 @@ inline pid_t spawn(const std::vector<std::string>& argv, int& out_fd, int& err_f
 inline Outcome finish(pid_t pid, int out_fd, int err_fd, double timeout_s = 300) {
     using clock = std::chrono::steady_clock;
     Outcome r;
-    const auto deadline = clock::now() + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(timeout_s));
+    const auto deadline =
+        clock::now() + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(timeout_s));
     pollfd fds[2] = {{out_fd, POLLIN, 0}, {err_fd, POLLIN, 0}};
     std::string* sinks[2] = {&r.out, &r.err};
     int open_fds = 2, poll_errno = 0;
@@ -166,7 +171,8 @@ public:
         namespace fs = std::filesystem;
         std::error_code ec;
         // Make everything writable again first (a test may chmod a subdirectory read-only).
-        for (auto it = fs::recursive_directory_iterator(path_, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+        for (auto it = fs::recursive_directory_iterator(path_, ec); !ec && it != fs::recursive_directory_iterator();
+             it.increment(ec))
             fs::permissions(it->path(), fs::perms::owner_all, fs::perm_options::add, ec);
         fs::remove_all(path_, ec);
     }
@@ -184,7 +190,8 @@ public:
         namespace fs = std::filesystem;
         std::vector<std::string> out;
         std::error_code ec;
-        for (auto it = fs::recursive_directory_iterator(path_, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+        for (auto it = fs::recursive_directory_iterator(path_, ec); !ec && it != fs::recursive_directory_iterator();
+             it.increment(ec))
             out.push_back(fs::relative(it->path(), path_).string());
         return out;
     }
@@ -228,6 +235,8 @@ inline Outcome validate_against_schema(const std::vector<std::string>& files, do
 }
 
 // Validates one result file against results/schema/v1.json.
-inline Outcome validate_against_schema(const std::string& file) { return validate_against_schema(std::vector<std::string>{file}); }
+inline Outcome validate_against_schema(const std::string& file) {
+    return validate_against_schema(std::vector<std::string>{file});
+}
 
 }  // namespace suite::test

@@ -37,7 +37,8 @@ std::vector<std::string> allgather_texts(MPI_Comm comm, const std::string& text)
     std::string all(static_cast<std::size_t>(total), '\0');
     MPI_Allgatherv(text.data(), mine, MPI_CHAR, all.data(), sizes.data(), offsets.data(), MPI_CHAR, comm);
     std::vector<std::string> out;
-    for (int r = 0; r < n; ++r) out.push_back(all.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(sizes[r])));
+    for (int r = 0; r < n; ++r)
+        out.push_back(all.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(sizes[r])));
     return out;
 }
 
@@ -118,7 +119,8 @@ Job start_job() {
         problem = job.host + ": " + e.what();
     }
     // The sets as bound, checked for overlap on each host.
-    const std::vector<std::string> bound = allgather_texts(local, problem.empty() ? format_cpu_list(current_cpuset()) : "");
+    const std::vector<std::string> bound =
+        allgather_texts(local, problem.empty() ? format_cpu_list(current_cpuset()) : "");
     std::vector<int> local_to_world(static_cast<std::size_t>(local_size));
     MPI_Allgather(&job.rank, 1, MPI_INT, local_to_world.data(), 1, MPI_INT, local);
     if (problem.empty()) {
@@ -139,10 +141,17 @@ Job start_job() {
             std::find(nodes.begin(), nodes.end(), pu.numa_node) == nodes.end() && pu.numa_node >= 0)
             nodes.push_back(pu.numa_node);
     std::sort(nodes.begin(), nodes.end());
-    const nlohmann::json me = {{"rank", job.rank},           {"host", job.host},       {"cpus", format_cpu_list(job.cpus)},
-                               {"numa_nodes", nodes},        {"layout", layout},       {"problem", problem},
-                               {"cpu_model", whole.cpu_model}, {"cores", std::max(1, whole.cores)}, {"pus", std::max(1, whole.pu_count())},
-                               {"numa_node_count", static_cast<int>(whole.nodes.size())}, {"memory_bytes", whole.memory_bytes}};
+    const nlohmann::json me = {{"rank", job.rank},
+                               {"host", job.host},
+                               {"cpus", format_cpu_list(job.cpus)},
+                               {"numa_nodes", nodes},
+                               {"layout", layout},
+                               {"problem", problem},
+                               {"cpu_model", whole.cpu_model},
+                               {"cores", std::max(1, whole.cores)},
+                               {"pus", std::max(1, whole.pu_count())},
+                               {"numa_node_count", static_cast<int>(whole.nodes.size())},
+                               {"memory_bytes", whole.memory_bytes}};
     const std::vector<std::string> all = gather_texts(me.dump());
     std::string refusal;
     if (job.rank == 0) {

@@ -14,9 +14,9 @@ namespace suite {
 struct Job {
     int rank = 0, size = 1;
     std::string host;
-    std::vector<int> cpus;     // this rank's share, bound
-    nlohmann::json context;    // rank 0: context.mpi (schema: library, ranks, layout, hosts); null elsewhere
-    int hosts = 1;             // distinct hosts (every rank)
+    std::vector<int> cpus;   // this rank's share, bound
+    nlohmann::json context;  // rank 0: context.mpi (schema: library, ranks, layout, hosts); null elsewhere
+    int hosts = 1;           // distinct hosts (every rank)
 };
 
 // Thrown on every rank when the job cannot start (a host with more ranks than cores, CPU sets

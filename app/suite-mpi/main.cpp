@@ -14,17 +14,17 @@
 #include <iostream>
 #include <set>
 
-#include "app/suite/parse.hpp"
-#include "app/suite/data_dir.hpp"
-#include "app/suite/frame.hpp"
-#include "app/suite/run.hpp"
-#include "harness/common/output_file.hpp"
 #include "app/suite-mpi/job.hpp"
 #include "app/suite-mpi/mpi_comm.hpp"
-#include "rapl/energy.hpp"
+#include "app/suite/data_dir.hpp"
+#include "app/suite/frame.hpp"
+#include "app/suite/parse.hpp"
+#include "app/suite/run.hpp"
+#include "harness/common/output_file.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/ranks.hpp"
 #include "harness/results/report.hpp"
+#include "rapl/energy.hpp"
 
 namespace suite {
 namespace {
@@ -114,12 +114,13 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
     on_rank0(job, [&] { go = parse_command_line(app, "suite-mpi", args); });
     if (job.rank != 0) parse_command_line(app, "suite-mpi", args);
     if (broadcast_text(go ? "go" : "").empty()) return 0;  // --help was printed
-    const Topology topo = Topology::load();  // this rank's share
+    const Topology topo = Topology::load();                // this rank's share
     Plan plan;
     on_every_rank(job, [&] {
         plan = make_plan(opts, topo, open_energy);
         if (plan.format != "json" && !(plan.format == "table" && plan.out_path.empty()))
-            throw UsageError("--format=" + plan.format + ": suite-mpi writes JSON (a file with --out, or the table on the console)");
+            throw UsageError("--format=" + plan.format +
+                             ": suite-mpi writes JSON (a file with --out, or the table on the console)");
     });
     if (job.rank == 0 && !plan.dry_run)
         for (const auto& note : plan.notes) std::cerr << "suite-mpi: note: " << note << "\n";
@@ -172,28 +173,36 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
         doc["results"].push_back(to_json(all));
         if (to_file) out->write(doc.dump(1) + "\n");
         for (const RankRun& r : runs)
-            if (r.solver_failed) status = 3;
-            else if (!r.passed && status == 0) status = 1;
+            if (r.solver_failed)
+                status = 3;
+            else if (!r.passed && status == 0)
+                status = 1;
         if (!all.verification.passed)
-            std::cerr << "suite-mpi: error: " << all.name << " " << all.access << " failed verification: " << all.verification.detail << "\n";
+            std::cerr << "suite-mpi: error: " << all.name << " " << all.access
+                      << " failed verification: " << all.verification.detail << "\n";
         if (!plan.quiet) {
             std::cout << table_row(i + 1, total, all);
-            std::cout << "        " << runs.size() << " ranks on " << job.hosts << " host(s); slowest rank " << all.mpi.slowest_rank << " ("
-                      << all.mpi.slowest_host << "), best times spread " << fmt_spread(all.mpi.spread) << "x\n"
+            std::cout << "        " << runs.size() << " ranks on " << job.hosts << " host(s); slowest rank "
+                      << all.mpi.slowest_rank << " (" << all.mpi.slowest_host << "), best times spread "
+                      << fmt_spread(all.mpi.spread) << "x\n"
                       << std::flush;
         }
     }
-    const int stopped_by = static_cast<int>(comm.max(interrupted ? frame.stop_signal() : 0));  // the signal, as some rank got it
+    const int stopped_by =
+        static_cast<int>(comm.max(interrupted ? frame.stop_signal() : 0));  // the signal, as some rank got it
     const int result = static_cast<int>(comm.max(interrupted ? 128 + stopped_by : status));
     if (job.rank == 0) {
         doc["complete"] = !interrupted;
         if (to_file) {
             out->write(doc.dump(1) + "\n");
-            if (!plan.quiet) std::cerr << "wrote " << doc["results"].size() << " record(s) to " << plan.out_path << "\n";
+            if (!plan.quiet)
+                std::cerr << "wrote " << doc["results"].size() << " record(s) to " << plan.out_path << "\n";
         } else if (plan.format == "json") {
             std::cout << doc.dump(1) << "\n";
         }
-        if (interrupted) std::cerr << "suite-mpi: interrupted by signal " << stopped_by << " after " << doc["results"].size() / (job.size + 1) << " of " << total << " point(s)\n";
+        if (interrupted)
+            std::cerr << "suite-mpi: interrupted by signal " << stopped_by << " after "
+                      << doc["results"].size() / (job.size + 1) << " of " << total << " point(s)\n";
     }
     return result;
 }

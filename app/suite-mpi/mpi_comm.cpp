@@ -13,7 +13,8 @@ namespace {
 
 int as_count(std::int64_t n, const char* what) {
     if (n < 0 || n > std::numeric_limits<int>::max())
-        throw std::runtime_error(std::string("MPI: ") + what + " of " + std::to_string(n) + " values does not fit one message");
+        throw std::runtime_error(std::string("MPI: ") + what + " of " + std::to_string(n) +
+                                 " values does not fit one message");
     return static_cast<int>(n);
 }
 
@@ -51,12 +52,14 @@ void MpiComm::exchange(std::span<const HaloPeer> peers) const {
     for (const HaloPeer& p : peers)
         if (p.recv_count > 0) {
             requests.emplace_back();
-            MPI_Irecv(p.recv, as_count(p.recv_count, "a halo"), MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD, &requests.back());
+            MPI_Irecv(p.recv, as_count(p.recv_count, "a halo"), MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD,
+                      &requests.back());
         }
     for (const HaloPeer& p : peers)
         if (p.send_count > 0) {
             requests.emplace_back();
-            MPI_Isend(p.send, as_count(p.send_count, "a halo"), MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD, &requests.back());
+            MPI_Isend(p.send, as_count(p.send_count, "a halo"), MPI_DOUBLE, p.rank, tag, MPI_COMM_WORLD,
+                      &requests.back());
         }
     MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
 }

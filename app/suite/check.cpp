@@ -64,11 +64,16 @@ int cmd_check(const std::vector<std::string>& args) {
     app.add_option("run", runs, "the result file of the run to gate");
     app.add_option("--tolerance", tolerance, "the smallest change that counts, in percent (default 10%)");
     app.add_option("--alpha", alpha, "significance level of the one-sided test on the repetitions (default 0.01)");
-    app.add_flag("--force", force, "compare even when the files come from different machines or builds (the differences are listed)");
+    app.add_flag("--force", force,
+                 "compare even when the files come from different machines or builds (the differences are listed)");
     app.add_option("--markdown", markdown, "also write a Markdown summary to FILE (for a CI comment)");
     if (!parse_command_line(app, "suite check", args)) return 0;
-    if (baseline_path.empty()) throw UsageError("check needs --baseline=FILE, e.g. ./suite check --baseline results/baseline/ci.json run.json");
-    if (runs.size() != 1) throw UsageError("check needs exactly one run file after the options, e.g. ./suite check --baseline base.json run.json");
+    if (baseline_path.empty())
+        throw UsageError(
+            "check needs --baseline=FILE, e.g. ./suite check --baseline results/baseline/ci.json run.json");
+    if (runs.size() != 1)
+        throw UsageError(
+            "check needs exactly one run file after the options, e.g. ./suite check --baseline base.json run.json");
     GateRule rule;
     rule.tolerance = parse_tolerance(tolerance);
     rule.alpha = parse_alpha(alpha);
@@ -78,7 +83,8 @@ int cmd_check(const std::vector<std::string>& args) {
     const ResultFile base = load_result_file(baseline_path);
     const ResultFile run = load_result_file(runs[0]);
     for (const ResultFile* f : {&base, &run})
-        if (!f->complete) throw InputError(f->path + ": the run was interrupted (\"complete\": false); gate only complete runs");
+        if (!f->complete)
+            throw InputError(f->path + ": the run was interrupted (\"complete\": false); gate only complete runs");
     CheckReport rep = check_run(base, run, rule, force);
     for (const auto* f : {&base, &run}) rep.notes.insert(rep.notes.end(), f->notes.begin(), f->notes.end());
     if (md.claimed()) {

@@ -27,7 +27,8 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
 int cmd_traverse(const std::vector<std::string>& args);
 // `suite matrix --mesh=... [--out=DIR]`: the fem matrix's structure, fill and SpMV per vertex ordering (matrix.cpp).
 int cmd_matrix(const std::vector<std::string>& args);
-// `suite mpm --case=dam-collapse --out=DIR`: the MPM dam collapse, particle snapshots and the front (mpm.cpp); 0, 1 a check failed.
+// `suite mpm --case=dam-collapse --out=DIR`: the MPM dam collapse, particle snapshots and the front (mpm.cpp); 0, 1 a
+// check failed.
 int cmd_mpm(const std::vector<std::string>& args);
 // `suite roofline [--threads=LIST] [--out=FILE] [--place=RESULT.json [--ceilings=FILE]]`: the
 // machine's measured ceilings, and a run's points placed on them (roofline.cpp).

@@ -59,17 +59,22 @@ which).
 
 int cmd_compare(const std::vector<std::string>& args) {
     using namespace compare_command;
-    CLI::App app{"suite compare: results of two or more runs (machines, builds) side by side, or the hosts of one MPI run"};
+    CLI::App app{
+        "suite compare: results of two or more runs (machines, builds) side by side, or the hosts of one MPI run"};
     app.footer(compare_examples);
     std::vector<std::string> paths;
     std::string format = "table";
     bool force = false;
-    app.add_option("files", paths, "result files written by suite --out=FILE.json; the first is the reference (one file: an MPI run's hosts)");
+    app.add_option(
+        "files", paths,
+        "result files written by suite --out=FILE.json; the first is the reference (one file: an MPI run's hosts)");
     app.add_option("--format", format, "table (default) | markdown");
     app.add_flag("--force", force, "compare files that differ both as machines and in build or settings");
     if (!parse_command_line(app, "suite compare", args)) return 0;
-    if (format != "table" && format != "markdown") throw UsageError("unknown --format '" + format + "'; accepted: table, markdown");
-    const std::string two_files = "compare needs at least two result files, e.g. ./suite compare a.json b.json, or one of an MPI run";
+    if (format != "table" && format != "markdown")
+        throw UsageError("unknown --format '" + format + "'; accepted: table, markdown");
+    const std::string two_files =
+        "compare needs at least two result files, e.g. ./suite compare a.json b.json, or one of an MPI run";
     const std::string see_help = " (see ./suite compare --help)";
     if (paths.empty()) throw UsageError(two_files + see_help);
     if (paths.size() == 1) {

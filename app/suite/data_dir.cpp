@@ -12,7 +12,7 @@ namespace suite {
 namespace {
 
 bool is_directory(const std::string& path) {
-    struct stat st{};
+    struct stat st {};
     return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
@@ -47,8 +47,11 @@ std::string data_file(const std::string& relative, std::string& why) {
     const DataDir& d = data_dir();
     const std::string path = d.path + "/" + relative;
     if (access(path.c_str(), R_OK) == 0) return path;
-    why = d.installed ? path + " is missing from the installed tree (looked in " + d.path + ", beside this program's bin/); reinstall the suite"
-                      : path + " is not readable (the source tree this suite was built from has moved; install it with make install PREFIX=...)";
+    why = d.installed ? path + " is missing from the installed tree (looked in " + d.path +
+                            ", beside this program's bin/); reinstall the suite"
+                      : path +
+                            " is not readable (the source tree this suite was built from has moved; install it with "
+                            "make install PREFIX=...)";
     return "";
 }
 

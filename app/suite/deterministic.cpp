@@ -23,13 +23,13 @@
 #include <nlohmann/json.hpp>
 
 #include "app/suite/parse.hpp"
-#include "harness/common/output_file.hpp"
-#include "harness/results/build_info.hpp"
-#include "harness/instruments/callgrind_marks.hpp"
 #include "app/suite/run.hpp"
+#include "harness/common/output_file.hpp"
+#include "harness/common/units.hpp"
+#include "harness/instruments/callgrind_marks.hpp"
 #include "harness/measure/plan.hpp"
 #include "harness/measure/result.hpp"
-#include "harness/common/units.hpp"
+#include "harness/results/build_info.hpp"
 
 namespace suite {
 namespace deterministic_command {
@@ -96,10 +96,13 @@ std::string log_tail(const std::string& log) {
         if (!l.empty()) lines.push_back(l);
     }
     for (const auto& l : lines)
-        if (l.find("unhandled instruction") != std::string::npos || l.find("Unrecognised instruction") != std::string::npos)
-            return "valgrind met an instruction it cannot decode (" + l + "); build for x86-64-v3 (see ./suite deterministic --help)";
+        if (l.find("unhandled instruction") != std::string::npos ||
+            l.find("Unrecognised instruction") != std::string::npos)
+            return "valgrind met an instruction it cannot decode (" + l +
+                   "); build for x86-64-v3 (see ./suite deterministic --help)";
     std::string out;
-    for (std::size_t i = lines.size() > 3 ? lines.size() - 3 : 0; i < lines.size(); ++i) out += (out.empty() ? "" : " | ") + lines[i];
+    for (std::size_t i = lines.size() > 3 ? lines.size() - 3 : 0; i < lines.size(); ++i)
+        out += (out.empty() ? "" : " | ") + lines[i];
     return out;
 }
 
@@ -133,7 +136,8 @@ std::vector<std::string> inner_args(const RunOptions& o) {
     add("--threads", o.threads);
     add("--pin", o.pin);
     add("--placement", o.placement);
-    if (o.hugepages != "system") add("--hugepages", o.hugepages);  // only when asked: the baselines' argv stays as it was
+    if (o.hugepages != "system")
+        add("--hugepages", o.hugepages);  // only when asked: the baselines' argv stays as it was
     add("--reps", std::to_string(o.reps));
     add("--seed", std::to_string(o.seed));
     for (const auto& [name, text] : o.params) add(("--" + name).c_str(), text);
@@ -143,7 +147,8 @@ std::vector<std::string> inner_args(const RunOptions& o) {
 int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputFile& out) {
     // Always under /tmp, not $TMPDIR: a path of the same length on every machine (see inner_args).
     std::string tmpl = "/tmp/suite-callgrind-XXXXXX";
-    if (!mkdtemp(tmpl.data())) throw std::runtime_error(std::string("cannot create a temporary directory in /tmp: ") + std::strerror(errno));
+    if (!mkdtemp(tmpl.data()))
+        throw std::runtime_error(std::string("cannot create a temporary directory in /tmp: ") + std::strerror(errno));
     const std::string dir = tmpl;
     struct Cleanup {
         std::string dir;
@@ -154,12 +159,20 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
     } cleanup{dir};
     // The program by a path of fixed length, wherever the build lives.
     const std::string program = dir + "/suite";
-    if (symlink(self_exe().c_str(), program.c_str()) != 0) throw std::runtime_error(std::string("symlink: ") + std::strerror(errno));
+    if (symlink(self_exe().c_str(), program.c_str()) != 0)
+        throw std::runtime_error(std::string("symlink: ") + std::strerror(errno));
 
-    std::vector<std::string> argv = {valgrind, "--tool=callgrind", "--cache-sim=yes", "--collect-atstart=no",
-                                     std::string("--I1=") + callgrind_sim_i1, std::string("--D1=") + callgrind_sim_d1, std::string("--LL=") + callgrind_sim_ll,
-                                     "--callgrind-out-file=" + dir + "/callgrind.out", "--log-file=" + dir + "/valgrind.log",
-                                     program, "deterministic"};
+    std::vector<std::string> argv = {valgrind,
+                                     "--tool=callgrind",
+                                     "--cache-sim=yes",
+                                     "--collect-atstart=no",
+                                     std::string("--I1=") + callgrind_sim_i1,
+                                     std::string("--D1=") + callgrind_sim_d1,
+                                     std::string("--LL=") + callgrind_sim_ll,
+                                     "--callgrind-out-file=" + dir + "/callgrind.out",
+                                     "--log-file=" + dir + "/valgrind.log",
+                                     program,
+                                     "deterministic"};
     for (const auto& a : inner_args(opts)) argv.push_back(a);
     // A fixed environment, for the same reason; hwloc's x86 CPUID backend cannot work under
     // valgrind and would say so, the OS's view of the topology suffices. Every allocation of
@@ -168,8 +181,9 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
     // that costs whatever path the heap's layout takes, so a change anywhere in the program
     // (an allocation more during set-up) moved a small kernel's count by up to 8 %. An mmap
     // costs the same instructions every time. (The kernel's own instructions never moved.)
-    std::vector<std::string> env_strings = {std::string(inner_env) + "=" + dir + "/run.json", "HWLOC_COMPONENTS=-x86", "LC_ALL=C",
-                                            "PATH=/usr/bin:/bin", "GLIBC_TUNABLES=glibc.malloc.mmap_threshold=1024"};
+    std::vector<std::string> env_strings = {std::string(inner_env) + "=" + dir + "/run.json", "HWLOC_COMPONENTS=-x86",
+                                            "LC_ALL=C", "PATH=/usr/bin:/bin",
+                                            "GLIBC_TUNABLES=glibc.malloc.mmap_threshold=1024"};
     std::vector<char*> cargv, cenv;
     for (auto& a : argv) cargv.push_back(a.data());
     cargv.push_back(nullptr);
@@ -178,7 +192,8 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
 
     // Ctrl-C reaches valgrind and its program (same process group); this process waits for
     // them, cleans up and reports, rather than dying first and leaving files behind.
-    struct sigaction ignore{}, old_int{}, old_term{};
+    struct sigaction ignore {
+    }, old_int{}, old_term{};
     ignore.sa_handler = SIG_IGN;
     sigaction(SIGINT, &ignore, &old_int);
     sigaction(SIGTERM, &ignore, &old_term);
@@ -199,14 +214,16 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
     }
     const std::string run_json = dir + "/run.json";
     if ((status != 0 && status != 1 && status != 3) || access(run_json.c_str(), R_OK) != 0)
-        throw std::runtime_error("the run under valgrind failed (exit status " + std::to_string(status) + "): " + log_tail(slurp(dir + "/valgrind.log")));
+        throw std::runtime_error("the run under valgrind failed (exit status " + std::to_string(status) +
+                                 "): " + log_tail(slurp(dir + "/valgrind.log")));
 
     json doc = json::parse(slurp(run_json));
     std::string version = "valgrind";
     {
         const std::string log = slurp(dir + "/valgrind.log");
         const auto at = log.find("Using Valgrind-");
-        if (at != std::string::npos) version = "valgrind " + log.substr(at + 15, log.find_first_of(" \n", at + 15) - at - 15);
+        if (at != std::string::npos)
+            version = "valgrind " + log.substr(at + 15, log.find_first_of(" \n", at + 15) - at - 15);
     }
     auto& records = doc["results"];
     for (std::size_t i = 0; i < records.size(); ++i) {
@@ -215,16 +232,19 @@ int run_outer(const RunOptions& opts, const std::string& valgrind, const OutputF
         const CallgrindDump dump = parse_callgrind_dump(slurp(dump_path));
         const std::string kind = rec["size"]["kind"];
         const std::uint64_t size = rec["size"]["requested"];
-        const std::string expected = "suite point " + rec["name"].get<std::string>() + " " + rec[rec["axis"].get<std::string>()].get<std::string>() +
-                                     " " + (kind == "bytes" ? format_bytes(size) : std::to_string(size)) + " t=" +
-                                     std::to_string(rec["threads"].get<int>());
+        const std::string expected = "suite point " + rec["name"].get<std::string>() + " " +
+                                     rec[rec["axis"].get<std::string>()].get<std::string>() + " " +
+                                     (kind == "bytes" ? format_bytes(size) : std::to_string(size)) +
+                                     " t=" + std::to_string(rec["threads"].get<int>());
         if (dump.label.find(expected) == std::string::npos)
-            throw std::runtime_error("callgrind dump " + std::to_string(i + 1) + " is labelled '" + dump.label + "', expected '" + expected + "'");
+            throw std::runtime_error("callgrind dump " + std::to_string(i + 1) + " is labelled '" + dump.label +
+                                     "', expected '" + expected + "'");
         const double calls = rec["repetitions"]["counted"].get<double>() * rec["repetitions"]["batch"].get<double>();
         rec["callgrind"] = callgrind_block(dump, calls, version);
     }
     const std::string text = doc.dump(1) + "\n";
-    if (!out.claimed()) std::cout << text << std::flush;
+    if (!out.claimed())
+        std::cout << text << std::flush;
     else {
         out.write(text);
         std::cerr << "wrote " << records.size() << " record(s) with callgrind counts to " << out.path() << "\n";
@@ -254,12 +274,14 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
     opts.counters = "none";
     opts.energy = "none";
     if (!opts.format.empty() && opts.format != "json")
-        throw UsageError("--format=" + opts.format + ": deterministic writes suite's JSON only (--out=FILE.json or stdout)");
+        throw UsageError("--format=" + opts.format +
+                         ": deterministic writes suite's JSON only (--out=FILE.json or stdout)");
     const Topology topo = Topology::load();
     Plan plan = make_plan(opts, topo);
     for (const auto& p : plan.points)
         if (p.threads != 1)
-            throw UsageError("--threads=" + opts.threads + ": deterministic runs one thread (valgrind runs threads one at a time, "
+            throw UsageError("--threads=" + opts.threads +
+                             ": deterministic runs one thread (valgrind runs threads one at a time, "
                              "and waiting at barriers would count differently each run); use --threads=1");
 
     const char* inner_out = std::getenv(inner_env);
@@ -275,22 +297,31 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
     }
 #ifdef __AVX512F__
     throw UsageError("this build uses AVX-512 (built with " + std::string(build::flags) +
-                     "), which valgrind 3.19 cannot decode; run a build for x86-64-v3, e.g. build/suite-x86-64-v3 deterministic ...");
+                     "), which valgrind 3.19 cannot decode; run a build for x86-64-v3, e.g. build/suite-x86-64-v3 "
+                     "deterministic ...");
 #endif
     if (!callgrind::available)
-        throw UsageError("this build has no callgrind marks (<valgrind/callgrind.h> was missing when it was built); install valgrind and rebuild");
+        throw UsageError(
+            "this build has no callgrind marks (<valgrind/callgrind.h> was missing when it was built); install "
+            "valgrind and rebuild");
     if (valgrind.empty()) valgrind = find_on_path("valgrind");
-    if (valgrind.empty()) throw UsageError("valgrind is not on PATH; install it (Debian: apt-get install valgrind) or give --valgrind=PATH");
-    if (access(valgrind.c_str(), X_OK) != 0) throw UsageError("--valgrind=" + valgrind + " is not an executable program");
+    if (valgrind.empty())
+        throw UsageError(
+            "valgrind is not on PATH; install it (Debian: apt-get install valgrind) or give --valgrind=PATH");
+    if (access(valgrind.c_str(), X_OK) != 0)
+        throw UsageError("--valgrind=" + valgrind + " is not an executable program");
     // Claimed before the minutes under valgrind: a second run on the same file refuses now.
     OutputFile out;
     if (!plan.out_path.empty()) out = OutputFile::claim(plan.out_path, "--out", run_inputs(opts));
     if (plan.dry_run) {
-        std::cout << plan.points.size() << " point(s) under " << valgrind << " --tool=callgrind --cache-sim=yes --collect-atstart=no (I1 " << callgrind_sim_i1
-                  << ", D1 " << callgrind_sim_d1 << ", LL " << callgrind_sim_ll << ")" << (plan.out_path.empty() ? "" : ", output " + plan.out_path) << "\n";
+        std::cout << plan.points.size() << " point(s) under " << valgrind
+                  << " --tool=callgrind --cache-sim=yes --collect-atstart=no (I1 " << callgrind_sim_i1 << ", D1 "
+                  << callgrind_sim_d1 << ", LL " << callgrind_sim_ll << ")"
+                  << (plan.out_path.empty() ? "" : ", output " + plan.out_path) << "\n";
         for (const auto& p : plan.points)
-            std::cout << "  " << p.kernel->info.name << (p.variant.empty() ? "" : "-" + p.variant) << " " << p.access.label() << " "
-                      << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads << "\n";
+            std::cout << "  " << p.kernel->info.name << (p.variant.empty() ? "" : "-" + p.variant) << " "
+                      << p.access.label() << " " << size_label(p.kernel->info.size_kind, p.size)
+                      << " threads=" << p.threads << "\n";
         return 0;
     }
     return run_outer(opts, valgrind, out);

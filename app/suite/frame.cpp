@@ -40,9 +40,11 @@ extern "C" void frame_on_signal(int sig) {
         sigaction(SIGTERM, &dfl, nullptr);
     }
     if (frame_unlinks.exchange(false)) {
-        struct stat mine {}, named {};
+        struct stat mine {
+        }, named{};
         const int fd = frame_lock_fd.load();
-        if (fd >= 0 && fstat(fd, &mine) == 0 && stat(frame_lock, &named) == 0 && mine.st_dev == named.st_dev && mine.st_ino == named.st_ino)
+        if (fd >= 0 && fstat(fd, &mine) == 0 && stat(frame_lock, &named) == 0 && mine.st_dev == named.st_dev &&
+            mine.st_ino == named.st_ino)
             unlink(frame_lock);
     }
     errno = saved;
@@ -73,7 +75,8 @@ void install(int sig, struct sigaction* old) {
 }  // namespace
 
 CommandFrame::CommandFrame(std::string program, SecondSignal second) : program_(std::move(program)), second_(second) {
-    if (frame_alive.exchange(true)) throw std::logic_error("a second CommandFrame while one is alive: a command has one frame");
+    if (frame_alive.exchange(true))
+        throw std::logic_error("a second CommandFrame while one is alive: a command has one frame");
     frame_stop.store(0);
     frame_second_ends.store(second == SecondSignal::ends_process);
     install(SIGINT, &old_int_);
@@ -92,7 +95,8 @@ CommandFrame::~CommandFrame() {
 
 const std::atomic<int>* CommandFrame::stop_flag() const { return &frame_stop; }
 
-const OutputFile& CommandFrame::claim_file(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs) {
+const OutputFile& CommandFrame::claim_file(const std::string& path, const std::string& option,
+                                           const std::vector<FileIdentity>& inputs) {
     if (file_.claimed() || !dir_.path().empty()) throw std::logic_error("CommandFrame: the output is claimed already");
     file_ = OutputFile::claim(path, option, inputs);
     remember_lock(file_.lock_path(), file_.lock_fd(), second_ == SecondSignal::waits_for_ranks);
@@ -110,7 +114,8 @@ int CommandFrame::finish(int status, const std::string& done, bool complete) {
     // A run that failed does not replace an earlier run's good files; one that succeeded, or
     // stopped at a safe point with what it finished, does.
     if (status != 0 && status < 128 && dir_.replacing()) {
-        std::cerr << program_ << ": note: the earlier run's files in " << dir_.path() << " are kept; this run's are discarded (it failed)\n";
+        std::cerr << program_ << ": note: the earlier run's files in " << dir_.path()
+                  << " are kept; this run's are discarded (it failed)\n";
         dir_.release();
     } else {
         dir_.commit();

@@ -42,7 +42,8 @@ public:
 
     // The output, checked and locked now (OutputFile::claim, OutputDir::claim: UsageError when
     // the policy refuses it). The frame keeps the claim until it ends.
-    const OutputFile& claim_file(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs = {});
+    const OutputFile& claim_file(const std::string& path, const std::string& option,
+                                 const std::vector<FileIdentity>& inputs = {});
     OutputDir& claim_dir(const std::string& dir, const DirPolicy& policy);
     const OutputFile* file() const { return file_.claimed() ? &file_ : nullptr; }
 
@@ -64,7 +65,8 @@ private:
     SecondSignal second_;
     OutputFile file_;
     OutputDir dir_;
-    struct sigaction old_int_ {}, old_term_ {};
+    struct sigaction old_int_ {
+    }, old_term_{};
 };
 
 }  // namespace suite

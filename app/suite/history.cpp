@@ -26,7 +26,8 @@ namespace suite {
 namespace history_command {
 namespace {
 
-const char* const history_usage = R"(suite history: every run's results in one SQLite database; their steps; a gate against the recent past
+const char* const history_usage =
+    R"(suite history: every run's results in one SQLite database; their steps; a gate against the recent past
 
   ./suite history add RUN.json... [--db FILE] [--commit SHA] [--branch NAME]
   ./suite history list  [--db FILE]
@@ -97,23 +98,28 @@ int history_add(const std::vector<std::string>& args) {
     app.add_option("--commit", commit, "the commit the runs were built from (default: each file's git_revision)");
     app.add_option("--branch", branch, "the branch (default: $GITHUB_REF_NAME, else unknown)");
     if (!parse_command_line(app, "suite history add", args)) return 0;
-    if (paths.empty()) throw UsageError("history add needs at least one result file, e.g. ./suite history add results/latest.json");
+    if (paths.empty())
+        throw UsageError("history add needs at least one result file, e.g. ./suite history add results/latest.json");
     if (branch.empty())
         if (const char* ci = std::getenv("GITHUB_REF_NAME"); ci && *ci) branch = ci;
     // Every file is read and checked before the database is opened: a bad one changes nothing.
     std::vector<ResultFile> files;
     for (const auto& p : paths) {
         files.push_back(load_result_file(p));
-        if (!files.back().complete) throw InputError(p + ": the run was interrupted (\"complete\": false); add only complete runs");
-        if (files.back().points.empty()) throw InputError(p + ": the run has no results (\"results\": []); there is nothing to add");
+        if (!files.back().complete)
+            throw InputError(p + ": the run was interrupted (\"complete\": false); add only complete runs");
+        if (files.back().points.empty())
+            throw InputError(p + ": the run has no results (\"results\": []); there is nothing to add");
     }
     History h = History::open_for_adding(a.db, history_options(a));
     for (const AddOutcome& o : h.add(files, commit, branch)) {
         if (o.added)
-            std::cout << "added " << o.source << ": run " << o.run_id << ", commit " << o.stored_commit << " (branch " << o.id.branch << "), "
-                      << o.figures << " figure(s); machine " << o.id.machine << " [" << o.id.fingerprint << "], build " << o.id.context_class << "\n";
+            std::cout << "added " << o.source << ": run " << o.run_id << ", commit " << o.stored_commit << " (branch "
+                      << o.id.branch << "), " << o.figures << " figure(s); machine " << o.id.machine << " ["
+                      << o.id.fingerprint << "], build " << o.id.context_class << "\n";
         else
-            std::cout << o.source << ": already in the history as run " << o.run_id << " (commit " << o.stored_commit << "); not added again\n";
+            std::cout << o.source << ": already in the history as run " << o.run_id << " (commit " << o.stored_commit
+                      << "); not added again\n";
     }
     std::cout << h.path() << ": " << h.run_count() << " run(s)\n" << std::flush;
     return 0;
@@ -127,11 +133,11 @@ int history_list(const std::vector<std::string>& args) {
     if (!parse_command_line(app, "suite history list", args)) return 0;
     const History h = History::open_for_reading(a.db, history_options(a));
     const auto machines = h.summary();
-    std::cout << h.path() << " (schema version " << h.schema_version() << "): " << h.run_count() << " run(s) of " << machines.size()
-              << " machine(s)\n";
+    std::cout << h.path() << " (schema version " << h.schema_version() << "): " << h.run_count() << " run(s) of "
+              << machines.size() << " machine(s)\n";
     for (const auto& m : machines) {
-        std::cout << "\nmachine " << m.machine << " [" << m.fingerprint << "]: " << m.runs << " run(s), " << m.series << " series, "
-                  << m.context_classes << " build(s)\n";
+        std::cout << "\nmachine " << m.machine << " [" << m.fingerprint << "]: " << m.runs << " run(s), " << m.series
+                  << " series, " << m.context_classes << " build(s)\n";
         TextTable t{{"commit", "branch", "runs", "latest run"}, {}, {false, false, true, false}};
         for (const auto& c : m.commits) t.rows.push_back({c.commit, c.branch, std::to_string(c.runs), c.latest_date});
         std::cout << t.render_text();
@@ -156,11 +162,14 @@ int history_steps(const std::vector<std::string>& args) {
     for (const auto& s : series) {
         for (const Step& st : s.steps) {
             const auto group = std::make_pair(s.machine + " [" + s.fingerprint + "]", s.context_class);
-            auto [it, fresh] = tables.try_emplace(group, TextTable{{"point", "figure", "commit", "before", "after", "change", "", "p"},
-                                                                   {}, {false, false, false, true, true, true, false, true}});
+            auto [it, fresh] =
+                tables.try_emplace(group, TextTable{{"point", "figure", "commit", "before", "after", "change", "", "p"},
+                                                    {},
+                                                    {false, false, false, true, true, true, false, true}});
             if (fresh) order.push_back(group);
-            it->second.rows.push_back({s.key.label(), s.figure + " " + s.unit, st.commit, format_number(st.before), format_number(st.after),
-                                       signed_percent(st.change), st.worse ? "worse" : "better", format_number(st.p)});
+            it->second.rows.push_back({s.key.label(), s.figure + " " + s.unit, st.commit, format_number(st.before),
+                                       format_number(st.after), signed_percent(st.change),
+                                       st.worse ? "worse" : "better", format_number(st.p)});
             ++found;
         }
     }
@@ -179,10 +188,12 @@ int history_html(const std::vector<std::string>& args) {
     app.add_option("--out", out, "the directory to write index.html (and chart.min.js) into");
     add_db_options(app, a);
     add_filter_options(app, a);
-    add_whole_option(app, "--window", window, 1, 1000, "the runs each chart's band is fitted from, as history check's (default 10)");
+    add_whole_option(app, "--window", window, 1, 1000,
+                     "the runs each chart's band is fitted from, as history check's (default 10)");
     app.add_option("--alpha", alpha, "as history check's (default 0.01)");
     if (!parse_command_line(app, "suite history html", args)) return 0;
-    if (out.empty()) throw UsageError("history html needs --out=DIR, e.g. ./suite history html --out results/history-html");
+    if (out.empty())
+        throw UsageError("history html needs --out=DIR, e.g. ./suite history html --out results/history-html");
     const History h = History::open_for_reading(a.db, history_options(a));
     const std::vector<Series> series = series_with_steps(h, a);
     std::size_t steps = 0;
@@ -196,9 +207,13 @@ int history_html(const std::vector<std::string>& args) {
         std::string why;
         options.chart_js = data_file("chart.min.js", why);
         if (options.chart_js.empty())
-            throw UsageError(why + "; the history page needs this copy of Chart.js, which make install takes from Debian's libjs-chart.js");
+            throw UsageError(why +
+                             "; the history page needs this copy of Chart.js, which make install takes from Debian's "
+                             "libjs-chart.js");
     }
-    std::cout << "wrote " << write_dashboard(series, out, options) << " (" << series.size() << " series, " << steps << " step(s))\n" << std::flush;
+    std::cout << "wrote " << write_dashboard(series, out, options) << " (" << series.size() << " series, " << steps
+              << " step(s))\n"
+              << std::flush;
     return 0;
 }
 
@@ -219,7 +234,9 @@ int cmd_history(const std::vector<std::string>& args) {
         std::cout << history_usage;
         return 0;
     }
-    if (sub.empty()) throw UsageError("history needs a subcommand: add, list, steps, check, noise or html (see ./suite history --help)");
+    if (sub.empty())
+        throw UsageError(
+            "history needs a subcommand: add, list, steps, check, noise or html (see ./suite history --help)");
     require_known({sub}, {"add", "list", "steps", "check", "noise", "html"}, "history subcommand");
     return 2;  // not reached: require_known threw
 }

@@ -23,12 +23,14 @@ struct HistoryArgs {
 
 inline void add_db_options(CLI::App& app, HistoryArgs& a) {
     app.add_option("--db", a.db, "the history database (default results/history.sqlite)");
-    add_whole_option(app, "--wait", a.wait_s, 0, 3600, "seconds to wait while another process holds the database (default 10)");
+    add_whole_option(app, "--wait", a.wait_s, 0, 3600,
+                     "seconds to wait while another process holds the database (default 10)");
 }
 
 inline void add_filter_options(CLI::App& app, HistoryArgs& a) {
     app.add_option("--kernel", a.kernel, "only this kernel's series");
-    app.add_option("--machine", a.machine, "only this machine: a part of its label (host, CPU) or the start of its fingerprint");
+    app.add_option("--machine", a.machine,
+                   "only this machine: a part of its label (host, CPU) or the start of its fingerprint");
 }
 
 inline HistoryOptions history_options(const HistoryArgs& a) {
@@ -45,8 +47,10 @@ inline std::vector<Series> filtered_series(const History& h, const HistoryArgs& 
         const auto found = h.machines_matching(a.machine);
         if (found.empty()) {
             std::string known;
-            for (const auto& [fp, label] : h.machines_matching("")) known += (known.empty() ? "" : "; ") + fp + " " + label;
-            throw UsageError("no machine in " + h.path() + " matches --machine '" + a.machine + "'; its machines: " + known);
+            for (const auto& [fp, label] : h.machines_matching(""))
+                known += (known.empty() ? "" : "; ") + fp + " " + label;
+            throw UsageError("no machine in " + h.path() + " matches --machine '" + a.machine +
+                             "'; its machines: " + known);
         }
         for (const auto& m : found) f.fingerprints.push_back(m.first);
     }
@@ -58,7 +62,8 @@ inline std::vector<Series> filtered_series(const History& h, const HistoryArgs& 
         kernels.insert(s.key.kernel);
         if (s.key.kernel == a.kernel) out.push_back(std::move(s));
     }
-    if (out.empty()) require_known({a.kernel}, std::vector<std::string>(kernels.begin(), kernels.end()), "kernel in this history");
+    if (out.empty())
+        require_known({a.kernel}, std::vector<std::string>(kernels.begin(), kernels.end()), "kernel in this history");
     return out;
 }
 

@@ -70,8 +70,8 @@ std::vector<std::string> step_lines(const std::vector<Series>& series) {
     std::vector<std::string> out;
     for (const auto& s : series)
         for (const Step& st : detect_steps(s))
-            out.push_back("`" + s.key.label() + "` " + s.figure + " " + s.unit + ": " + signed_percent(st.change) + " from commit " + st.commit +
-                          (st.worse ? " (worse)" : " (better)"));
+            out.push_back("`" + s.key.label() + "` " + s.figure + " " + s.unit + ": " + signed_percent(st.change) +
+                          " from commit " + st.commit + (st.worse ? " (worse)" : " (better)"));
     return out;
 }
 
@@ -84,12 +84,14 @@ std::vector<std::string> step_lines(const std::vector<Series>& series) {
         for (const auto& e : s.entries)
             if (same_commit(e.commit, base)) builds.insert(s.context_class);
     if (builds.empty())
-        throw InputError(h.path() + ": no run of --base-commit " + base + " on " + id.machine + "; add the base's runs first (run the gate on it), "
+        throw InputError(h.path() + ": no run of --base-commit " + base + " on " + id.machine +
+                         "; add the base's runs first (run the gate on it), "
                          "or leave out --base-commit to gate against the latest runs");
     std::string list;
     for (const auto& b : builds) list += (list.empty() ? "" : "; ") + b;
-    throw InputError(h.path() + ": the runs of --base-commit " + base + " on " + id.machine + " are of another build (" + list + "), not " +
-                     id.context_class + "; gate builds of one kind against each other");
+    throw InputError(h.path() + ": the runs of --base-commit " + base + " on " + id.machine +
+                     " are of another build (" + list + "), not " + id.context_class +
+                     "; gate builds of one kind against each other");
 }
 
 }  // namespace
@@ -104,34 +106,48 @@ int history_check(const std::vector<std::string>& args) {
     app.add_option("run", runs, "the result file of the run to gate");
     app.add_option("--confirm", confirm, "a rerun of the same build: a change counts only where both runs show it");
     add_db_options(app, a);
-    add_whole_option(app, "--window", window, 1, 1000, "how many of the most recent runs of each series to pool (default 10)");
-    app.add_option("--tolerance", tolerance, "the smallest change that counts, in percent, or auto: each series' band edge (default 10%)");
-    app.add_option("--alpha", alpha, "significance level of the one-sided test on the repetitions and of the band (default 0.01)");
+    add_whole_option(app, "--window", window, 1, 1000,
+                     "how many of the most recent runs of each series to pool (default 10)");
+    app.add_option("--tolerance", tolerance,
+                   "the smallest change that counts, in percent, or auto: each series' band edge (default 10%)");
+    app.add_option("--alpha", alpha,
+                   "significance level of the one-sided test on the repetitions and of the band (default 0.01)");
     app.add_option("--commit", commit, "the run's commit, left out of the window (default: its git_revision)");
-    app.add_option("--base-commit", base_commit, "pool this commit's runs (a pull request's merge-base) instead of the latest runs");
+    app.add_option("--base-commit", base_commit,
+                   "pool this commit's runs (a pull request's merge-base) instead of the latest runs");
     app.add_option("--markdown", markdown, "also write a short Markdown summary to FILE (for the pull request)");
     if (!parse_command_line(app, "suite history check", args)) return 0;
-    if (runs.size() != 1) throw UsageError("history check needs exactly one run file, e.g. ./suite history check run.json");
+    if (runs.size() != 1)
+        throw UsageError("history check needs exactly one run file, e.g. ./suite history check run.json");
     HistoryRule rule;
     parse_history_tolerance(tolerance, rule);
     rule.gate.alpha = parse_alpha(alpha);
     rule.confirmed = !confirm.empty();
-    if (!base_commit.empty() && (base_commit.size() < 7 || base_commit.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos))
-        throw UsageError("--base-commit='" + base_commit + "': give a commit's hash, at least 7 hex digits, e.g. --base-commit \"$(git merge-base origin/main HEAD)\"");
+    if (!base_commit.empty() &&
+        (base_commit.size() < 7 || base_commit.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos))
+        throw UsageError("--base-commit='" + base_commit +
+                         "': give a commit's hash, at least 7 hex digits, e.g. --base-commit \"$(git merge-base "
+                         "origin/main HEAD)\"");
     OutputFile md;
-    if (!markdown.empty()) md = OutputFile::claim(markdown, "--markdown", identify_inputs({runs[0], a.db, confirm.empty() ? runs[0] : confirm}));
+    if (!markdown.empty())
+        md = OutputFile::claim(markdown, "--markdown",
+                               identify_inputs({runs[0], a.db, confirm.empty() ? runs[0] : confirm}));
     const ResultFile run = load_result_file(runs[0]);
-    if (!run.complete) throw InputError(run.path + ": the run was interrupted (\"complete\": false); gate only complete runs");
+    if (!run.complete)
+        throw InputError(run.path + ": the run was interrupted (\"complete\": false); gate only complete runs");
     ResultFile rerun;
     if (!confirm.empty()) {
         rerun = load_result_file(confirm);
-        if (!rerun.complete) throw InputError(rerun.path + ": the run was interrupted (\"complete\": false); confirm with a complete rerun");
+        if (!rerun.complete)
+            throw InputError(rerun.path +
+                             ": the run was interrupted (\"complete\": false); confirm with a complete rerun");
         const RunIdentity x = identify_run(run, commit), y = identify_run(rerun, commit);
         if (x.fingerprint != y.fingerprint || x.context_class != y.context_class || x.commit != y.commit)
             throw InputError("--confirm " + rerun.path + ": not a rerun of " + run.path + " (" +
                              (x.fingerprint != y.fingerprint ? "machine " + y.machine + " against " + x.machine
-                              : x.context_class != y.context_class ? "build " + y.context_class + " against " + x.context_class
-                                                                    : "commit " + y.commit + " against " + x.commit) +
+                              : x.context_class != y.context_class
+                                  ? "build " + y.context_class + " against " + x.context_class
+                                  : "commit " + y.commit + " against " + x.commit) +
                              "); confirm with a second run of the same build on the same machine");
     }
     const History h = History::open_for_reading(a.db, history_options(a));
@@ -140,24 +156,31 @@ int history_check(const std::vector<std::string>& args) {
     f.fingerprints = {id.fingerprint};
     f.context_class = id.context_class;
     const std::vector<Series> series = h.series(f);
-    const std::string label = h.path() + " (" + (base_commit.empty() ? "the last " + std::to_string(window) + " runs" : "the runs of commit " + base_commit) +
-                              " of each point on " + id.machine + ", commit " + id.commit + " left out)";
-    const WindowBaseline base = window_baseline(series, run, id, h.find_run(run_content_hash(run)), window, label, base_commit);
+    const std::string label =
+        h.path() + " (" +
+        (base_commit.empty() ? "the last " + std::to_string(window) + " runs" : "the runs of commit " + base_commit) +
+        " of each point on " + id.machine + ", commit " + id.commit + " left out)";
+    const WindowBaseline base =
+        window_baseline(series, run, id, h.find_run(run_content_hash(run)), window, label, base_commit);
     if (base.file.points.empty()) {
         if (!base_commit.empty()) no_base_runs(h, id, base_commit);
-        throw InputError(h.path() + ": no run of this machine (" + id.machine + ") and build (" + id.context_class + ") besides commit " + id.commit +
-                         " has any point of " + run.path + "; add such runs first (./suite history add)");
+        throw InputError(h.path() + ": no run of this machine (" + id.machine + ") and build (" + id.context_class +
+                         ") besides commit " + id.commit + " has any point of " + run.path +
+                         "; add such runs first (./suite history add)");
     }
     std::size_t most_runs = 0;
     for (const auto& [key, m] : base.medians) most_runs = std::max(most_runs, m.window.size());
     if (rule.auto_tolerance && most_runs < rule.min_runs)
-        throw InputError(h.path() + ": --tolerance=auto needs " + std::to_string(rule.min_runs) + " runs of a point in the window to measure its spread; " +
-                         "the most any point of " + run.path + " has is " + std::to_string(most_runs) + "; add runs, or give --tolerance=25%");
+        throw InputError(h.path() + ": --tolerance=auto needs " + std::to_string(rule.min_runs) +
+                         " runs of a point in the window to measure its spread; " + "the most any point of " +
+                         run.path + " has is " + std::to_string(most_runs) + "; add runs, or give --tolerance=25%");
     // Same machine and build by construction; the one difference check_run could find is which
     // huge-page settings the points asked for, when only some of the run's points have history.
     CheckReport rep = gate_with_bands(base, run, rule);
     if (!confirm.empty())
-        confirm_findings(rep, gate_with_bands(window_baseline(series, rerun, id, h.find_run(run_content_hash(rerun)), window, label, base_commit), rerun, rule));
+        confirm_findings(rep, gate_with_bands(window_baseline(series, rerun, id, h.find_run(run_content_hash(rerun)),
+                                                              window, label, base_commit),
+                                              rerun, rule));
     rep.notes.insert(rep.notes.begin(), std::to_string(base.runs_pooled) + " run(s) of the history pooled");
     rep.notes.insert(rep.notes.end(), run.notes.begin(), run.notes.end());
     if (md.claimed()) {
@@ -172,7 +195,8 @@ int history_check(const std::vector<std::string>& args) {
 }
 
 int history_noise(const std::vector<std::string>& args) {
-    CLI::App app{"suite history noise: each series' spread between runs and the gate's false alarms on the stored runs"};
+    CLI::App app{
+        "suite history noise: each series' spread between runs and the gate's false alarms on the stored runs"};
     app.footer(history_noise_examples);
     HistoryArgs a;
     std::string tolerance = "10%", alpha = "0.01";
@@ -184,36 +208,48 @@ int history_noise(const std::vector<std::string>& args) {
     app.add_option("--tolerance", tolerance, "the smallest change that counts, in percent, or auto (default 10%)");
     app.add_option("--alpha", alpha, "as history check's (default 0.01)");
     app.add_flag("--without-band", without_band, "gate with the pooled window alone, the rule before the band");
-    app.add_flag("--confirm", confirm, "gate each run with the next one as its confirming rerun, as history check --confirm");
+    app.add_flag("--confirm", confirm,
+                 "gate each run with the next one as its confirming rerun, as history check --confirm");
     if (!parse_command_line(app, "suite history noise", args)) return 0;
     HistoryRule rule;
     parse_history_tolerance(tolerance, rule);
     rule.gate.alpha = parse_alpha(alpha);
-    if (without_band && rule.auto_tolerance) throw UsageError("--tolerance=auto needs the band; give a percentage with --without-band, e.g. --tolerance=25%");
+    if (without_band && rule.auto_tolerance)
+        throw UsageError(
+            "--tolerance=auto needs the band; give a percentage with --without-band, e.g. --tolerance=25%");
     const History h = History::open_for_reading(a.db, history_options(a));
     const std::vector<Series> series = filtered_series(h, a);
     const NoiseReport rep = measure_noise(series, window, rule, !without_band, confirm);
-    const std::string how = (without_band ? "the pooled window alone at " + tolerance
-                                          : "the band of " + std::to_string(window) + " runs" + (rule.auto_tolerance ? ", --tolerance=auto" : ", --tolerance=" + tolerance)) +
-                            (confirm ? ", each confirmed by the next run" : "");
-    std::cout << h.path() << ": " << series.size() << " series; leaving each run out and gating it (" << how << "): " << rep.runs_alarmed.size() << " of "
-              << rep.runs_tried.size() << " run(s) called regressed somewhere\n";
+    const std::string how =
+        (without_band ? "the pooled window alone at " + tolerance
+                      : "the band of " + std::to_string(window) + " runs" +
+                            (rule.auto_tolerance ? ", --tolerance=auto" : ", --tolerance=" + tolerance)) +
+        (confirm ? ", each confirmed by the next run" : "");
+    std::cout << h.path() << ": " << series.size() << " series; leaving each run out and gating it (" << how
+              << "): " << rep.runs_alarmed.size() << " of " << rep.runs_tried.size()
+              << " run(s) called regressed somewhere\n";
     std::map<std::pair<std::string, std::string>, TextTable> tables;
     std::vector<std::pair<std::string, std::string>> order;
     for (const SeriesNoise& n : rep.series) {
         const Series& s = *n.series;
         const auto group = std::make_pair(s.machine + " [" + s.fingerprint + "]", s.context_class);
-        auto [it, fresh] = tables.try_emplace(group, TextTable{{"point", "figure", "runs", "spread", "sd", "next run's band", "left out", "regressed", "improved"},
-                                                               {}, {false, false, true, true, true, false, true, true, true}});
+        auto [it, fresh] =
+            tables.try_emplace(group, TextTable{{"point", "figure", "runs", "spread", "sd", "next run's band",
+                                                 "left out", "regressed", "improved"},
+                                                {},
+                                                {false, false, true, true, true, false, true, true, true}});
         if (fresh) order.push_back(group);
-        const std::string band = n.band.usable() ? "[" + format_significant(n.band.low, 4) + ", " + format_significant(n.band.high, 4) + "]"
-                                                 : "none: fewer than " + std::to_string(rule.min_runs) + " runs";
+        const std::string band =
+            n.band.usable() ? "[" + format_significant(n.band.low, 4) + ", " + format_significant(n.band.high, 4) + "]"
+                            : "none: fewer than " + std::to_string(rule.min_runs) + " runs";
         auto pc = [](double x) { return std::isfinite(x) ? format_significant(x * 100, 2) + "%" : std::string("-"); };
-        it->second.rows.push_back({s.key.label(), s.figure + " " + s.unit, std::to_string(s.entries.size()), pc(n.band.spread), pc(n.sd_spread), band,
-                                   std::to_string(n.tried), std::to_string(n.regressed), std::to_string(n.improved)});
+        it->second.rows.push_back({s.key.label(), s.figure + " " + s.unit, std::to_string(s.entries.size()),
+                                   pc(n.band.spread), pc(n.sd_spread), band, std::to_string(n.tried),
+                                   std::to_string(n.regressed), std::to_string(n.improved)});
     }
     for (const auto& g : order) std::cout << "\n" << g.first << ", " << g.second << ":\n" << tables.at(g).render_text();
-    std::cout << "\nspread: 1.4826 x the median absolute deviation of the runs' log medians (relative); sd: their standard deviation, larger "
+    std::cout << "\nspread: 1.4826 x the median absolute deviation of the runs' log medians (relative); sd: their "
+                 "standard deviation, larger "
                  "where a stray run is in the window; the band is what history check accepts of the next run.\n"
               << std::flush;
     return 0;

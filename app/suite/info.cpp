@@ -22,7 +22,8 @@ int cmd_info(const std::vector<std::string>& args) {
     CLI::App app{"suite info: the machine as hwloc sees it"};
     bool json = false, probe = false;
     app.add_flag("--json", json, "machine-readable output");
-    app.add_flag("--probe", probe, "also measure the caches this process really gets (pointer chase and load bandwidth, a few seconds)");
+    app.add_flag("--probe", probe,
+                 "also measure the caches this process really gets (pointer chase and load bandwidth, a few seconds)");
     if (!parse_command_line(app, "suite info", args)) return 0;
     const Topology topo = Topology::load();
     std::optional<CacheProbe> measured;
@@ -32,7 +33,9 @@ int cmd_info(const std::vector<std::string>& args) {
     const nlohmann::json context = build_context(topo, {}, instruments);
     if (json) {
         nlohmann::json j = to_json(topo);
-        for (const char* key : {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set", "string_ops"}) j[key] = context[key];
+        for (const char* key :
+             {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set", "string_ops"})
+            j[key] = context[key];
         if (measured) j["caches_measured"] = to_json(*measured, topo);
         std::cout << j.dump(2) << "\n";
         return 0;
@@ -41,7 +44,8 @@ int cmd_info(const std::vector<std::string>& args) {
     if (measured) std::cout << "\n" << format_probe(*measured, topo);
     std::cout << "\nWhat can be measured here\n";
     auto state = [](const nlohmann::json& inst) {
-        return inst["available"].get<bool>() ? std::string("available") : "not available (" + inst["reason"].get<std::string>() + ")";
+        return inst["available"].get<bool>() ? std::string("available")
+                                             : "not available (" + inst["reason"].get<std::string>() + ")";
     };
     for (const auto& [name, inst] : context["instruments"].items()) {
         std::cout << "  " << name << ": " << state(inst) << "\n";
@@ -52,19 +56,29 @@ int cmd_info(const std::vector<std::string>& args) {
             std::cout << " (scope " << inst["scope"].get<std::string>() << ")\n";
         }
         if (name == "energy")
-            for (const auto& d : inst["domains"]) std::cout << "    " << d["domain"].get<std::string>() << " " << d["source"].get<std::string>() << ": " << state(d) << "\n";
+            for (const auto& d : inst["domains"])
+                std::cout << "    " << d["domain"].get<std::string>() << " " << d["source"].get<std::string>() << ": "
+                          << state(d) << "\n";
     }
     for (const char* key : {"transparent_hugepages", "frequency_governor"}) {
         const auto& v = context[key];
-        std::cout << "  " << key << ": " << (v["value"].is_null() ? "unknown (" + v["reason"].get<std::string>() + ")" : v["value"].get<std::string>())
+        std::cout << "  " << key << ": "
+                  << (v["value"].is_null() ? "unknown (" + v["reason"].get<std::string>() + ")"
+                                           : v["value"].get<std::string>())
                   << "\n";
     }
-    std::cout << "  built for: " << (context["instruction_set"]["avx512f"].get<bool>() ? "AVX-512" : context["instruction_set"]["avx2"].get<bool>() ? "AVX2" : "SSE2")
+    std::cout << "  built for: "
+              << (context["instruction_set"]["avx512f"].get<bool>() ? "AVX-512"
+                  : context["instruction_set"]["avx2"].get<bool>()  ? "AVX2"
+                                                                    : "SSE2")
               << ", " << context["instruction_set"]["nt_store_bits"].get<int>() << "-bit streaming stores\n";
     const auto& strings = context["string_ops"];
-    auto flag = [&](const char* key) { return strings[key].is_null() ? std::string("unknown") : strings[key].get<bool>() ? "yes" : "no"; };
+    auto flag = [&](const char* key) {
+        return strings[key].is_null() ? std::string("unknown") : strings[key].get<bool>() ? "yes" : "no";
+    };
     std::cout << "  fast strings (the rep variants): ERMS " << flag("erms") << ", FSRM " << flag("fsrm")
-              << (strings.contains("reason") ? " (" + strings["reason"].get<std::string>() + ")" : std::string()) << "\n";
+              << (strings.contains("reason") ? " (" + strings["reason"].get<std::string>() + ")" : std::string())
+              << "\n";
     return 0;
 }
 

@@ -42,9 +42,11 @@ int main(int argc, char** argv) {
         if (command == "matrix") return cmd_matrix(args);
         if (command == "mpm") return cmd_mpm(args);
         if (command == "roofline") return cmd_roofline(args, all);
-        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "history", "deterministic", "traverse", "matrix", "mpm", "roofline"});
+        std::string hint = nearest(command, {"run", "list", "info", "compare", "check", "history", "deterministic",
+                                             "traverse", "matrix", "mpm", "roofline"});
         throw UsageError("unknown command '" + command + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; commands: run, list, info, compare, check, history, deterministic, traverse, matrix, mpm, roofline (see ./suite --help)");
+                         "; commands: run, list, info, compare, check, history, deterministic, traverse, matrix, mpm, "
+                         "roofline (see ./suite --help)");
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();

@@ -81,7 +81,6 @@ did not, a singular system: mpm.json's Newton check says which); 130/143 interru
 "complete": false).
 )";
 
-
 // --column=X,Y,Z: three finite numbers > 0.
 void parse_column(const std::string& text, double* hi) {
     const std::vector<std::string> parts = split(text, ',');
@@ -95,7 +94,9 @@ void parse_column(const std::string& text, double* hi) {
         }
     }
     if (!ok)
-        throw UsageError("--column=" + text + ": the material's region [0,X]x[0,Y]x[0,Z] is three finite numbers X,Y,Z > 0 in metres, e.g. 0.4,0.4,0.8 (the default)");
+        throw UsageError("--column=" + text +
+                         ": the material's region [0,X]x[0,Y]x[0,Z] is three finite numbers X,Y,Z > 0 in metres, e.g. "
+                         "0.4,0.4,0.8 (the default)");
 }
 
 // A material constant that is a normal number > 0 (not 0, -0, a subnormal or an overflow): what
@@ -112,13 +113,17 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     require_known({o.case_name}, {"dam-collapse", "dam-break", "column"}, "case");
     require_known({o.ordering}, {"natural", "random", "morton", "hilbert"}, "grid ordering");
     if (o.particles == "unsorted")
-        throw UsageError("--particles=unsorted: now called shuffled; particle orders: " + std::string(mpm::particle_orders_accepted));
+        throw UsageError("--particles=unsorted: now called shuffled; particle orders: " +
+                         std::string(mpm::particle_orders_accepted));
     require_known({o.particles}, {"seeded", "shuffled", "sorted", "dynamic"}, "particle order");
     const bool fluid = o.case_name == "dam-break";
     // An option of another case's material or region is refused, not ignored.
-    const std::string takes = fluid ? " (a fluid: it takes --sound-speed, --viscosity and --density)" : " (an elastic solid: it takes --young, --poisson and --density)";
-    for (const char* option : fluid ? std::vector<const char*>{"--young", "--poisson", "--column"} : std::vector<const char*>{"--sound-speed", "--viscosity"})
-        if (given.count(option) > 0) throw UsageError(std::string(option) + " does not apply to --case=" + o.case_name + takes);
+    const std::string takes = fluid ? " (a fluid: it takes --sound-speed, --viscosity and --density)"
+                                    : " (an elastic solid: it takes --young, --poisson and --density)";
+    for (const char* option : fluid ? std::vector<const char*>{"--young", "--poisson", "--column"}
+                                    : std::vector<const char*>{"--sound-speed", "--viscosity"})
+        if (given.count(option) > 0)
+            throw UsageError(std::string(option) + " does not apply to --case=" + o.case_name + takes);
     mpm::Setup s;
     s.settings = mpm::case_settings(o.case_name);
     s.mesh = o.mesh;
@@ -132,57 +137,78 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     require_known({strategy}, {"serial", "atomic", "colour", "partition"}, "strategy");
     s.strategy = mpm::parse_strategy(strategy);
     if (o.threads > omp_get_thread_limit())
-        throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP allows at most " + std::to_string(omp_get_thread_limit()) +
-                         " (OMP_THREAD_LIMIT); ask for fewer or unset it");
+        throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP allows at most " +
+                         std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT); ask for fewer or unset it");
     // An option the run would not use is refused rather than recorded as if it had been.
     if (given.count("--sort-every") > 0 && o.particles != "sorted" && o.particles != "dynamic")
-        throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=" + o.particles + " never reorders; give --particles=sorted or dynamic, "
+        throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=" + o.particles +
+                         " never reorders; give --particles=sorted or dynamic, "
                          "or leave --sort-every out");
     if (o.warm_steps > 0 && o.warm_steps >= o.steps)
-        throw UsageError("--warm-steps=" + std::to_string(o.warm_steps) + ": the rate is measured over the steps after the warm ones, and --steps=" +
+        throw UsageError("--warm-steps=" + std::to_string(o.warm_steps) +
+                         ": the rate is measured over the steps after the warm ones, and --steps=" +
                          std::to_string(o.steps) + " leaves none; give fewer warm steps or more steps");
     if (given.count("--courant") > 0 && given.count("--dt") > 0 && parse_finite(o.dt, "--dt") != 0)
-        throw UsageError("--courant=" + o.courant + " and --dt=" + o.dt + ": the step is --dt's when it is given; give one of them");
+        throw UsageError("--courant=" + o.courant + " and --dt=" + o.dt +
+                         ": the step is --dt's when it is given; give one of them");
     if (s.strategy == mpm::Strategy::partition && o.threads > 64)
-        throw UsageError("--threads=" + std::to_string(o.threads) + ": the partition strategy" + (o.strategy.empty() ? " (the default for more than one thread)" : "") +
-                         " takes at most 64 threads (one bit each per node); give --strategy=atomic or colour, or fewer threads");
+        throw UsageError(
+            "--threads=" + std::to_string(o.threads) + ": the partition strategy" +
+            (o.strategy.empty() ? " (the default for more than one thread)" : "") +
+            " takes at most 64 threads (one bit each per node); give --strategy=atomic or colour, or fewer threads");
     mpm::Settings& m = s.settings;
     m.per_element = o.ppe;
     if (fluid) {
-        m.material.sound_speed = material_value(o.sound_speed, "--sound-speed", "the fluid's sound speed must be > 0 (m/s)");
+        m.material.sound_speed =
+            material_value(o.sound_speed, "--sound-speed", "the fluid's sound speed must be > 0 (m/s)");
         m.material.viscosity = parse_finite(o.viscosity, "--viscosity");
         if (!(m.material.viscosity >= 0) || m.material.viscosity > 1e30)
-            throw UsageError("--viscosity=" + o.viscosity + ": the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
+            throw UsageError("--viscosity=" + o.viscosity +
+                             ": the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
     } else {
         m.material.young = material_value(o.young, "--young", "Young's modulus E must be > 0 (Pa)");
         m.material.poisson = parse_finite(o.poisson, "--poisson");
         if (!(m.material.poisson > -1 && m.material.poisson < 0.5))
-            throw UsageError("--poisson=" + o.poisson + ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+            throw UsageError("--poisson=" + o.poisson +
+                             ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit "
+                             "elastic step cannot take");
     }
     m.material.density = material_value(o.density, "--density", "the density must be > 0 (kg/m³)");
     if (!o.column.empty()) parse_column(o.column, m.region.hi);
-    if (o.case_name == "column" && (m.region.hi[0] != 1 || m.region.hi[1] != 1)) throw UsageError("--column=" + o.column + " with --case=column: the one-dimensional answer needs the layer to fill the box's width, --column=1,1,Z");
+    if (o.case_name == "column" && (m.region.hi[0] != 1 || m.region.hi[1] != 1))
+        throw UsageError(
+            "--column=" + o.column +
+            " with --case=column: the one-dimensional answer needs the layer to fill the box's width, --column=1,1,Z");
     m.courant = parse_finite(o.courant, "--courant");
     require_known({o.integration}, {"mixed", "particle"}, "integration");
     m.integration = o.integration == "mixed" ? mpm::Integration::mixed : mpm::Integration::particle;
     m.damping = parse_finite(o.damping, "--damping");
-    if (m.damping < 0) throw UsageError("--damping=" + o.damping + ": the damping is a rate in 1/s, >= 0 (0, the default: none)");
+    if (m.damping < 0)
+        throw UsageError("--damping=" + o.damping + ": the damping is a rate in 1/s, >= 0 (0, the default: none)");
     m.dt = parse_finite(o.dt, "--dt");
-    if (m.dt < 0) throw UsageError("--dt=" + o.dt + ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
+    if (m.dt < 0)
+        throw UsageError("--dt=" + o.dt +
+                         ": the time step is a number of seconds >= 0 (0, the default: from --courant)");
     m.integrator = mpm::parse_integrator(o.integrator);
     const bool implicit = m.integrator != mpm::Integrator::explicit_step;
     for (const char* option : {"--solver", "--newmark", "--strain", "--newton-max"})
-        if (!implicit && given.count(option) > 0) throw UsageError(std::string(option) + " applies to --integrator=implicit or static, not explicit");
-    if (implicit && given.count("--courant") > 0) throw UsageError("--courant applies to --integrator=explicit; an implicit step is --dt (default 10 times the stable step)");
+        if (!implicit && given.count(option) > 0)
+            throw UsageError(std::string(option) + " applies to --integrator=implicit or static, not explicit");
+    if (implicit && given.count("--courant") > 0)
+        throw UsageError(
+            "--courant applies to --integrator=explicit; an implicit step is --dt (default 10 times the stable step)");
     m.implicit.solver = mpm::parse_linear_solver(o.solver);
     require_known({o.strain}, {"large", "small"}, "--strain");
     m.implicit.large_strain = o.strain == "large";
     m.implicit.newton_max = o.newton_max;
     const std::vector<std::string> nm = split(o.newmark, ',');
-    if (nm.size() != 2) throw UsageError("--newmark=" + o.newmark + ": Newmark's BETA,GAMMA, two numbers (default 0.25,0.5, average acceleration)");
+    if (nm.size() != 2)
+        throw UsageError("--newmark=" + o.newmark +
+                         ": Newmark's BETA,GAMMA, two numbers (default 0.25,0.5, average acceleration)");
     m.implicit.beta = parse_finite(nm[0], "--newmark");
     m.implicit.gamma = parse_finite(nm[1], "--newmark");
-    if (m.integrator == mpm::Integrator::quasi_static && given.count("--newmark") > 0) throw UsageError("--newmark applies to --integrator=implicit (static has no inertia)");
+    if (m.integrator == mpm::Integrator::quasi_static && given.count("--newmark") > 0)
+        throw UsageError("--newmark applies to --integrator=implicit (static has no inertia)");
     return s;
 }
 
@@ -198,15 +224,18 @@ void check_step_resolves_the_fall(const mpm::State& st, const Options& o, double
     const double fall = std::sqrt(2 * height / g);
     if (st.dt <= fall) return;
     char numbers[256];
-    std::snprintf(numbers, sizeof numbers, "the step %.3g s is longer than the %.3g s the column takes to fall its %.3g m", st.dt, fall, height);
+    std::snprintf(numbers, sizeof numbers,
+                  "the step %.3g s is longer than the %.3g s the column takes to fall its %.3g m", st.dt, fall, height);
     if (m.dt > 0) throw UsageError("--dt=" + o.dt + ": " + numbers + "; give a smaller --dt");
     char wave[160];
-    std::snprintf(wave, sizeof wave, " (the wave speed is %.3g m/s, so the stable step is %.3g s)", m.material.wave_speed(), stable);
+    std::snprintf(wave, sizeof wave, " (the wave speed is %.3g m/s, so the stable step is %.3g s)",
+                  m.material.wave_speed(), stable);
     if (m.material.model == mpm::Material::Model::fluid)
         throw UsageError("--sound-speed=" + o.sound_speed + " --viscosity=" + o.viscosity + ": " + numbers + wave +
                          ": no step could resolve the fall; give a larger --sound-speed");
     throw UsageError("--young=" + o.young + " --density=" + o.density + ": " + numbers + wave +
-                     ": no step could resolve the collapse; give a stiffer (larger --young) or lighter (smaller --density) material");
+                     ": no step could resolve the collapse; give a stiffer (larger --young) or lighter (smaller "
+                     "--density) material");
 }
 
 // build(), with the region's messages named after the option that sets it.
@@ -215,7 +244,8 @@ mpm::State build_state(const mpm::Setup& s, const Options& o) {
         return mpm::build(s);
     } catch (const UsageError& e) {
         const std::string what = e.what();
-        if (what.rfind("the material's region", 0) == 0 && !o.column.empty()) throw UsageError("--column=" + o.column + ": " + what);
+        if (what.rfind("the material's region", 0) == 0 && !o.column.empty())
+            throw UsageError("--column=" + o.column + ": " + what);
         throw;
     }
 }
@@ -242,8 +272,9 @@ public:
         }
         last_ = now;
         const double rate = stepping_s > 0 ? static_cast<double>(particles_) * static_cast<double>(k) / stepping_s : 0;
-        std::fprintf(stderr, "%sstep %llu/%llu  t = %.4g s  front %.4f m  %.3g particle-steps/s%s", tty_ ? "\r\033[K" : "",
-                     static_cast<unsigned long long>(k), static_cast<unsigned long long>(steps_), st.time, front, rate, tty_ ? "" : "\n");
+        std::fprintf(stderr, "%sstep %llu/%llu  t = %.4g s  front %.4f m  %.3g particle-steps/s%s",
+                     tty_ ? "\r\033[K" : "", static_cast<unsigned long long>(k),
+                     static_cast<unsigned long long>(steps_), st.time, front, rate, tty_ ? "" : "\n");
         std::fflush(stderr);
         shown_ = true;
     }
@@ -266,58 +297,98 @@ private:
 
 int cmd_mpm(const std::vector<std::string>& args) {
     using namespace mpm_command;
-    CLI::App app{"suite mpm: the Material Point Method's dam collapse, dam break or settling column, with particle snapshots for ParaView, the front and the particles' order against time"};
+    CLI::App app{
+        "suite mpm: the Material Point Method's dam collapse, dam break or settling column, with particle snapshots "
+        "for ParaView, the front and the particles' order against time"};
     app.footer(footer);
     app.get_formatter()->column_width(30);
     Options o;
-    app.add_option("--case", o.case_name, "the simulation: dam-collapse (elastic), dam-break (water), column (elastic, the analytical settlement) (default dam-collapse)");
-    app.add_option("--mesh", o.mesh, "the background grid, tetrahedra: box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default box:16,16,16)");
-    app.add_option("--ordering", o.ordering, "the grid's element and node order, applied once: natural, random, morton, hilbert (default natural)");
-    app.add_option("--particles", o.particles,
-                   "the particles' order: seeded (as seeded, element by element, never reordered), shuffled (once), sorted (along the curve every "
-                   "--sort-every steps), dynamic (sorted, and the grid renumbered active elements first) (default seeded)");
-    add_whole_option(app, "--sort-every", o.sort_every, 0, 1000000000, "steps between reorderings; 0: at the start only (default 5, the fastest measured; see docs/mpm.md)");
+    app.add_option("--case", o.case_name,
+                   "the simulation: dam-collapse (elastic), dam-break (water), column (elastic, the analytical "
+                   "settlement) (default dam-collapse)");
+    app.add_option(
+        "--mesh", o.mesh,
+        "the background grid, tetrahedra: box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default box:16,16,16)");
+    app.add_option(
+        "--ordering", o.ordering,
+        "the grid's element and node order, applied once: natural, random, morton, hilbert (default natural)");
+    app.add_option(
+        "--particles", o.particles,
+        "the particles' order: seeded (as seeded, element by element, never reordered), shuffled (once), sorted (along "
+        "the curve every "
+        "--sort-every steps), dynamic (sorted, and the grid renumbered active elements first) (default seeded)");
+    add_whole_option(
+        app, "--sort-every", o.sort_every, 0, 1000000000,
+        "steps between reorderings; 0: at the start only (default 5, the fastest measured; see docs/mpm.md)");
     app.add_option("--strategy", o.strategy,
-                   "how threads share the scatters to nodes: serial, atomic, colour, partition (default serial for 1 thread, partition for more)");
+                   "how threads share the scatters to nodes: serial, atomic, colour, partition (default serial for 1 "
+                   "thread, partition for more)");
     add_whole_option(app, "--threads,-t", o.threads, 1, 1024, "OpenMP threads, 1 to 1024 (default 1)");
-    add_whole_option(app, "--ppe", o.ppe, 1, 1000, "particles seeded in each element of the column, 1 to 1000 (default 4)");
+    add_whole_option(app, "--ppe", o.ppe, 1, 1000,
+                     "particles seeded in each element of the column, 1 to 1000 (default 4)");
     app.add_option("--young", o.young, "Young's modulus E in Pa, > 0 (elastic cases; default 1e5)");
     app.add_option("--poisson", o.poisson, "Poisson's ratio ν, in (-1, 0.5) (elastic cases; default 0.3)");
-    app.add_option("--sound-speed", o.sound_speed, "the fluid's sound speed c in m/s, > 0: bulk modulus ρ c² (dam-break; default 35, 8 times the fastest flow)");
-    app.add_option("--viscosity", o.viscosity, "the fluid's dynamic viscosity η in Pa s, >= 0 (dam-break; default 1e-3, water)");
+    app.add_option(
+        "--sound-speed", o.sound_speed,
+        "the fluid's sound speed c in m/s, > 0: bulk modulus ρ c² (dam-break; default 35, 8 times the fastest flow)");
+    app.add_option("--viscosity", o.viscosity,
+                   "the fluid's dynamic viscosity η in Pa s, >= 0 (dam-break; default 1e-3, water)");
     app.add_option("--density", o.density, "density ρ in kg/m³, > 0 (default 1000)");
-    app.add_option("--column", o.column, "X,Y,Z: the material fills [0,X]x[0,Y]x[0,Z], inside the box (dam-collapse: default 0.4,0.4,0.8; column: 1,1,0.5)");
+    app.add_option("--column", o.column,
+                   "X,Y,Z: the material fills [0,X]x[0,Y]x[0,Z], inside the box (dam-collapse: default 0.4,0.4,0.8; "
+                   "column: 1,1,0.5)");
     app.add_option("--courant", o.courant, "dt as a fraction of the stable step, in (0, 1] (default 0.8)");
     app.add_option("--integration", o.integration,
-                   "how P2G integrates the stress: mixed (an element inside the material over its own volume, as Anura3D), particle (over its particles "
+                   "how P2G integrates the stress: mixed (an element inside the material over its own volume, as "
+                   "Anura3D), particle (over its particles "
                    "alone, the grid-crossing error; see docs/mpm.md) (default mixed)");
-    app.add_option("--damping", o.damping, "c in 1/s: a nodal force -c m v that brings the material to rest, for a quasi-static answer (default 0: none)");
+    app.add_option(
+        "--damping", o.damping,
+        "c in 1/s: a nodal force -c m v that brings the material to rest, for a quasi-static answer (default 0: none)");
     app.add_option("--dt", o.dt, "the time step in s, at most the stable one; 0: from --courant (default 0)");
     app.add_flag("--force", o.force, "run a dt or Courant number above the stable step anyway");
     app.add_option("--integrator", o.integrator,
-                   "explicit (USL), implicit (Newmark and Newton, any --dt; default 10x the stable step), static (each step an equilibrium) (elastic cases; default explicit)");
-    app.add_option("--solver", o.solver, "the implicit linear solve: cg (own, Jacobi-preconditioned), cholmod (SuiteSparse) (default cg)");
-    app.add_option("--newmark", o.newmark, "BETA,GAMMA with 1/2 <= GAMMA <= 2 BETA <= 1 (implicit; default 0.25,0.5, average acceleration)");
-    add_whole_option(app, "--newton-max", o.newton_max, 1, 1000, "Newton iterations a step may take, 1 to 1000; beyond it the run stops with status 3 (implicit; default 25)");
-    app.add_option("--strain", o.strain, "the implicit step's strain: large (Green-Lagrange, geometric stiffness), small (linear) (default large)");
-    add_seed_option(app, o.seed, "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
+                   "explicit (USL), implicit (Newmark and Newton, any --dt; default 10x the stable step), static (each "
+                   "step an equilibrium) (elastic cases; default explicit)");
+    app.add_option("--solver", o.solver,
+                   "the implicit linear solve: cg (own, Jacobi-preconditioned), cholmod (SuiteSparse) (default cg)");
+    app.add_option("--newmark", o.newmark,
+                   "BETA,GAMMA with 1/2 <= GAMMA <= 2 BETA <= 1 (implicit; default 0.25,0.5, average acceleration)");
+    add_whole_option(
+        app, "--newton-max", o.newton_max, 1, 1000,
+        "Newton iterations a step may take, 1 to 1000; beyond it the run stops with status 3 (implicit; default 25)");
+    app.add_option(
+        "--strain", o.strain,
+        "the implicit step's strain: large (Green-Lagrange, geometric stiffness), small (linear) (default large)");
+    add_seed_option(
+        app, o.seed,
+        "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
     add_whole_option(app, "--steps", o.steps, 0, 1000000000, "time steps, 0 to 10^9 (default 1000)");
     add_whole_option(app, "--warm-steps", o.warm_steps, 0, 1000000000,
-                     "steps before the measured rate starts (the mixed state of a flow); the whole run's rate is reported too (default 0)");
-    add_whole_option(app, "--vtk-every", o.vtk_every, 0, 1000000000, "steps between particle snapshots; 0: none (default 50)");
-    app.add_option("--out,-o", o.out, "directory for the snapshots, front.csv, mpm.json and front.png (created if missing; required unless --dry-run)");
+                     "steps before the measured rate starts (the mixed state of a flow); the whole run's rate is "
+                     "reported too (default 0)");
+    add_whole_option(app, "--vtk-every", o.vtk_every, 0, 1000000000,
+                     "steps between particle snapshots; 0: none (default 50)");
+    app.add_option("--out,-o", o.out,
+                   "directory for the snapshots, front.csv, mpm.json and front.png (created if missing; required "
+                   "unless --dry-run)");
     app.add_flag("--no-png", o.no_png, "do not draw front.png");
     app.add_flag("--replace", o.replace, "replace the files of an earlier run in --out (refused without it)");
-    app.add_flag("--dry-run", o.dry_run, "check everything (the grid and particles are built), say what would run, write nothing");
+    app.add_flag("--dry-run", o.dry_run,
+                 "check everything (the grid and particles are built), say what would run, write nothing");
     app.add_flag("--quiet,-q", o.quiet, "no progress line and no summary on the console");
     if (!parse_command_line(app, "suite mpm", args)) return 0;
 
     // Everything is checked, and the state built, before any file or directory is made.
     const mpm::Setup setup = setup_of(o, app);
     if (!o.no_png) require_plotter("mpm_front.py", "--no-png");
-    if (o.out.empty() && !o.dry_run) throw UsageError("suite mpm needs --out=DIR, the directory for its snapshots, front.csv, mpm.json and front.png (or --dry-run)");
+    if (o.out.empty() && !o.dry_run)
+        throw UsageError(
+            "suite mpm needs --out=DIR, the directory for its snapshots, front.csv, mpm.json and front.png (or "
+            "--dry-run)");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
-    const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
+    const std::vector<FileIdentity> inputs =
+        identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
     const DirPolicy policy{.option = "--out", .command = "suite mpm", .inputs = inputs, .replace_earlier = o.replace};
     if (!o.out.empty()) OutputDir::check(o.out, policy);
     omp_set_num_threads(o.threads);
@@ -326,17 +397,23 @@ int cmd_mpm(const std::vector<std::string>& args) {
     check_step_resolves_the_fall(st, o, stable);
     const std::uint64_t snapshots = mpm::snapshot_count(o.steps, o.vtk_every);
     if (o.dry_run) {
-        const std::uint64_t memory = mpm::state_bytes(mesh::mesh_counts(spec), st.particles.size(), 1, setup.settings.integrator != mpm::Integrator::explicit_step);
-        std::printf("%s on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t = %.4g s; "
-                    "%s integrator, %s grid, %s particles, %s scatter, %d thread(s); about %s of memory (%s available)\n",
-                    o.case_name.c_str(), o.mesh.c_str(), st.particles.size(), st.grid.elements(), st.grid.nodes(), st.dt, st.dt / stable, stable,
-                    static_cast<unsigned long long>(o.steps), st.dt * static_cast<double>(o.steps), mpm::integrator_name(setup.settings.integrator), setup.ordering.c_str(), setup.particles.c_str(),
-                    mpm::strategy_name(setup.strategy), setup.threads, format_bytes(memory).c_str(),
-                    format_bytes(available_memory_bytes(MemoryPolicy{})).c_str());
-        if (o.out.empty()) std::printf("no --out: nothing would be written\n");
+        const std::uint64_t memory = mpm::state_bytes(mesh::mesh_counts(spec), st.particles.size(), 1,
+                                                      setup.settings.integrator != mpm::Integrator::explicit_step);
+        std::printf(
+            "%s on %s: %zu particles, %zu elements, %zu nodes; dt %.4g s (%.3g of the stable %.4g s); %llu steps to t "
+            "= %.4g s; "
+            "%s integrator, %s grid, %s particles, %s scatter, %d thread(s); about %s of memory (%s available)\n",
+            o.case_name.c_str(), o.mesh.c_str(), st.particles.size(), st.grid.elements(), st.grid.nodes(), st.dt,
+            st.dt / stable, stable, static_cast<unsigned long long>(o.steps), st.dt * static_cast<double>(o.steps),
+            mpm::integrator_name(setup.settings.integrator), setup.ordering.c_str(), setup.particles.c_str(),
+            mpm::strategy_name(setup.strategy), setup.threads, format_bytes(memory).c_str(),
+            format_bytes(available_memory_bytes(MemoryPolicy{})).c_str());
+        if (o.out.empty())
+            std::printf("no --out: nothing would be written\n");
         else
-            std::printf("into %s: %llu snapshot(s) particles_SSSSSS.vtu%s, front.csv, mpm.json%s\n", o.out.c_str(), static_cast<unsigned long long>(snapshots),
-                        snapshots ? " and particles.pvd" : "", o.no_png ? "" : ", front.png");
+            std::printf("into %s: %llu snapshot(s) particles_SSSSSS.vtu%s, front.csv, mpm.json%s\n", o.out.c_str(),
+                        static_cast<unsigned long long>(snapshots), snapshots ? " and particles.pvd" : "",
+                        o.no_png ? "" : ", front.png");
         return 0;
     }
     CommandFrame frame("suite");
@@ -350,7 +427,9 @@ int cmd_mpm(const std::vector<std::string>& args) {
     Progress progress(o.quiet, o.steps, st.particles.size());
     mpm::SimulationHooks hooks;
     hooks.snapshot = [&out](const std::string& name, const std::string& vtu) { out.write(name, vtu); };
-    hooks.progress = [&progress](const mpm::State& now, double front, double stepping_s) { progress.update(now, front, stepping_s); };
+    hooks.progress = [&progress](const mpm::State& now, double front, double stepping_s) {
+        progress.update(now, front, stepping_s);
+    };
     const mpm::Outcome r = mpm::simulate(st, setup, run, hooks);
     progress.finish();
     out.write("front.csv", front_csv(r));
@@ -359,22 +438,25 @@ int cmd_mpm(const std::vector<std::string>& args) {
     out.write("mpm.json", summary_json(report).dump(1) + "\n");
     if (!o.no_png) {
         const Plotter p = find_plotter("mpm_front.py");
-        report.png = p.reason.empty() ? out.with_writer([&p](const std::string& dir) { return draw(p, dir); }) : p.reason;
+        report.png =
+            p.reason.empty() ? out.with_writer([&p](const std::string& dir) { return draw(p, dir); }) : p.reason;
         if (!report.png.empty()) std::cerr << "suite: note: no front.png: " << report.png << "\n";
         out.write("mpm.json", summary_json(report).dump(1) + "\n");
     }
     if (!o.quiet) {
         std::printf("%s", summary_text(report).c_str());
-        std::printf("wrote %s (%zu snapshot(s)%s, front.csv, mpm.json%s)\n", o.out.c_str(), r.snapshots.size(), r.snapshots.empty() ? "" : " and particles.pvd",
-                    report.png.empty() ? ", front.png" : "");
+        std::printf("wrote %s (%zu snapshot(s)%s, front.csv, mpm.json%s)\n", o.out.c_str(), r.snapshots.size(),
+                    r.snapshots.empty() ? "" : " and particles.pvd", report.png.empty() ? ", front.png" : "");
     }
     std::fflush(stdout);
     if (!r.passed()) {
         std::cerr << "suite: error: mpm check failed: " << r.failure << "\n";
         // The solver's own status, as suite fem's: Newton or a linear solve failed, not the physics.
-        return frame.finish(r.solver_failed ? 3 : 1, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", false);
+        return frame.finish(r.solver_failed ? 3 : 1,
+                            std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", false);
     }
-    return frame.finish(0, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)", r.steps_done == o.steps);
+    return frame.finish(0, std::to_string(r.steps_done) + " of " + std::to_string(o.steps) + " step(s)",
+                        r.steps_done == o.steps);
 }
 
 }  // namespace suite

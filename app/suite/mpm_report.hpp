@@ -12,14 +12,14 @@ namespace suite::mpm_command {
 
 // The run as mpm.cpp resolved it, beside the state and the outcome.
 struct ReportInput {
-    const mpm::State& st;            // after the run
+    const mpm::State& st;  // after the run
     const mpm::Setup& setup;
     const mpm::SimulationSettings& run;
     const mpm::Outcome& outcome;
-    nlohmann::json options;          // every option's value as used (the settings of mpm.json)
-    double stable_dt = 0;            // the grid's and material's stable step (Courant number 1)
-    std::string png;                 // "" when front.png was drawn, else why not
-    std::uint64_t warm_steps = 0;    // the rate after them is reported beside the whole run's
+    nlohmann::json options;        // every option's value as used (the settings of mpm.json)
+    double stable_dt = 0;          // the grid's and material's stable step (Courant number 1)
+    std::string png;               // "" when front.png was drawn, else why not
+    std::uint64_t warm_steps = 0;  // the rate after them is reported beside the whole run's
 };
 
 // step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element,

@@ -28,7 +28,8 @@ inline void refuse_empty_values(const CLI::App& app, const std::vector<std::stri
         const CLI::Option* opt = app.get_option_no_throw(name);
         if (!opt) continue;  // unknown: CLI11 says so
         const bool flag = opt->get_expected_max() == 0;
-        const std::string takes = flag ? name + " is a flag and takes no value" : "give one (" + name + ": " + opt->get_description() + ")";
+        const std::string takes =
+            flag ? name + " is a flag and takes no value" : "give one (" + name + ": " + opt->get_description() + ")";
         if (eq != std::string::npos && eq + 1 == a.size()) throw UsageError(name + "= has an empty value; " + takes);
         if (eq == std::string::npos && !flag && i + 1 < args.size() && args[i + 1].empty())
             throw UsageError(name + " is given an empty value ''; " + takes);
@@ -55,7 +56,8 @@ inline bool parse_command_line(CLI::App& app, const char* name, const std::vecto
             for (const CLI::Option* o : app.get_options())
                 for (const auto& n : o->get_lnames()) known.push_back(n);
             const std::string hint = nearest(given.substr(2), known);
-            throw UsageError("unknown option '" + given + "'" + (hint.empty() ? "" : " (did you mean '--" + hint + "'?)") + "; see ./" +
+            throw UsageError("unknown option '" + given + "'" +
+                             (hint.empty() ? "" : " (did you mean '--" + hint + "'?)") + "; see ./" +
                              std::string(name) + " --help");
         }
         throw;
@@ -66,28 +68,38 @@ inline bool parse_command_line(CLI::App& app, const char* name, const std::vecto
 // An option whose value is a whole number from lo to hi, e.g. --reps: a sign, a fraction, an
 // overflow or a value out of range is one message naming the value and the range.
 template <class T>
-CLI::Option* add_whole_option(CLI::App& app, const std::string& names, T& target, std::uint64_t lo, std::uint64_t hi, const std::string& help) {
+CLI::Option* add_whole_option(CLI::App& app, const std::string& names, T& target, std::uint64_t lo, std::uint64_t hi,
+                              const std::string& help) {
     const std::string option = names.substr(0, names.find(','));  // "--threads,-t" -> "--threads"
     return app
         .add_option_function<std::string>(
-            names, [&target, option, lo, hi](const std::string& text) { target = static_cast<T>(parse_whole(text, option, lo, hi)); }, help)
+            names,
+            [&target, option, lo, hi](const std::string& text) {
+                target = static_cast<T>(parse_whole(text, option, lo, hi));
+            },
+            help)
         ->type_name("UINT");
 }
 
 // --seed of every command that has one: parse_seed, 0 to 2^64-1 exactly as typed.
 inline CLI::Option* add_seed_option(CLI::App& app, std::uint64_t& seed, const std::string& help) {
-    return app.add_option_function<std::string>("--seed", [&seed](const std::string& text) { seed = parse_seed(text); }, help)->type_name("UINT");
+    return app
+        .add_option_function<std::string>(
+            "--seed", [&seed](const std::string& text) { seed = parse_seed(text); }, help)
+        ->type_name("UINT");
 }
 
 // Throws a UsageError "unknown WHAT 'name' (did you mean 'x'?); accepted: a, b, c" for the first of
 // `names` that is not in `accepted`.
-inline void require_known(const std::vector<std::string>& names, const std::vector<std::string>& accepted, std::string_view what) {
+inline void require_known(const std::vector<std::string>& names, const std::vector<std::string>& accepted,
+                          std::string_view what) {
     for (const auto& name : names) {
         if (std::find(accepted.begin(), accepted.end(), name) != accepted.end()) continue;
         const std::string hint = nearest(name, accepted);
         std::string list;
         for (const auto& a : accepted) list += (list.empty() ? "" : ", ") + a;
-        throw UsageError("unknown " + std::string(what) + " '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + list);
+        throw UsageError("unknown " + std::string(what) + " '" + name + "'" +
+                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + list);
     }
 }
 

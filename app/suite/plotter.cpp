@@ -26,9 +26,12 @@ Plotter find_plotter(const std::string& script) {
         }
         if (name == script) p.script = path;
     }
-    if (const char* env = std::getenv("SUITE_PYTHON"); env && *env) p.python = env;
-    else if (access("/usr/bin/python3", X_OK) == 0) p.python = "/usr/bin/python3";  // Debian's, which has matplotlib
-    else p.python = "python3";
+    if (const char* env = std::getenv("SUITE_PYTHON"); env && *env)
+        p.python = env;
+    else if (access("/usr/bin/python3", X_OK) == 0)
+        p.python = "/usr/bin/python3";  // Debian's, which has matplotlib
+    else
+        p.python = "python3";
     return p;
 }
 

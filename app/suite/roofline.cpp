@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include <omp.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <omp.h>
 
 #include "app/suite/commands.hpp"
 #include "app/suite/frame.hpp"
@@ -60,26 +60,35 @@ std::string directory_of(const std::string& path) {
 
 int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {
     using namespace roofline_command;
-    CLI::App app{"suite roofline: this machine's compute and bandwidth ceilings, measured, and a run's points placed on them"};
+    CLI::App app{
+        "suite roofline: this machine's compute and bandwidth ceilings, measured, and a run's points placed on them"};
     app.footer(footer);
     app.get_formatter()->column_width(30);
     std::string threads_text = "1,all", out, place, ceilings, pin = "compact", dram_size;
     double min_time = 0.2;
     bool no_probe = false, no_png = false;
     app.add_option("--threads,-t", threads_text, "thread counts: 1,2,4 | 1-8 | all (default 1,all)");
-    app.add_option("--out,-o", out, "JSON file to write: the ceilings, or with --place the placed points; the figure goes beside it as .png");
+    app.add_option(
+        "--out,-o", out,
+        "JSON file to write: the ceilings, or with --place the placed points; the figure goes beside it as .png");
     app.add_option("--place", place, "a result file of this machine whose points are placed on the ceilings");
-    app.add_option("--ceilings", ceilings, "with --place: a roofline file written earlier by `suite roofline --out` (default: measure now)");
+    app.add_option("--ceilings", ceilings,
+                   "with --place: a roofline file written earlier by `suite roofline --out` (default: measure now)");
     app.add_option("--pin", pin, "how the threads are pinned: compact | scatter | LIST (default compact)");
-    app.add_option("--dram-size", dram_size, "footprint of the memory ceiling, e.g. 1GiB (default: the default sweep's memory size, 16x the last level)");
+    app.add_option(
+        "--dram-size", dram_size,
+        "footprint of the memory ceiling, e.g. 1GiB (default: the default sweep's memory size, 16x the last level)");
     app.add_option("--min-time", min_time, "seconds of repetitions per point (default 0.2)");
-    app.add_flag("--no-probe", no_probe, "take the cache sizes hwloc reports instead of measuring them (the probe takes seconds)");
+    app.add_flag("--no-probe", no_probe,
+                 "take the cache sizes hwloc reports instead of measuring them (the probe takes seconds)");
     app.add_flag("--no-png", no_png, "write no figure");
     if (!parse_command_line(app, "suite roofline", args)) return 0;
 
     // Everything checked first.
-    if (!ceilings.empty() && place.empty()) throw UsageError("--ceilings=" + ceilings + " is read to place a run: give --place=RESULT.json too");
-    if (!(min_time > 0 && min_time <= 60)) throw UsageError("--min-time=" + format_number(min_time) + ": expected seconds between 0 and 60");
+    if (!ceilings.empty() && place.empty())
+        throw UsageError("--ceilings=" + ceilings + " is read to place a run: give --place=RESULT.json too");
+    if (!(min_time > 0 && min_time <= 60))
+        throw UsageError("--min-time=" + format_number(min_time) + ": expected seconds between 0 and 60");
     const Topology topo = Topology::load();
     const Instruments instruments = make_instruments("none", "none", open_energy);
     const nlohmann::json context = build_context(topo, full_argv, instruments);
@@ -93,17 +102,21 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         if (file.points.empty()) throw InputError(place + ": the result has no records to place");
         const std::string fp = given ? given->fingerprint : machine_fingerprint(context);
         if (machine_fingerprint(file.context) != fp)
-            throw InputError(place + " was measured on " + file.machine_label() + ", not on " + (given ? given->path + "'s machine" : std::string("this machine")) +
-                             ": a point can only be placed on ceilings measured on its own machine; run `suite roofline` there");
+            throw InputError(
+                place + " was measured on " + file.machine_label() + ", not on " +
+                (given ? given->path + "'s machine" : std::string("this machine")) +
+                ": a point can only be placed on ceilings measured on its own machine; run `suite roofline` there");
         result = nlohmann::json::parse(text);
     }
     const std::uint64_t dram_bytes = dram_size.empty() ? 0 : parse_bytes(dram_size);
-    if (!dram_size.empty() && dram_bytes < (1ULL << 20)) throw UsageError("--dram-size=" + dram_size + ": expected at least 1MiB, e.g. 1GiB");
+    if (!dram_size.empty() && dram_bytes < (1ULL << 20))
+        throw UsageError("--dram-size=" + dram_size + ": expected at least 1MiB, e.g. 1GiB");
     std::vector<int> threads;
     if (!given) {
         threads = parse_thread_list(threads_text, topo.pu_count());
         if (*std::max_element(threads.begin(), threads.end()) > omp_get_thread_limit())
-            throw UsageError("--threads=" + threads_text + ": OpenMP allows at most " + std::to_string(omp_get_thread_limit()) + " threads (OMP_THREAD_LIMIT)");
+            throw UsageError("--threads=" + threads_text + ": OpenMP allows at most " +
+                             std::to_string(omp_get_thread_limit()) + " threads (OMP_THREAD_LIMIT)");
     }
     const bool figure = !out.empty() && !no_png;
     if (figure) require_plotter("roofline.py", "--no-png");
@@ -123,7 +136,8 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         o.probe = !no_probe;
         o.stop = frame.stop_flag();
         o.progress = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
-        std::fprintf(stderr, "suite roofline: measuring the ceilings at %s thread(s)%s\n", threads_text.c_str(), no_probe ? "" : " (the caches probed first)");
+        std::fprintf(stderr, "suite roofline: measuring the ceilings at %s thread(s)%s\n", threads_text.c_str(),
+                     no_probe ? "" : " (the caches probed first)");
         roof.roofline = measure_roofline(topo, o);
         roof.context = context;
         roof.context["caches_measured"] = roof.roofline.caches_measured;
@@ -138,10 +152,14 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         std::cout << "\n" << render_placement(pl);
         doc = to_json(pl, roof.path, place);
     } else {
-        doc = {{"kind", roofline_kind}, {"schema_version", roofline_schema_version}, {"context", roof.context}, {"fingerprint", roof.fingerprint}};
+        doc = {{"kind", roofline_kind},
+               {"schema_version", roofline_schema_version},
+               {"context", roof.context},
+               {"fingerprint", roof.fingerprint}};
         doc.update(to_json(roof.roofline));
     }
-    std::string done = std::to_string(roof.roofline.ceilings.size()) + " of " + std::to_string(threads.size()) + " thread count(s)";
+    std::string done =
+        std::to_string(roof.roofline.ceilings.size()) + " of " + std::to_string(threads.size()) + " thread count(s)";
     if (!output) return frame.finish(0, done, complete);
     output->write(doc.dump(2) + "\n");
     std::printf("\nwrote %s\n", out.c_str());
@@ -157,10 +175,14 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         if (!plot_args.empty()) {
             plot_args.insert(plot_args.end(), {"--out", figure_path(out)});
             const std::string why = p.reason.empty() ? draw_with(p, plot_args, directory_of(out)) : p.reason;
-            if (why.empty()) std::printf("wrote %s\n", figure_path(out).c_str());
-            else std::fprintf(stderr, "suite roofline: no figure: %s\n", why.c_str());
+            if (why.empty())
+                std::printf("wrote %s\n", figure_path(out).c_str());
+            else
+                std::fprintf(stderr, "suite roofline: no figure: %s\n", why.c_str());
         } else {
-            std::fprintf(stderr, "suite roofline: no figure of the placement: the ceilings were measured now and not kept; give --ceilings=FILE for one\n");
+            std::fprintf(stderr,
+                         "suite roofline: no figure of the placement: the ceilings were measured now and not kept; "
+                         "give --ceilings=FILE for one\n");
         }
     }
     return frame.finish(0, done, complete);

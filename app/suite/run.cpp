@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <map>
 #include <stdexcept>
@@ -14,10 +14,10 @@
 #include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
+#include "harness/common/units.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
-#include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "rapl/energy.hpp"
 
@@ -82,9 +82,11 @@ void add_param_options(CLI::App& app, RunOptions& o) {
     for (const auto& [name, text] : help) {
         const std::string option = "--" + name;
         if (app.get_option_no_throw(option))
-            throw std::logic_error("a kernel declares the parameter '" + name + "', which is an option of suite run already");
-        app.add_option_function<std::string>(option, [&o, name = name](const std::string& value) { o.params[name] = value; },
-                                             text + "; " + param_users(name))
+            throw std::logic_error("a kernel declares the parameter '" + name +
+                                   "', which is an option of suite run already");
+        app.add_option_function<std::string>(
+               option, [&o, name = name](const std::string& value) { o.params[name] = value; },
+               text + "; " + param_users(name))
             ->type_name("X");
     }
 }
@@ -116,7 +118,8 @@ std::string param_users(const std::string& name) {
                 defaults.push_back(p.default_value);
                 // A named choice's default by its name, not its index.
                 const auto d = static_cast<std::size_t>(p.default_value);
-                shown.push_back(p.choices.empty() || d >= p.choices.size() ? format_number(p.default_value) : p.choices[d]);
+                shown.push_back(p.choices.empty() || d >= p.choices.size() ? format_number(p.default_value)
+                                                                           : p.choices[d]);
                 with_defaults.push_back(e.info.name + " (default " + shown.back() + ")");
             }
     if (users.empty()) return "";
@@ -127,40 +130,61 @@ std::string param_users(const std::string& name) {
 
 void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--kernel,-k", o.kernels, "kernels, comma separated (see ./suite list); default: the default sweep");
-    app.add_option("--pattern,-p", o.patterns, "access patterns: sequential, random, strided:S (default: the kernel's first)");
-    app.add_option("--ordering", o.orderings, "data orderings of application kernels: natural, random, morton, hilbert, rcm");
-    app.add_option("--mesh", o.mesh, "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or thesis .txt)");
-    app.add_option("--phase", o.phases, "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
+    app.add_option("--pattern,-p", o.patterns,
+                   "access patterns: sequential, random, strided:S (default: the kernel's first)");
+    app.add_option("--ordering", o.orderings,
+                   "data orderings of application kernels: natural, random, morton, hilbert, rcm");
+    app.add_option("--mesh", o.mesh,
+                   "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or "
+                   "thesis .txt)");
+    app.add_option("--phase", o.phases,
+                   "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
     app.add_option("--strategy", o.strategies,
-                   "strategies of the kernels that have them, each measured as its own point (see ./suite list; default: the kernel's own)");
+                   "strategies of the kernels that have them, each measured as its own point (see ./suite list; "
+                   "default: the kernel's own)");
     app.add_option("--particles", o.particles,
-                   "particle orders of the MPM kernels, each its own point: unsorted, sorted, dynamic (default: all that the kernel has)");
-    app.add_option("--isa", o.isas, "instruction widths of peak-flops, each its own point: scalar, sse, avx, avx512 (those the build targets; default: all)");
+                   "particle orders of the MPM kernels, each its own point: unsorted, sorted, dynamic (default: all "
+                   "that the kernel has)");
+    app.add_option("--isa", o.isas,
+                   "instruction widths of peak-flops, each its own point: scalar, sse, avx, avx512 (those the build "
+                   "targets; default: all)");
     run_command::add_param_options(app, o);
-    app.add_option("--stores", o.stores, "default | nt (non-temporal stores; copy, scale, add, triad, store) | rep (string instructions rep movsb / rep stosq; copy, store); sequential only");
+    app.add_option("--stores", o.stores,
+                   "default | nt (non-temporal stores; copy, scale, add, triad, store) | rep (string instructions rep "
+                   "movsb / rep stosq; copy, store); sequential only");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
-    app.add_option("--sizes", o.sizes, "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
+    app.add_option("--sizes", o.sizes,
+                   "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
     app.add_option("--threads,-t", o.threads, "thread counts: 1,2,4 | 1-8 | 1-8:2 | all (default: 1 and all)");
     app.add_option("--pin", o.pin, "compact | scatter | none | a CPU list such as 0,2,4-7 (default: compact)");
     app.add_option("--placement", o.placement, "local | node:N | remote | interleave (default: local, first touch)");
-    app.add_flag("--probe-caches", o.probe_caches,
-                 "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "
-                 "by the measured last level where it is smaller than the reported one");
-    app.add_option("--hugepages", o.hugepages,
-                   "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
-                   "leave the system's THP setting, see ./suite info)");
+    app.add_flag(
+        "--probe-caches", o.probe_caches,
+        "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "
+        "by the measured last level where it is smaller than the reported one");
+    app.add_option(
+        "--hugepages", o.hugepages,
+        "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
+        "leave the system's THP setting, see ./suite info)");
     add_whole_option(app, "--reps", o.reps, 1, 10000000,
-                     "counted repetitions per point, 1 to 10000000 (default: enough for 0.2 s, at least 5; plus 1 warm-up, 3 for calls under 50 ms)");
-    app.add_option("--min-time", o.min_time, "seconds of counted repetitions per point when --reps is not given (default 0.2)");
+                     "counted repetitions per point, 1 to 10000000 (default: enough for 0.2 s, at least 5; plus 1 "
+                     "warm-up, 3 for calls under 50 ms)");
+    app.add_option("--min-time", o.min_time,
+                   "seconds of counted repetitions per point when --reps is not given (default 0.2)");
     add_seed_option(app, o.seed, "seed of the random permutations, 0 to 18446744073709551615 (default 1)");
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
-    app.add_option("--format", o.format, "table | json | csv | gbench (Google Benchmark's JSON): format of --out, or of stdout without --out");
+    app.add_option(
+        "--format", o.format,
+        "table | json | csv | gbench (Google Benchmark's JSON): format of --out, or of stdout without --out");
     app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
     app.add_flag("--dry-run", o.dry_run, "check the options, list the points that would run, and stop");
-    app.add_option("--counters", o.counters,
-                   "default | none | events, e.g. cycles,instructions,LLC-load-misses,page-faults (see ./suite list --counters)");
-    app.add_option("--energy", o.energy, "auto | sysfs | perf | none: where RAPL energy is read (default auto; root: SUITE_SYSFS_ROOT)");
-    app.add_option("--energy-baseline", o.energy_baseline, "measure idle power for SECONDS first and report energy above idle");
+    app.add_option(
+        "--counters", o.counters,
+        "default | none | events, e.g. cycles,instructions,LLC-load-misses,page-faults (see ./suite list --counters)");
+    app.add_option("--energy", o.energy,
+                   "auto | sysfs | perf | none: where RAPL energy is read (default auto; root: SUITE_SYSFS_ROOT)");
+    app.add_option("--energy-baseline", o.energy_baseline,
+                   "measure idle power for SECONDS first and report energy above idle");
 }
 
 std::vector<FileIdentity> run_inputs(const RunOptions& o) {
@@ -175,7 +199,8 @@ std::vector<FileIdentity> run_inputs(const RunOptions& o) {
 int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string>& argv, CommandFrame& frame) {
     for (const auto& note : plan.notes) std::cerr << "suite: note: " << note << "\n";
     if (plan.dry_run) {
-        std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text << ", placement=" << plan.settings.placement.text
+        std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text
+                  << ", placement=" << plan.settings.placement.text
                   << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + plan.format + ")") << "\n";
         for (const auto& p : plan.points)
             std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
@@ -192,10 +217,13 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
 
     const bool to_file = !plan.out_path.empty();
     const OutputFile* out = frame.file();
-    if (to_file && (!out || out->path() != plan.out_path)) throw std::logic_error("execute_plan: --out was not claimed");
+    if (to_file && (!out || out->path() != plan.out_path))
+        throw std::logic_error("execute_plan: --out was not claimed");
     const bool console_table = !plan.quiet && (to_file || plan.format == "table");
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
-    const FileFormat format = plan.format == "csv" ? FileFormat::csv : plan.format == "gbench" ? FileFormat::gbench : FileFormat::json;
+    const FileFormat format = plan.format == "csv"      ? FileFormat::csv
+                              : plan.format == "gbench" ? FileFormat::gbench
+                                                        : FileFormat::json;
     ResultDocument doc{build_context(topo, argv, plan.instruments), {}};
     if (!plan.caches_measured.is_null()) doc.context["caches_measured"] = plan.caches_measured;
 
@@ -205,8 +233,9 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     for (std::size_t i = 0; i < total && !frame.stop_requested(); ++i) {
         const Point& p = plan.points[i];
         if (progress) {
-            std::fprintf(stderr, "\r[%zu/%zu] %s %s %s threads=%d ...", i + 1, total, display_name(p.kernel->info.name, p.variant).c_str(),
-                         p.access.label().c_str(), size_label(p.kernel->info.size_kind, p.size).c_str(), p.threads);
+            std::fprintf(stderr, "\r[%zu/%zu] %s %s %s threads=%d ...", i + 1, total,
+                         display_name(p.kernel->info.name, p.variant).c_str(), p.access.label().c_str(),
+                         size_label(p.kernel->info.size_kind, p.size).c_str(), p.threads);
             std::fflush(stderr);
         }
         Record rec;
@@ -222,11 +251,13 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         }
         if (progress) std::fprintf(stderr, "\r\033[K");
         if (rec.verification.solver_failed) {
-            std::cerr << "suite: error: " << rec.name << " " << rec.access << " " << size_label(rec.size_kind, rec.size_requested)
-                      << ": solver failed: " << rec.verification.detail << "\n";
+            std::cerr << "suite: error: " << rec.name << " " << rec.access << " "
+                      << size_label(rec.size_kind, rec.size_requested) << ": solver failed: " << rec.verification.detail
+                      << "\n";
             status = 3;  // before 1: a solver that did not converge says more than a wrong answer
         } else if (!rec.verification.passed) {
-            std::cerr << "suite: error: " << rec.name << " " << rec.access << " " << size_label(rec.size_kind, rec.size_requested)
+            std::cerr << "suite: error: " << rec.name << " " << rec.access << " "
+                      << size_label(rec.size_kind, rec.size_requested)
                       << " failed verification: " << rec.verification.detail << "\n";
             if (status == 0) status = 1;
         }
@@ -241,11 +272,13 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     if (to_file) {
         out->write(doc.render(format, complete));
         if (!plan.quiet)
-            std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path << (complete ? "" : " (incomplete: interrupted)") << "\n";
+            std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path
+                      << (complete ? "" : " (incomplete: interrupted)") << "\n";
     } else if (plan.format != "table") {
         std::cout << doc.render(format, complete) << std::flush;
     }
-    return frame.finish(status, std::to_string(doc.records.size()) + " of " + std::to_string(total) + " point(s)", complete);
+    return frame.finish(status, std::to_string(doc.records.size()) + " of " + std::to_string(total) + " point(s)",
+                        complete);
 }
 
 int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>& full_argv) {

@@ -8,8 +8,8 @@
 
 #include "app/suite/frame.hpp"
 #include "harness/common/output_file.hpp"
-#include "harness/measure/plan.hpp"
 #include "harness/machine/topology.hpp"
+#include "harness/measure/plan.hpp"
 
 namespace suite {
 

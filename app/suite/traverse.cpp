@@ -38,7 +38,8 @@ split, step = position within the thread's block), ORDERING-tT-PPP.png after PPP
 (colour: visit order with one thread, owning thread with more), summary.json with the numbers.
 )";
 
-const std::vector<std::string> orderings_accepted = {"natural", "random", "morton", "hilbert", "morton-recursive", "rcm"};
+const std::vector<std::string> orderings_accepted = {"natural", "random",           "morton",
+                                                     "hilbert", "morton-recursive", "rcm"};
 constexpr std::uint64_t max_traverse_elements = 4'000'000;
 
 struct Options {
@@ -58,47 +59,61 @@ struct Options {
 
 int cmd_traverse(const std::vector<std::string>& args) {
     using namespace traverse_command;
-    CLI::App app{"suite traverse: the order in which a loop over a mesh visits its elements, per ordering and thread count"};
+    CLI::App app{
+        "suite traverse: the order in which a loop over a mesh visits its elements, per ordering and thread count"};
     app.footer(footer);
     app.get_formatter()->column_width(28);
     Options o;
-    app.add_option("--mesh", o.mesh, "disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default disk:refine=4)");
-    app.add_option("--ordering", o.orderings, "natural, random, morton, hilbert, morton-recursive, rcm (default natural,morton,hilbert)");
+    app.add_option("--mesh", o.mesh,
+                   "disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default disk:refine=4)");
+    app.add_option("--ordering", o.orderings,
+                   "natural, random, morton, hilbert, morton-recursive, rcm (default natural,morton,hilbert)");
     app.add_option("--threads,-t", o.threads, "how many static blocks the loop is split into: 1,4 | 1-8 (default 1,4)");
     app.add_option("--out,-o", o.out, "directory for the files (created if missing)");
     add_seed_option(app, o.seed, "seed of the random ordering, 0 to 18446744073709551615 (default 1)");
-    app.add_option("--depth", o.depth, "key depth in bits per axis, from 1 (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)")
+    app.add_option("--depth", o.depth,
+                   "key depth in bits per axis, from 1 (default: the most a 64-bit key holds, 32 in 2D, 21 in 3D)")
         ->type_name("UINT");
     app.add_flag("--no-png", o.no_png, "write the .vtu files and numbers only");
     app.add_flag("--replace", o.replace, "replace the files of an earlier run in --out (refused without it)");
-    app.add_flag("--dry-run", o.dry_run, "check the options (and read the mesh file), list what would be written, and stop");
+    app.add_flag("--dry-run", o.dry_run,
+                 "check the options (and read the mesh file), list what would be written, and stop");
     if (!parse_command_line(app, "suite traverse", args)) return 0;
 
     // Everything is checked before anything is built or written.
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(o.mesh);
     const mesh::MeshCounts counts = mesh::mesh_counts(spec);
     if (counts.elements > max_traverse_elements)
-        throw UsageError("--mesh=" + o.mesh + " has " + std::to_string(counts.elements) + " elements; traverse writes every element to .vtu files, so at most " +
+        throw UsageError("--mesh=" + o.mesh + " has " + std::to_string(counts.elements) +
+                         " elements; traverse writes every element to .vtu files, so at most " +
                          std::to_string(max_traverse_elements));
     const std::vector<std::string> orderings = parse_name_list(o.orderings, "--ordering");
     require_known(orderings, orderings_accepted, "ordering");
-    if (o.threads == "all") throw UsageError("--threads=all: traverse splits the loop into the blocks of the thread counts given, e.g. --threads=1,4");
+    if (o.threads == "all")
+        throw UsageError(
+            "--threads=all: traverse splits the loop into the blocks of the thread counts given, e.g. --threads=1,4");
     // Thread counts here are the blocks of a static split, not this machine's processing units.
-    const std::vector<int> threads = parse_thread_list(o.threads, 1024, "traverse splits the loop into 1 to 1024 static blocks");
+    const std::vector<int> threads =
+        parse_thread_list(o.threads, 1024, "traverse splits the loop into 1 to 1024 static blocks");
     const int deepest = max_depth(counts.dim);
-    const int depth = o.depth.empty() ? deepest
-                                      : static_cast<int>(parse_whole(o.depth, "--depth", 1, static_cast<std::uint64_t>(deepest),
-                                                                     "the key depth in bits per axis, at most " + std::to_string(deepest) + " in " +
-                                                                         std::to_string(counts.dim) + "D"));
+    const int depth =
+        o.depth.empty()
+            ? deepest
+            : static_cast<int>(parse_whole(o.depth, "--depth", 1, static_cast<std::uint64_t>(deepest),
+                                           "the key depth in bits per axis, at most " + std::to_string(deepest) +
+                                               " in " + std::to_string(counts.dim) + "D"));
     if (!o.no_png) require_plotter("traverse.py", "--no-png");
-    if (o.out.empty()) throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
-    const std::vector<FileIdentity> inputs = identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
-    const DirPolicy policy{.option = "--out", .command = "suite traverse", .inputs = inputs, .replace_earlier = o.replace};
+    if (o.out.empty())
+        throw UsageError("traverse needs --out=DIR, the directory for its .vtu, .png and summary.json files");
+    const std::vector<FileIdentity> inputs =
+        identify_inputs({spec.kind == mesh::MeshSpec::Kind::file ? spec.path : ""});
+    const DirPolicy policy{
+        .option = "--out", .command = "suite traverse", .inputs = inputs, .replace_earlier = o.replace};
     if (o.dry_run) {
         OutputDir::check(o.out, policy);
         std::printf("mesh %s: %llu %s; into %s: %zu .vtu file(s)%s and summary.json\n", o.mesh.c_str(),
-                    static_cast<unsigned long long>(counts.elements), mesh::element_word(counts.dim, true).c_str(), o.out.c_str(),
-                    orderings.size() * threads.size(), o.no_png ? "" : ", 6 .png snapshots each");
+                    static_cast<unsigned long long>(counts.elements), mesh::element_word(counts.dim, true).c_str(),
+                    o.out.c_str(), orderings.size() * threads.size(), o.no_png ? "" : ", 6 .png snapshots each");
         for (const auto& name : orderings)
             for (int t : threads) std::printf("  %s-t%d.vtu\n", name.c_str(), t);
         return 0;
@@ -107,40 +122,52 @@ int cmd_traverse(const std::vector<std::string>& args) {
     OutputDir& out = frame.claim_dir(o.out, policy);
 
     const mesh::Mesh base = mesh::load_mesh(spec);
-    nlohmann::json summary = {{"mesh", o.mesh}, {"dim", base.dim}, {"elements", base.elements()}, {"vertices", base.vertices()},
-                              {"depth", depth}, {"seed", o.seed}, {"threads", threads}, {"complete", false}, {"orderings", nlohmann::json::array()}};
-    std::printf("mesh %s: %zu %s, %zu vertices\n\n", o.mesh.c_str(), base.elements(), mesh::element_word(base.dim, true).c_str(), base.vertices());
-    std::printf("%-17s %10s %14s %12s %11s   elements with vertices shared between threads\n", "ordering", "bandwidth", "profile",
-                "spread-mean", "spread-p95");
+    nlohmann::json summary = {{"mesh", o.mesh},
+                              {"dim", base.dim},
+                              {"elements", base.elements()},
+                              {"vertices", base.vertices()},
+                              {"depth", depth},
+                              {"seed", o.seed},
+                              {"threads", threads},
+                              {"complete", false},
+                              {"orderings", nlohmann::json::array()}};
+    std::printf("mesh %s: %zu %s, %zu vertices\n\n", o.mesh.c_str(), base.elements(),
+                mesh::element_word(base.dim, true).c_str(), base.vertices());
+    std::printf("%-17s %10s %14s %12s %11s   elements with vertices shared between threads\n", "ordering", "bandwidth",
+                "profile", "spread-mean", "spread-p95");
     std::size_t done = 0;
     for (const auto& name : orderings) {
         if (frame.stop_requested()) break;  // the safe point: between orderings
         const mesh::Mesh m = ordered(base, name, o.seed, depth);
         const OrderingQuality q = ordering_quality(m);
-        nlohmann::json entry = {{"ordering", name},
-                                {"bandwidth", q.bandwidth},
-                                {"profile", q.profile},
-                                {"spread_mean", q.spread_mean},
-                                {"spread_p95", q.spread_p95},
-                                {"threads", nlohmann::json::array()}};
+        nlohmann::json entry = {{"ordering", name},           {"bandwidth", q.bandwidth},
+                                {"profile", q.profile},       {"spread_mean", q.spread_mean},
+                                {"spread_p95", q.spread_p95}, {"threads", nlohmann::json::array()}};
         std::string shared_text;
         for (int t : threads) {
             const ThreadSharing s = thread_sharing(m.view(), t);
             Traversal walk = traversal(m.elements(), t);
             const std::string file = name + "-t" + std::to_string(t) + ".vtu";
-            out.write(file, mesh::vtu_text(m, {{"visit", std::move(walk.visit)}, {"thread", std::move(walk.thread)}, {"step", std::move(walk.step)}}));
+            out.write(file, mesh::vtu_text(m, {{"visit", std::move(walk.visit)},
+                                               {"thread", std::move(walk.thread)},
+                                               {"step", std::move(walk.step)}}));
             const double fraction = static_cast<double>(s.elements) / static_cast<double>(m.elements());
-            entry["threads"].push_back({{"threads", t}, {"shared_elements", s.elements}, {"shared_fraction", fraction},
-                                        {"shared_vertices", s.vertices}, {"vtu", file}});
+            entry["threads"].push_back({{"threads", t},
+                                        {"shared_elements", s.elements},
+                                        {"shared_fraction", fraction},
+                                        {"shared_vertices", s.vertices},
+                                        {"vtu", file}});
             char buf[96];
-            std::snprintf(buf, sizeof buf, "%st=%d: %llu (%.1f%%)", shared_text.empty() ? "" : ", ", t, static_cast<unsigned long long>(s.elements),
-                          100 * fraction);
+            std::snprintf(buf, sizeof buf, "%st=%d: %llu (%.1f%%)", shared_text.empty() ? "" : ", ", t,
+                          static_cast<unsigned long long>(s.elements), 100 * fraction);
             shared_text += buf;
         }
-        std::printf("%-17s %10llu %14llu %12.1f %11llu   %s\n", name.c_str(), static_cast<unsigned long long>(q.bandwidth),
-                    static_cast<unsigned long long>(q.profile), q.spread_mean, static_cast<unsigned long long>(q.spread_p95), shared_text.c_str());
+        std::printf("%-17s %10llu %14llu %12.1f %11llu   %s\n", name.c_str(),
+                    static_cast<unsigned long long>(q.bandwidth), static_cast<unsigned long long>(q.profile),
+                    q.spread_mean, static_cast<unsigned long long>(q.spread_p95), shared_text.c_str());
         summary["orderings"].push_back(entry);
-        if (++done < orderings.size()) out.write("summary.json", summary.dump(1) + "\n");  // kept if the next is interrupted
+        if (++done < orderings.size())
+            out.write("summary.json", summary.dump(1) + "\n");  // kept if the next is interrupted
     }
     const std::string finished = std::to_string(done) + " of " + std::to_string(orderings.size()) + " ordering(s)";
     if (done < orderings.size()) {
@@ -153,7 +180,9 @@ int cmd_traverse(const std::vector<std::string>& args) {
     // fraction for all (the tests check that Morton and Hilbert agree).
     const std::vector<double> shared = shared_key_fraction(base.view(), Curve::morton);
     summary["shared_key_fraction"] = shared;
-    std::printf("\nelements that share their key with another at depth d (the thesis's relative error; the same for every curve):\n ");
+    std::printf(
+        "\nelements that share their key with another at depth d (the thesis's relative error; the same for every "
+        "curve):\n ");
     for (std::size_t d = 0; d < shared.size(); ++d) {
         std::printf(" d%zu=%.3f", d + 1, shared[d]);
         if (shared[d] == 0) break;  // deeper levels only split cells further
@@ -164,9 +193,11 @@ int cmd_traverse(const std::vector<std::string>& args) {
         summary["png"] = {{"available", false}, {"reason", "--no-png"}};
     } else {
         const Plotter p = find_plotter("traverse.py");
-        const std::string why = p.reason.empty() ? out.with_writer([&p](const std::string& dir) { return draw(p, dir); }) : p.reason;
+        const std::string why =
+            p.reason.empty() ? out.with_writer([&p](const std::string& dir) { return draw(p, dir); }) : p.reason;
         if (why.empty()) {
-            summary["png"] = {{"available", true}, {"percent", {0, 20, 40, 60, 80, 100}}, {"pattern", "ORDERING-tT-PPP.png"}};
+            summary["png"] = {
+                {"available", true}, {"percent", {0, 20, 40, 60, 80, 100}}, {"pattern", "ORDERING-tT-PPP.png"}};
         } else {
             summary["png"] = {{"available", false}, {"reason", why}};
             std::cerr << "suite: note: no PNG snapshots: " << why << "\n";

@@ -14,7 +14,8 @@ std::string errno_text(int err);
 // The directory part of a path ("." for a bare name).
 std::string parent_of(const std::string& path);
 // The checks every target file passes: UsageError with `usage` (claiming), else runtime_error.
-void check_target(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs, bool usage);
+void check_target(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs,
+                  bool usage);
 // Writes `content` through a temporary file beside `path`, fsynced, renamed over it.
 void replace_file(const std::string& path, const std::string& content);
 // Opens and locks `lock_path` for `what`; the fd. UsageError naming the holder when taken.

@@ -32,7 +32,7 @@ const char* const manifest_name = ".suite-files";
 const std::string staging_prefix = ".suite-new.";
 
 bool is_real_directory(const std::string& path) {
-    struct stat st{};
+    struct stat st {};
     return lstat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
@@ -55,10 +55,13 @@ bool is_leftover(const std::string& name) {
 std::vector<std::string> entries(const std::string& dir, const std::string& option) {
     std::vector<std::string> out;
     DIR* d = opendir(dir.c_str());
-    if (!d) throw UsageError(option + "=" + dir + ": cannot list what the directory holds (" + errno_text(errno) + "); it must be readable");
+    if (!d)
+        throw UsageError(option + "=" + dir + ": cannot list what the directory holds (" + errno_text(errno) +
+                         "); it must be readable");
     while (const dirent* e = readdir(d)) {
         const std::string name = e->d_name;
-        if (name == "." || name == ".." || name == lock_name || name == manifest_name || is_staging(dir, name)) continue;
+        if (name == "." || name == ".." || name == lock_name || name == manifest_name || is_staging(dir, name))
+            continue;
         out.push_back(name);
     }
     closedir(d);
@@ -103,8 +106,10 @@ void remove_tree(const std::string& path) noexcept {
     nftw(
         path.c_str(),
         [](const char* p, const struct stat*, int type, struct FTW*) {
-            if (type == FTW_DP) rmdir(p);
-            else unlink(p);
+            if (type == FTW_DP)
+                rmdir(p);
+            else
+                unlink(p);
             return 0;
         },
         16, FTW_DEPTH | FTW_PHYS);
@@ -119,16 +124,19 @@ std::string without_trailing_slashes(std::string dir) {
 // The directory itself: a directory (never a symlink to one), or a new name in an existing
 // one; with `create`, made when missing.
 void check_dir_itself(const std::string& dir, const std::string& option, bool create) {
-    if (dir.empty()) throw UsageError(option + " is empty; give a directory for the files, e.g. " + option + "=results/out");
-    struct stat st{};
+    if (dir.empty())
+        throw UsageError(option + " is empty; give a directory for the files, e.g. " + option + "=results/out");
+    struct stat st {};
     if (lstat(dir.c_str(), &st) == 0) {
         if (S_ISLNK(st.st_mode))
-            throw UsageError(option + "=" + dir + " is a symlink; the suite writes no output through a symlink: give the directory itself");
+            throw UsageError(option + "=" + dir +
+                             " is a symlink; the suite writes no output through a symlink: give the directory itself");
         if (!S_ISDIR(st.st_mode))
-            throw UsageError(option + "=" + dir + " exists and is " + file_kind(st.st_mode) + ", not a directory; " + option +
-                             " names a directory for several files");
+            throw UsageError(option + "=" + dir + " exists and is " + file_kind(st.st_mode) + ", not a directory; " +
+                             option + " names a directory for several files");
         if (faccessat(AT_FDCWD, dir.c_str(), R_OK | W_OK | X_OK, AT_EACCESS) != 0)
-            throw UsageError(option + "=" + dir + ": the directory is not readable and writable by this user (" + errno_text(errno) + ")");
+            throw UsageError(option + "=" + dir + ": the directory is not readable and writable by this user (" +
+                             errno_text(errno) + ")");
         return;
     }
     const std::string parent = output_detail::parent_of(dir);
@@ -148,20 +156,24 @@ std::vector<std::string> check_contents(const std::string& dir, const DirPolicy&
         if (!m.files.count(name) && !(m.found && is_leftover(name))) unknown.push_back(name);
     const std::string where = p.option + "=" + dir;
     if (!unknown.empty())
-        throw UsageError(where + " holds " + std::to_string(unknown.size()) + " file(s) the suite did not write (" + some(unknown) +
+        throw UsageError(where + " holds " + std::to_string(unknown.size()) + " file(s) the suite did not write (" +
+                         some(unknown) +
                          "); give a new or empty directory (only an earlier run's own files are ever replaced)");
     for (const auto& name : present) {
-        struct stat st{};
+        struct stat st {};
         const std::string path = dir + "/" + name;
         if (lstat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-            throw UsageError(where + ": " + name + " is " + file_kind(st.st_mode) + " where a run's file was; remove it");
+            throw UsageError(where + ": " + name + " is " + file_kind(st.st_mode) +
+                             " where a run's file was; remove it");
         for (const auto& in : p.inputs)
             if (in.dev == st.st_dev && in.ino == st.st_ino)
-                throw UsageError(where + ": " + name + " is the input " + in.path + "; replacing the directory's files would destroy it");
+                throw UsageError(where + ": " + name + " is the input " + in.path +
+                                 "; replacing the directory's files would destroy it");
     }
     if (!p.replace_earlier) {
         const std::string who = m.command.empty() ? "suite" : m.command;
-        throw UsageError(where + " holds the files of an earlier `" + who + "` run (" + std::to_string(present.size()) + " file(s): " + some(present) +
+        throw UsageError(where + " holds the files of an earlier `" + who + "` run (" + std::to_string(present.size()) +
+                         " file(s): " + some(present) +
                          "); give --replace to replace them all, or a new or empty directory");
     }
     return present;
@@ -170,9 +182,10 @@ std::vector<std::string> check_contents(const std::string& dir, const DirPolicy&
 // A command's fixed files (history html): each, where it exists, a regular file.
 void check_fixed(const std::string& dir, const DirPolicy& p) {
     for (const auto& name : p.fixed_files) {
-        struct stat st{};
+        struct stat st {};
         if (lstat((dir + "/" + name).c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-            throw UsageError(p.option + "=" + dir + ": " + name + " is " + file_kind(st.st_mode) + ", where this command writes a file; remove it");
+            throw UsageError(p.option + "=" + dir + ": " + name + " is " + file_kind(st.st_mode) +
+                             ", where this command writes a file; remove it");
     }
 }
 
@@ -182,8 +195,10 @@ void OutputDir::check(const std::string& given, const DirPolicy& policy) {
     const std::string dir = without_trailing_slashes(given);
     check_dir_itself(dir, policy.option, false);
     if (!is_real_directory(dir)) return;
-    if (policy.fixed_files.empty()) check_contents(dir, policy);
-    else check_fixed(dir, policy);
+    if (policy.fixed_files.empty())
+        check_contents(dir, policy);
+    else
+        check_fixed(dir, policy);
 }
 
 OutputDir OutputDir::claim(const std::string& given, const DirPolicy& policy) {
@@ -192,7 +207,8 @@ OutputDir OutputDir::claim(const std::string& given, const DirPolicy& policy) {
     OutputDir d;
     d.dir_ = dir;
     d.policy_ = policy;
-    d.lock_ = OutputLock(dir + "/" + lock_name, output_detail::take_lock(dir + "/" + lock_name, policy.option + "=" + dir));
+    d.lock_ =
+        OutputLock(dir + "/" + lock_name, output_detail::take_lock(dir + "/" + lock_name, policy.option + "=" + dir));
     d.writing_ = dir;
     if (!policy.fixed_files.empty()) {
         check_fixed(dir, policy);
@@ -213,7 +229,8 @@ OutputDir OutputDir::claim(const std::string& given, const DirPolicy& policy) {
         d.staging_ = true;
         d.writing_ = dir + "/" + staging_prefix + std::to_string(getpid());
         if (mkdir(d.writing_.c_str(), 0755) != 0)
-            throw UsageError(policy.option + "=" + dir + ": cannot create the staging directory " + d.writing_ + " (" + errno_text(errno) + ")");
+            throw UsageError(policy.option + "=" + dir + ": cannot create the staging directory " + d.writing_ + " (" +
+                             errno_text(errno) + ")");
     } else {
         // Straight into the directory: the manifest names each file as it is written, so that
         // even a run that is killed leaves files a later --replace knows as its own.
@@ -251,10 +268,11 @@ void OutputDir::record(const std::string& name) {
 
 void OutputDir::write(const std::string& name, const std::string& content) {
     if (!lock_.held()) throw std::logic_error("OutputDir::write on a directory that was not claimed");
-    if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name == lock_name || name == manifest_name ||
-        name.rfind(staging_prefix, 0) == 0)
+    if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name == lock_name ||
+        name == manifest_name || name.rfind(staging_prefix, 0) == 0)
         throw std::logic_error("OutputDir::write: '" + name + "' is not a plain file name of an output");
-    if (!policy_.fixed_files.empty() && std::find(policy_.fixed_files.begin(), policy_.fixed_files.end(), name) == policy_.fixed_files.end())
+    if (!policy_.fixed_files.empty() &&
+        std::find(policy_.fixed_files.begin(), policy_.fixed_files.end(), name) == policy_.fixed_files.end())
         throw std::logic_error("OutputDir::write: '" + name + "' is not one of the files this command declared");
     output_detail::check_target(writing_ + "/" + name, policy_.option, policy_.inputs, false);
     output_detail::replace_file(writing_ + "/" + name, content);
@@ -285,7 +303,8 @@ void OutputDir::commit() {
             }
             for (const auto& name : earlier_)
                 if (!moved.count(name) && unlink((dir_ + "/" + name).c_str()) != 0 && errno != ENOENT)
-                    throw std::runtime_error("cannot remove " + dir_ + "/" + name + " of the earlier run: " + errno_text(errno));
+                    throw std::runtime_error("cannot remove " + dir_ + "/" + name +
+                                             " of the earlier run: " + errno_text(errno));
         } catch (const std::runtime_error& e) {
             std::set<std::string> all(earlier_.begin(), earlier_.end());
             all.insert(moved.begin(), moved.end());

@@ -35,7 +35,8 @@ const FileIdentity* same_as_input(const struct stat& st, const std::vector<FileI
 // The checks every target passes, at claim time and again before each rename (the path may
 // have changed in between). `usage` selects the exception: UsageError when claiming,
 // runtime_error when writing.
-void check_target(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs, bool usage) {
+void check_target(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs,
+                  bool usage) {
     auto refuse = [&](const std::string& why) -> void {
         const std::string msg = option + "=" + path + why;
         if (usage) throw UsageError(msg);
@@ -43,7 +44,7 @@ void check_target(const std::string& path, const std::string& option, const std:
     };
     if (path.empty()) refuse(" is empty; give a file name, e.g. " + option + "=results/run.json");
     if (path.back() == '/') refuse(" ends in '/'; give a file name, e.g. " + option + "=" + path + "run.json");
-    struct stat st{};
+    struct stat st {};
     if (lstat(path.c_str(), &st) == 0) {
         if (S_ISDIR(st.st_mode)) refuse(" is a directory; give a file name, e.g. " + option + "=" + path + "/run.json");
         if (!S_ISREG(st.st_mode))
@@ -74,12 +75,13 @@ void replace_file(const std::string& path, const std::string& content) {
     const std::string tmp = path + ".tmp." + std::to_string(getpid());
     auto fail = [&](const std::string& what, int err) {
         unlink(tmp.c_str());
-        throw std::runtime_error("cannot write " + path + ": " + what + ": " + errno_text(err) + " (the previous file, if any, is unchanged)");
+        throw std::runtime_error("cannot write " + path + ": " + what + ": " + errno_text(err) +
+                                 " (the previous file, if any, is unchanged)");
     };
     unlink(tmp.c_str());  // a leftover of an earlier process with this pid, never anyone's data
     // Keep the permissions of the file being replaced (a 0600 result stays 0600).
     mode_t mode = 0644;
-    struct stat old{};
+    struct stat old {};
     if (stat(path.c_str(), &old) == 0) mode = old.st_mode & 07777;
     const int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
     if (fd < 0) fail("cannot create " + tmp, errno);
@@ -96,8 +98,16 @@ void replace_file(const std::string& path, const std::string& content) {
         p += n;
         left -= static_cast<std::size_t>(n);
     }
-    if (fchmod(fd, mode) != 0) { const int err = errno; close(fd); fail("cannot set its mode", err); }
-    if (fsync(fd) != 0) { const int err = errno; close(fd); fail("fsync failed", err); }
+    if (fchmod(fd, mode) != 0) {
+        const int err = errno;
+        close(fd);
+        fail("cannot set its mode", err);
+    }
+    if (fsync(fd) != 0) {
+        const int err = errno;
+        close(fd);
+        fail("fsync failed", err);
+    }
     if (close(fd) != 0) fail("close failed", errno);
     if (rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed", errno);
     // The rename itself reaches the disk only when the directory is synced.
@@ -142,12 +152,12 @@ int take_lock(const std::string& lock_path, const std::string& what) {
             throw UsageError(what + ": cannot create its lock file " + lock_path + " (" + errno_text(err) +
                              "); the directory must be writable by this user");
         }
-        struct stat st{};
+        struct stat st {};
         if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
             close(fd);
             throw UsageError(what + ": its lock file " + lock_path + " is not a regular file; remove it");
         }
-        struct flock fl{};
+        struct flock fl {};
         fl.l_type = F_WRLCK;
         fl.l_whence = SEEK_SET;
         if (fcntl(fd, F_OFD_SETLK, &fl) != 0) {
@@ -157,14 +167,15 @@ int take_lock(const std::string& lock_path, const std::string& what) {
             if (err == EACCES || err == EAGAIN) {
                 if (pid == std::to_string(getpid()))
                     throw UsageError(what + " is named twice as an output of this run; give each output its own file");
-                throw UsageError(what + " is being written by another suite run" + (pid.empty() ? "" : " (pid " + pid + ")") +
+                throw UsageError(what + " is being written by another suite run" +
+                                 (pid.empty() ? "" : " (pid " + pid + ")") +
                                  "; wait for it to finish or choose another name");
             }
             throw UsageError(what + ": cannot lock " + lock_path + " (" + errno_text(err) + ")");
         }
         // The holder before us removes the lock file when it is done: if the name now points at
         // another file (or none), our lock is on an orphan and protects nothing. Try again.
-        struct stat now{};
+        struct stat now {};
         if (stat(lock_path.c_str(), &now) != 0 || now.st_dev != st.st_dev || now.st_ino != st.st_ino) {
             close(fd);
             continue;
@@ -176,7 +187,6 @@ int take_lock(const std::string& lock_path, const std::string& what) {
     }
     throw UsageError(what + ": its lock file " + lock_path + " keeps changing; another run is starting on it");
 }
-
 
 }  // namespace output_detail
 
@@ -196,8 +206,11 @@ void OutputLock::release() noexcept {
     // Unlink while still holding the lock, so that no one locks the name we are removing; and
     // only our own file: if the name was removed already (a signal handler may do that) and
     // another run has made and locked a new one there, it is that run's.
-    struct stat mine{}, now{};
-    if (fstat(fd_, &mine) == 0 && stat(path_.c_str(), &now) == 0 && mine.st_dev == now.st_dev && mine.st_ino == now.st_ino) unlink(path_.c_str());
+    struct stat mine {
+    }, now{};
+    if (fstat(fd_, &mine) == 0 && stat(path_.c_str(), &now) == 0 && mine.st_dev == now.st_dev &&
+        mine.st_ino == now.st_ino)
+        unlink(path_.c_str());
     close(fd_);
     fd_ = -1;
 }
@@ -205,7 +218,7 @@ void OutputLock::release() noexcept {
 std::vector<FileIdentity> identify_inputs(const std::vector<std::string>& paths) {
     std::vector<FileIdentity> out;
     for (const auto& p : paths) {
-        struct stat st{};
+        struct stat st {};
         if (!p.empty() && stat(p.c_str(), &st) == 0) out.push_back({st.st_dev, st.st_ino, p});
     }
     return out;
@@ -215,7 +228,8 @@ void check_output_target(const std::string& path, const std::string& option, con
     check_target(path, option, inputs, true);
 }
 
-OutputFile OutputFile::claim(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs) {
+OutputFile OutputFile::claim(const std::string& path, const std::string& option,
+                             const std::vector<FileIdentity>& inputs) {
     check_target(path, option, inputs, true);
     OutputFile f;
     f.path_ = path;

@@ -59,7 +59,8 @@ private:
 class OutputFile {
 public:
     // `option` names where the path came from in messages, e.g. "--out" or "--markdown".
-    static OutputFile claim(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs = {});
+    static OutputFile claim(const std::string& path, const std::string& option,
+                            const std::vector<FileIdentity>& inputs = {});
 
     // Replaces the file's content atomically (temporary file, fsync, rename, directory fsync).
     void write(const std::string& content) const;
@@ -78,10 +79,10 @@ private:
 
 // What a directory of outputs may hold when it is claimed, and who claims it.
 struct DirPolicy {
-    std::string option = "--out";          // named in messages
-    std::string command;                   // e.g. "suite mpm": recorded with the files, named in refusals
-    std::vector<FileIdentity> inputs;      // files of the run that must not be written
-    bool replace_earlier = false;          // an earlier run's files are replaced (--replace), not refused
+    std::string option = "--out";      // named in messages
+    std::string command;               // e.g. "suite mpm": recorded with the files, named in refusals
+    std::vector<FileIdentity> inputs;  // files of the run that must not be written
+    bool replace_earlier = false;      // an earlier run's files are replaced (--replace), not refused
     // A command that always writes the same few files (history html: index.html, chart.min.js)
     // names them: they are replaced one by one, the directory's other files are left alone
     // (a page's folder may hold a CNAME), and no manifest is kept: no stale file can build up.
@@ -89,8 +90,8 @@ struct DirPolicy {
 };
 
 // A directory of outputs: one run's files (unless the policy names a fixed set of files).
-// Created if missing (its parent must exist), locked as a whole, never a symlink. It may hold only the files of one earlier suite run, as its
-// manifest `.suite-files` lists them (the command on the first line, a name a line), and
+// Created if missing (its parent must exist), locked as a whole, never a symlink. It may hold only the files of one
+// earlier suite run, as its manifest `.suite-files` lists them (the command on the first line, a name a line), and
 // those only when the policy replaces them: any other file in it (the user's, a FIFO where an
 // output goes, an input) is refused when the directory is claimed, before any work. An earlier
 // run's files are replaced at commit(): until then this run writes into a staging directory
@@ -100,7 +101,8 @@ struct DirPolicy {
 class OutputDir {
 public:
     static OutputDir claim(const std::string& dir, const DirPolicy& policy);
-    static OutputDir claim(const std::string& dir, const std::string& option, const std::vector<FileIdentity>& inputs = {}) {
+    static OutputDir claim(const std::string& dir, const std::string& option,
+                           const std::vector<FileIdentity>& inputs = {}) {
         return claim(dir, DirPolicy{.option = option, .inputs = inputs});
     }
     // The checks of claim() alone, creating and locking nothing (for --dry-run).
@@ -141,8 +143,8 @@ private:
     void record(const std::string& name);
     std::string dir_, writing_;
     DirPolicy policy_;
-    std::vector<std::string> earlier_;   // the earlier run's files, removed at commit
-    std::set<std::string> written_;      // this run's files: write() and with_writer()'s
+    std::vector<std::string> earlier_;  // the earlier run's files, removed at commit
+    std::set<std::string> written_;     // this run's files: write() and with_writer()'s
     bool staging_ = false, committed_ = false;
     bool claimed_ = false;  // claim() finished: what is in the directory is this run's
     OutputLock lock_;
@@ -150,6 +152,7 @@ private:
 
 // The policy check alone, without a lock or a write: throws UsageError if `path` may not be
 // written (for --dry-run, which writes nothing but must refuse what the real run would).
-void check_output_target(const std::string& path, const std::string& option, const std::vector<FileIdentity>& inputs = {});
+void check_output_target(const std::string& path, const std::string& option,
+                         const std::vector<FileIdentity>& inputs = {});
 
 }  // namespace suite

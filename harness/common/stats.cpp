@@ -22,7 +22,6 @@ TimeStats summarise(std::vector<double> s) {
     return t;
 }
 
-
 double robust_relative_spread(std::vector<double> s) {
     if (s.size() < 2) return 0;
     const double med = median_of(s);
@@ -30,7 +29,6 @@ double robust_relative_spread(std::vector<double> s) {
     for (double& x : s) x = std::fabs(x - med);
     return 1.4826 * median_of(s) / med;
 }
-
 
 double median_of(std::vector<double> s) {
     if (s.empty()) throw std::invalid_argument("median: no samples");
@@ -115,8 +113,8 @@ RankTest mann_whitney(const std::vector<double>& x, const std::vector<double>& y
     return t;
 }
 
-Interval median_ratio_interval(const std::vector<double>& x, const std::vector<double>& y, double level, unsigned resamples,
-                               unsigned long long seed) {
+Interval median_ratio_interval(const std::vector<double>& x, const std::vector<double>& y, double level,
+                               unsigned resamples, unsigned long long seed) {
     if (x.empty() || y.empty()) throw std::invalid_argument("median_ratio_interval: an empty sample");
     Interval r;
     const double mx = median_of(x);
@@ -145,7 +143,8 @@ Interval median_ratio_interval(const std::vector<double>& x, const std::vector<d
     std::sort(ratios.begin(), ratios.end());
     const double tail = (1 - level) / 2;
     auto at = [&](double q) {
-        const auto i = static_cast<std::size_t>(std::clamp(q * static_cast<double>(ratios.size() - 1), 0.0, static_cast<double>(ratios.size() - 1)));
+        const auto i = static_cast<std::size_t>(
+            std::clamp(q * static_cast<double>(ratios.size() - 1), 0.0, static_cast<double>(ratios.size() - 1)));
         return ratios[i];
     };
     r.low = at(tail);

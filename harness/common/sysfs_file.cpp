@@ -40,7 +40,7 @@ const char* file_kind(mode_t mode) {
 AttributeText read_attribute(const std::string& path) {
     // stat() first, so that a FIFO or a device is never even opened; then open without blocking
     // (a FIFO swapped in meanwhile opens at once) and check again what was opened.
-    struct stat st{};
+    struct stat st {};
     if (stat(path.c_str(), &st) != 0) return failed(path, errno);
     if (!S_ISREG(st.st_mode)) return refused(path, std::string("is ") + file_kind(st.st_mode));
     const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
@@ -67,7 +67,8 @@ AttributeText read_attribute(const std::string& path) {
         return failed(path, err);
     }
     close(fd);
-    if (got > max_attribute_bytes) return refused(path, "holds more than " + std::to_string(max_attribute_bytes) + " bytes");
+    if (got > max_attribute_bytes)
+        return refused(path, "holds more than " + std::to_string(max_attribute_bytes) + " bytes");
     a.ok = true;
     a.text.assign(buf, got);
     if (auto nl = a.text.find('\n'); nl != std::string::npos) a.text.resize(nl);

@@ -115,8 +115,10 @@ std::vector<std::uint64_t> sizes_from(std::string_view text, One one, Show show,
             const std::uint64_t v = one(part);
             for (std::size_t i = 0; i < out.size(); ++i)
                 if (out[i] == v)
-                    throw UsageError("size list " + in_quotes(text) + " names " + show(v) + " twice" +
-                                     (given[i] != part ? " (as " + in_quotes(given[i]) + " and " + in_quotes(part) + ")" : "") + "; give each size once");
+                    throw UsageError(
+                        "size list " + in_quotes(text) + " names " + show(v) + " twice" +
+                        (given[i] != part ? " (as " + in_quotes(given[i]) + " and " + in_quotes(part) + ")" : "") +
+                        "; give each size once");
             out.push_back(v);
             given.push_back(part);
         }
@@ -124,7 +126,8 @@ std::vector<std::uint64_t> sizes_from(std::string_view text, One one, Show show,
     }
     auto parts = split(text, ':');
     if (parts.size() > 3)
-        throw UsageError("invalid size sweep " + in_quotes(text) + ": expected FROM:TO or FROM:TO:xFACTOR, e.g. 16KiB:1GiB:x2");
+        throw UsageError("invalid size sweep " + in_quotes(text) +
+                         ": expected FROM:TO or FROM:TO:xFACTOR, e.g. 16KiB:1GiB:x2");
     const std::uint64_t from = one(parts[0]);
     const std::uint64_t to = one(parts[1]);
     double factor = 2.0;
@@ -134,10 +137,12 @@ std::vector<std::uint64_t> sizes_from(std::string_view text, One one, Show show,
         Decimal d;
         if (!parse_decimal(f, d) || d.used != f.size() || d.too_long || !(d.value > 1.0))
             throw UsageError("invalid size sweep step " + in_quotes(parts[2]) +
-                             ": expected x and a decimal number above 1, such as x2 or x1.5 (digits and one point only: no sign, no exponent)");
+                             ": expected x and a decimal number above 1, such as x2 or x1.5 (digits and one point "
+                             "only: no sign, no exponent)");
         factor = d.value;
     }
-    if (from > to) throw UsageError("invalid size sweep " + in_quotes(text) + ": the first size is larger than the last");
+    if (from > to)
+        throw UsageError("invalid size sweep " + in_quotes(text) + ": the first size is larger than the last");
     // Counted before generating, so that a tiny factor costs nothing.
     if (std::log(static_cast<double>(to) / static_cast<double>(from)) / std::log(factor) >= 1000 - 1e-9)
         throw UsageError("size sweep " + in_quotes(text) + " has more than 1000 points; use a larger factor");
@@ -145,7 +150,8 @@ std::vector<std::uint64_t> sizes_from(std::string_view text, One one, Show show,
         // Within the tolerance a step that lands past TO by rounding error means TO.
         const auto v = std::min(static_cast<std::uint64_t>(std::llround(s)), to);
         if (!out.empty() && v == out.back())
-            throw UsageError("size sweep " + in_quotes(text) + " gives " + show(v) + " twice: its steps are less than one " + unit +
+            throw UsageError("size sweep " + in_quotes(text) + " gives " + show(v) +
+                             " twice: its steps are less than one " + unit +
                              " apart there; use a larger factor or a larger first size");
         out.push_back(v);
     }
@@ -167,11 +173,13 @@ std::optional<std::uint64_t> whole_number(std::string_view text, std::uint64_t h
     return v;
 }
 
-std::uint64_t parse_whole(std::string_view text, std::string_view option, std::uint64_t lo, std::uint64_t hi, std::string_view about) {
+std::uint64_t parse_whole(std::string_view text, std::string_view option, std::uint64_t lo, std::uint64_t hi,
+                          std::string_view about) {
     const auto v = whole_number(text, hi);
     if (!v || *v < lo)
-        throw UsageError(std::string(option) + "=" + std::string(text) + ": expected a whole number from " + std::to_string(lo) + " to " +
-                         std::to_string(hi) + (about.empty() ? "" : " (" + std::string(about) + ")"));
+        throw UsageError(std::string(option) + "=" + std::string(text) + ": expected a whole number from " +
+                         std::to_string(lo) + " to " + std::to_string(hi) +
+                         (about.empty() ? "" : " (" + std::string(about) + ")"));
     return *v;
 }
 
@@ -197,24 +205,30 @@ std::string format_number(double value) {
     return ec == std::errc() ? std::string(buf, end) : std::to_string(value);
 }
 
-std::uint64_t parse_seed(std::string_view text, std::string_view option) { return parse_whole(text, option, 0, UINT64_MAX); }
+std::uint64_t parse_seed(std::string_view text, std::string_view option) {
+    return parse_whole(text, option, 0, UINT64_MAX);
+}
 
 std::vector<std::string> parse_name_list(std::string_view text, std::string_view option) {
     std::vector<std::string> out;
     const std::string given = std::string(option) + "=" + std::string(text);
     for (auto& name : split(text, ',')) {
         if (name.empty()) throw UsageError(given + " has an empty name; separate the names by single commas");
-        if (std::find(out.begin(), out.end(), name) != out.end()) throw UsageError(given + " names '" + name + "' twice; give each once");
+        if (std::find(out.begin(), out.end(), name) != out.end())
+            throw UsageError(given + " names '" + name + "' twice; give each once");
         out.push_back(std::move(name));
     }
     return out;
 }
 
 std::uint64_t parse_count(std::string_view text, std::string_view noun, std::string_view owner) {
-    const std::string what = "invalid size " + in_quotes(text) + " for " + std::string(owner) + ", which is sized by a count of " + std::string(noun);
+    const std::string what = "invalid size " + in_quotes(text) + " for " + std::string(owner) +
+                             ", which is sized by a count of " + std::string(noun);
     const auto v = whole_number(text);
     if (v && *v > max_size) throw UsageError(what + ": at most " + std::to_string(max_size));
-    if (!v || *v < 1) throw UsageError(what + ": expected a whole number of " + std::string(noun) + ", at least 1 (no unit), e.g. 10000");
+    if (!v || *v < 1)
+        throw UsageError(what + ": expected a whole number of " + std::string(noun) +
+                         ", at least 1 (no unit), e.g. 10000");
     return *v;
 }
 
@@ -226,21 +240,34 @@ std::uint64_t parse_bytes(std::string_view text) {
     if (!parse_decimal(text, d)) throw UsageError("invalid size " + in_quotes(text) + ": expected " + accepted);
     const std::string unit(text.substr(d.used));
     static const std::pair<const char*, std::uint64_t> units[] = {
-        {"", 1},           {"B", 1},
-        {"K", 1ull << 10}, {"KiB", 1ull << 10}, {"k", 1ull << 10}, {"kB", 1000},    {"KB", 1000},
-        {"M", 1ull << 20}, {"MiB", 1ull << 20}, {"MB", 1000000},
-        {"G", 1ull << 30}, {"GiB", 1ull << 30}, {"GB", 1000000000},
-        {"T", 1ull << 40}, {"TiB", 1ull << 40}, {"TB", 1000000000000},
+        {"", 1},
+        {"B", 1},
+        {"K", 1ull << 10},
+        {"KiB", 1ull << 10},
+        {"k", 1ull << 10},
+        {"kB", 1000},
+        {"KB", 1000},
+        {"M", 1ull << 20},
+        {"MiB", 1ull << 20},
+        {"MB", 1000000},
+        {"G", 1ull << 30},
+        {"GiB", 1ull << 30},
+        {"GB", 1000000000},
+        {"T", 1ull << 40},
+        {"TiB", 1ull << 40},
+        {"TB", 1000000000000},
     };
     for (const auto& [name, factor] : units) {
         if (unit != name) continue;
-        const std::string too_large = "invalid size " + in_quotes(text) + ": too large; at most " + std::to_string(max_size) + " bytes";
+        const std::string too_large =
+            "invalid size " + in_quotes(text) + ": too large; at most " + std::to_string(max_size) + " bytes";
         if (d.int_digits > 19) throw UsageError(too_large);
         if (d.too_long) throw UsageError("invalid size " + in_quotes(text) + ": too many digits; expected " + accepted);
         // Exact: mantissa < 10^24 and factor <= 2^40 stay far below 2^128.
         const unsigned __int128 num = d.mantissa * factor, den = pow10(d.scale);
         if (num % den != 0)
-            throw UsageError("invalid size " + in_quotes(text) + ": that is " + shown(d.value * static_cast<double>(factor)) +
+            throw UsageError("invalid size " + in_quotes(text) + ": that is " +
+                             shown(d.value * static_cast<double>(factor)) +
                              " bytes, not a whole number of bytes; expected " + accepted);
         const unsigned __int128 bytes = num / den;
         if (bytes < 1) throw UsageError("invalid size " + in_quotes(text) + ": sizes must be at least 1 byte");
@@ -252,25 +279,28 @@ std::uint64_t parse_bytes(std::string_view text) {
 }
 
 std::vector<std::uint64_t> parse_size_list(std::string_view text) {
-    return sizes_from(text, [](std::string_view t) { return parse_bytes(t); }, [](std::uint64_t v) { return format_bytes(v); }, "byte");
+    return sizes_from(
+        text, [](std::string_view t) { return parse_bytes(t); }, [](std::uint64_t v) { return format_bytes(v); },
+        "byte");
 }
 
 std::vector<std::uint64_t> parse_count_list(std::string_view text, std::string_view noun, std::string_view owner) {
     const std::string n(noun);
     return sizes_from(
-        text, [&](std::string_view t) { return parse_count(t, noun, owner); }, [&](std::uint64_t v) { return std::to_string(v) + " " + n; },
+        text, [&](std::string_view t) { return parse_count(t, noun, owner); },
+        [&](std::uint64_t v) { return std::to_string(v) + " " + n; },
         n.empty() ? n : n.substr(0, n.size() - (n.back() == 's')));
 }
 
 std::vector<int> parse_thread_list(std::string_view text, int max_threads, std::string_view limit) {
     const bool here = limit.empty();  // this machine's PUs: 'all' means them
     const std::string max = std::to_string(max_threads), whole(text);
-    const std::string accepted = "expected whole numbers from 1 to " + max + " as a list such as 1,2,4, a range 1-8 or 1-8:2" +
-                                 (here ? ", or 'all'" : "");
+    const std::string accepted = "expected whole numbers from 1 to " + max +
+                                 " as a list such as 1,2,4, a range 1-8 or 1-8:2" + (here ? ", or 'all'" : "");
     auto too_many = [&](const std::string& t) {
         if (here)
-            return UsageError("thread count " + t + " is more than the " + max + " processing units (PUs) available here; use at most " + max +
-                              " or 'all'");
+            return UsageError("thread count " + t + " is more than the " + max +
+                              " processing units (PUs) available here; use at most " + max + " or 'all'");
         return UsageError("thread count " + t + " is more than " + max + ": " + std::string(limit));
     };
     auto all_digits = [](std::string_view t) { return !t.empty() && std::all_of(t.begin(), t.end(), is_digit); };
@@ -283,7 +313,8 @@ std::vector<int> parse_thread_list(std::string_view text, int max_threads, std::
         for (std::size_t i = 0; i < out.size(); ++i)
             if (out[i] == static_cast<int>(t))
                 throw UsageError("thread count " + std::to_string(t) + " is given twice in '" + whole + "'" +
-                                 (given[i] != part ? " (by '" + given[i] + "' and '" + part + "')" : "") + "; give each once");
+                                 (given[i] != part ? " (by '" + given[i] + "' and '" + part + "')" : "") +
+                                 "; give each once");
         out.push_back(static_cast<int>(t));
         given.push_back(part);
     };
@@ -292,7 +323,8 @@ std::vector<int> parse_thread_list(std::string_view text, int max_threads, std::
             add(static_cast<std::uint64_t>(max_threads), part);
             continue;
         }
-        if (part.empty()) throw UsageError("thread list '" + whole + "' has an empty item (a comma too many): " + accepted);
+        if (part.empty())
+            throw UsageError("thread list '" + whole + "' has an empty item (a comma too many): " + accepted);
         const auto dash = part.find('-');
         if (dash == std::string::npos || dash == 0) {  // "-1" is a negative count, not a range
             const auto t = whole_number(part);
@@ -304,12 +336,16 @@ std::vector<int> parse_thread_list(std::string_view text, int max_threads, std::
         const auto colon = part.find(':', dash);
         const std::string_view p(part);
         const auto lo = whole_number(p.substr(0, dash));
-        const auto hi = whole_number(p.substr(dash + 1, colon == std::string::npos ? std::string::npos : colon - dash - 1));
-        const auto step = colon == std::string::npos ? std::optional<std::uint64_t>(1) : whole_number(p.substr(colon + 1));
+        const auto hi =
+            whole_number(p.substr(dash + 1, colon == std::string::npos ? std::string::npos : colon - dash - 1));
+        const auto step =
+            colon == std::string::npos ? std::optional<std::uint64_t>(1) : whole_number(p.substr(colon + 1));
         if (!lo || !hi || !step || *step < 1 || *lo > *hi)
-            throw UsageError("invalid thread range '" + part + "' in '" + whole + "': expected FROM-TO or FROM-TO:STEP, whole numbers from 1 to " +
-                             max + " with FROM at most TO and STEP at least 1, e.g. 1-8 or 1-8:2");
-        if (*hi > static_cast<std::uint64_t>(max_threads)) throw too_many(std::to_string(*hi));  // checked before expanding, so a huge range costs nothing
+            throw UsageError("invalid thread range '" + part + "' in '" + whole +
+                             "': expected FROM-TO or FROM-TO:STEP, whole numbers from 1 to " + max +
+                             " with FROM at most TO and STEP at least 1, e.g. 1-8 or 1-8:2");
+        if (*hi > static_cast<std::uint64_t>(max_threads))
+            throw too_many(std::to_string(*hi));  // checked before expanding, so a huge range costs nothing
         for (std::uint64_t t = *lo; t <= *hi; t += *step) add(t, part);
     }
     return out;
@@ -322,20 +358,29 @@ std::vector<int> parse_cpu_list(std::string_view text) {
     if (text.empty()) throw UsageError("empty CPU list: " + accepted);
     auto number = [&](std::string_view t, const std::string& part) {
         const auto v = whole_number(t);
-        if (v && *v > max_cpu) throw UsageError("CPU number " + std::string(t) + " in '" + whole + "' is too large; at most " + std::to_string(max_cpu));
-        if (!v) throw UsageError((part == t ? "invalid CPU number '" : "invalid CPU range '") + part + "' in '" + whole + "': " + accepted);
+        if (v && *v > max_cpu)
+            throw UsageError("CPU number " + std::string(t) + " in '" + whole + "' is too large; at most " +
+                             std::to_string(max_cpu));
+        if (!v)
+            throw UsageError((part == t ? "invalid CPU number '" : "invalid CPU range '") + part + "' in '" + whole +
+                             "': " + accepted);
         return *v;
     };
     std::vector<int> out;
     std::set<int> seen;
     for (const auto& part : split(text, ',')) {
-        if (part.empty()) throw UsageError("CPU list '" + whole + "' has an empty item (a comma too many): " + accepted);
+        if (part.empty())
+            throw UsageError("CPU list '" + whole + "' has an empty item (a comma too many): " + accepted);
         const auto dash = part.find('-');
         const std::string_view p(part);
         const std::uint64_t lo = number(dash == std::string::npos || dash == 0 ? p : p.substr(0, dash), part);
         const std::uint64_t hi = dash == std::string::npos ? lo : number(p.substr(dash + 1), part);
-        if (lo > hi) throw UsageError("invalid CPU range '" + part + "' in '" + whole + "': the first CPU is above the last; expected e.g. 0-3");
-        if (hi - lo > 1000000) throw UsageError("CPU range '" + part + "' is implausibly large (more than 1000000 CPUs)");  // before expanding it
+        if (lo > hi)
+            throw UsageError("invalid CPU range '" + part + "' in '" + whole +
+                             "': the first CPU is above the last; expected e.g. 0-3");
+        if (hi - lo > 1000000)
+            throw UsageError("CPU range '" + part +
+                             "' is implausibly large (more than 1000000 CPUs)");  // before expanding it
         for (std::uint64_t c = lo; c <= hi; ++c) {
             if (!seen.insert(static_cast<int>(c)).second)
                 throw UsageError("CPU " + std::to_string(c) + " is given twice in '" + whole + "'; give each once");
@@ -349,7 +394,10 @@ std::string format_bytes(std::uint64_t bytes) {
     static const char* names[] = {"B", "KiB", "MiB", "GiB", "TiB"};
     double v = static_cast<double>(bytes);
     int u = 0;
-    while (v >= 1024.0 && u < 4) { v /= 1024.0; ++u; }
+    while (v >= 1024.0 && u < 4) {
+        v /= 1024.0;
+        ++u;
+    }
     // Whole numbers as they are; otherwise up to 3 significant digits, never in e-notation.
     char buf[32];
     const int decimals = std::fabs(v - std::round(v)) < 1e-9 ? 0 : v < 10 ? 2 : v < 100 ? 1 : 0;
@@ -385,7 +433,10 @@ std::string nearest(std::string_view word, const std::vector<std::string>& candi
     std::size_t best_d = std::string::npos;
     for (const auto& c : candidates) {
         std::size_t d = edit_distance(word, c);
-        if (d < best_d) { best_d = d; best = c; }
+        if (d < best_d) {
+            best_d = d;
+            best = c;
+        }
     }
     // Only suggest when fewer than half the letters differ: "adx" -> "add", not "qwerty" -> "copy".
     if (best_d == std::string::npos || best_d * 2 > std::max(word.size(), best.size())) return "";

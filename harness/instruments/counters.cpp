@@ -23,12 +23,14 @@ void init_libpfm() {
     static std::once_flag once;
     static int status = PFM_SUCCESS;
     std::call_once(once, [] { status = pfm_initialize(); });
-    if (status != PFM_SUCCESS) throw std::runtime_error(std::string("libpfm4 failed to initialise: ") + pfm_strerror(status));
+    if (status != PFM_SUCCESS)
+        throw std::runtime_error(std::string("libpfm4 failed to initialise: ") + pfm_strerror(status));
 }
 
 // The default set, close to the thesis's figures: cycles, instructions, L1D and LLC misses, bus
 // cycles, and the software events that show whether the run was undisturbed.
-const char* const kDefaultHardware[] = {"cycles", "instructions", "L1-dcache-load-misses", "LLC-load-misses", "bus-cycles"};
+const char* const kDefaultHardware[] = {"cycles", "instructions", "L1-dcache-load-misses", "LLC-load-misses",
+                                        "bus-cycles"};
 const char* const kDefaultSoftware[] = {"task-clock", "page-faults", "context-switches", "cpu-migrations"};
 
 std::vector<std::string> present_pmus() {
@@ -36,7 +38,8 @@ std::vector<std::string> present_pmus() {
     for (int p = PFM_PMU_NONE; p < PFM_PMU_MAX; ++p) {
         pfm_pmu_info_t info{};
         info.size = sizeof info;
-        if (pfm_get_pmu_info(static_cast<pfm_pmu_t>(p), &info) == PFM_SUCCESS && info.is_present) names.emplace_back(info.name);
+        if (pfm_get_pmu_info(static_cast<pfm_pmu_t>(p), &info) == PFM_SUCCESS && info.is_present)
+            names.emplace_back(info.name);
     }
     return names;
 }
@@ -60,7 +63,8 @@ CounterSpec resolve(const std::string& name, const PerfAccess& access) {
     const int rc = pfm_get_os_event_encoding(name.c_str(), plm, PFM_OS_PERF_EVENT_EXT, &arg);
     if (rc != PFM_SUCCESS) {
         std::string pmus = join(present_pmus(), ", ");
-        throw UsageError("unknown counter event '" + name + "' (libpfm4: " + pfm_strerror(rc) + "; PMUs it detected here: " + pmus +
+        throw UsageError("unknown counter event '" + name + "' (libpfm4: " + pfm_strerror(rc) +
+                         "; PMUs it detected here: " + pmus +
                          "); accepted: default, none, or names from ./suite list --counters");
     }
     spec.canonical = fstr ? fstr : name;
@@ -86,7 +90,7 @@ bool running_under_hypervisor() {
 std::optional<double> scaled_count(std::uint64_t value, std::uint64_t enabled, std::uint64_t running) {
     if (running == 0) {
         if (enabled > 0) return std::nullopt;  // enabled but never scheduled: nothing was counted
-        return static_cast<double>(value);      // no time passed at all
+        return static_cast<double>(value);     // no time passed at all
     }
     if (running >= enabled) return static_cast<double>(value);
     return static_cast<double>(value) * static_cast<double>(enabled) / static_cast<double>(running);
@@ -108,7 +112,9 @@ PerfAccess perf_access() {
         if (line.rfind("CapEff:", 0) != 0) continue;
         const std::size_t at = line.find_first_not_of(" \t", 7);
         unsigned long long caps = 0;
-        if (at == std::string::npos || std::from_chars(line.data() + at, line.data() + line.size(), caps, 16).ec != std::errc()) break;
+        if (at == std::string::npos ||
+            std::from_chars(line.data() + at, line.data() + line.size(), caps, 16).ec != std::errc())
+            break;
         a.privileged = (caps >> 21 & 1) || (caps >> 38 & 1);
         seen = true;
     }
@@ -121,8 +127,10 @@ std::string open_failure_reason(int err, bool hardware, const PerfAccess& access
     if (err == EACCES || err == EPERM) {
         if (access.forbidden())
             return "kernel.perf_event_paranoid is " + std::to_string(access.paranoid) +
-                   ", which forbids perf_event_open to unprivileged users; run as root, or set it to 2 (user-mode counts) or 1 "
-                   "(sudo sysctl kernel.perf_event_paranoid=1) (" + sys + ")";
+                   ", which forbids perf_event_open to unprivileged users; run as root, or set it to 2 (user-mode "
+                   "counts) or 1 "
+                   "(sudo sysctl kernel.perf_event_paranoid=1) (" +
+                   sys + ")";
         return "not permitted with kernel.perf_event_paranoid=" + std::to_string(access.paranoid) +
                "; run as root or set it lower (sudo sysctl kernel.perf_event_paranoid=1) (" + sys + ")";
     }
@@ -175,7 +183,9 @@ CounterSelection parse_counters(const std::string& text, const PerfAccess& acces
         return sel;
     }
     for (const auto& name : split(text, ',')) {
-        if (name.empty()) throw UsageError("--counters=" + text + " has an empty event name; accepted: default, none, or NAME,NAME,...");
+        if (name.empty())
+            throw UsageError("--counters=" + text +
+                             " has an empty event name; accepted: default, none, or NAME,NAME,...");
         if (name == "default" || name == "none")
             throw UsageError("--counters=" + text + ": '" + name + "' cannot be combined with event names");
         for (const auto& have : sel.events)

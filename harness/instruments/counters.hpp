@@ -107,13 +107,13 @@ private:
     std::vector<CounterSpec> specs_;
     PerfAccess access_;
     int threads_ = 0;
-    std::vector<int> fds_;                 // [thread][event], -1 where it could not be opened
-    std::vector<std::string> reasons_;     // [event]: first failure
-    std::vector<int> tids_;                // thread ids that opened them
+    std::vector<int> fds_;              // [thread][event], -1 where it could not be opened
+    std::vector<std::string> reasons_;  // [event]: first failure
+    std::vector<int> tids_;             // thread ids that opened them
     std::vector<Raw> begin_;
-    std::vector<std::vector<double>> reps_;        // [event][repetition]: scaled sum over threads
-    std::vector<Raw> totals_;                      // [thread][event]: summed deltas
-    std::vector<std::string> lost_;                // [event]: why a repetition could not be counted
+    std::vector<std::vector<double>> reps_;  // [event][repetition]: scaled sum over threads
+    std::vector<Raw> totals_;                // [thread][event]: summed deltas
+    std::vector<std::string> lost_;          // [event]: why a repetition could not be counted
     std::string team_changed_;
 };
 

@@ -25,8 +25,8 @@ struct EnergyDomainInfo {
 
 class EnergyInstrument : public RepetitionInstrument {
 public:
-    virtual bool requested() const = 0;  // false: --energy=none
-    virtual bool available() const = 0;  // at least one domain can be read
+    virtual bool requested() const = 0;              // false: --energy=none
+    virtual bool available() const = 0;              // at least one domain can be read
     virtual const std::string& reason() const = 0;   // why not available
     virtual const std::string& backend() const = 0;  // "sysfs", "perf", or "" when none
     virtual std::vector<EnergyDomainInfo> domains() const = 0;

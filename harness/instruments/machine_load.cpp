@@ -93,8 +93,8 @@ LoadSnapshot take_load_snapshot(const std::vector<int>& cpus, const std::string&
     return s;
 }
 
-Stability assess_stability(const LoadSnapshot& before, const LoadSnapshot& after, const std::vector<double>& samples, int threads,
-                           const StabilityThresholds& limits, double ticks_per_s) {
+Stability assess_stability(const LoadSnapshot& before, const LoadSnapshot& after, const std::vector<double>& samples,
+                           int threads, const StabilityThresholds& limits, double ticks_per_s) {
     Stability st;
     st.assessed = true;
     st.spread = robust_relative_spread(samples);
@@ -114,12 +114,15 @@ Stability assess_stability(const LoadSnapshot& before, const LoadSnapshot& after
         const double ours = std::max(0.0, after.process_cpu_s - before.process_cpu_s) * ticks_per_s;
         st.steal_fraction = steal / total;
         st.others_fraction = std::clamp((busy - ours) / total, 0.0, 1.0);
-        if (*st.steal_fraction > limits.steal) flag("the hypervisor stole", *st.steal_fraction, " of the team's CPU time", limits.steal);
-        if (*st.others_fraction > limits.others) flag("other tasks took", *st.others_fraction, " of the team's CPUs", limits.others);
+        if (*st.steal_fraction > limits.steal)
+            flag("the hypervisor stole", *st.steal_fraction, " of the team's CPU time", limits.steal);
+        if (*st.others_fraction > limits.others)
+            flag("other tasks took", *st.others_fraction, " of the team's CPUs", limits.others);
     }
     if (st.window_s > 0 && threads > 0 && before.run_delay_s && after.run_delay_s) {
         st.waited_fraction = std::max(0.0, *after.run_delay_s - *before.run_delay_s) / (st.window_s * threads);
-        if (*st.waited_fraction > limits.waited) flag("the team waited for a CPU", *st.waited_fraction, " of the time", limits.waited);
+        if (*st.waited_fraction > limits.waited)
+            flag("the team waited for a CPU", *st.waited_fraction, " of the time", limits.waited);
     }
     st.unstable = !st.reasons.empty();
     return st;

@@ -18,11 +18,11 @@ struct EventReading {
     std::string canonical;  // libpfm4's name, e.g. "perf::PERF_COUNT_HW_CACHE_LL:READ:MISS"
     bool hardware = false;
     bool available = false;
-    std::string reason;  // why not available
-    PerCall per_call;    // summed over the team's threads
+    std::string reason;                           // why not available
+    PerCall per_call;                             // summed over the team's threads
     std::optional<double> per_element, per_byte;  // median per unit of work / per STREAM byte
-    bool multiplexed = false;        // the kernel shared the PMU: values are scaled up
-    std::optional<double> running_fraction;  // time counted / time enabled, over all threads and repetitions
+    bool multiplexed = false;                     // the kernel shared the PMU: values are scaled up
+    std::optional<double> running_fraction;       // time counted / time enabled, over all threads and repetitions
 };
 
 struct CounterReadings {

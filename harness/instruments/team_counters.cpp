@@ -11,8 +11,8 @@
 #include <cstring>
 #include <utility>
 
-#include "harness/instruments/counters.hpp"
 #include "harness/common/stats.hpp"
+#include "harness/instruments/counters.hpp"
 
 namespace suite {
 
@@ -131,7 +131,8 @@ void TeamCounters::stop(double) {
             const Raw d{a.value - b.value, a.enabled - b.enabled, a.running - b.running};
             const std::optional<double> v = scaled_count(d.value, d.enabled, d.running);
             if (!v) {
-                lost_[e] = "never on the PMU during a repetition (more events than the PMU has counters; ask for fewer)";
+                lost_[e] =
+                    "never on the PMU during a repetition (more events than the PMU has counters; ask for fewer)";
                 break;
             }
             sum += *v;
@@ -189,7 +190,7 @@ CounterReadings TeamCounters::readings(int batch, double units, double stream_by
             if (r.available && r.canonical == canonical) return &r;
         return nullptr;
     };
-    if (const auto *cyc = find(kCycles), *ins = find(kInstructions); cyc && ins && cyc->per_call.median > 0)
+    if (const auto* cyc = find(kCycles), *ins = find(kInstructions); cyc && ins && cyc->per_call.median > 0)
         out.ipc = ins->per_call.median / cyc->per_call.median;
     const EventReading* llc = find(kLlcLoadMisses);
     if (!llc) llc = find(kCacheMisses);

@@ -23,9 +23,12 @@ namespace suite {
 
 const char* hugepages_name(HugePages h) {
     switch (h) {
-        case HugePages::thp: return "thp";
-        case HugePages::none: return "none";
-        case HugePages::system: break;
+        case HugePages::thp:
+            return "thp";
+        case HugePages::none:
+            return "none";
+        case HugePages::system:
+            break;
     }
     return "system";
 }
@@ -50,18 +53,22 @@ void* Arena::allocate_bytes(const std::string& name, std::size_t bytes) {
     const std::size_t mapped = len + 2 * page + (align - page);
     void* m = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (m == MAP_FAILED)
-        throw std::runtime_error("cannot map " + format_bytes(len) + " for array '" + name + "': " + std::strerror(errno));
+        throw std::runtime_error("cannot map " + format_bytes(len) + " for array '" + name +
+                                 "': " + std::strerror(errno));
     char* const first = static_cast<char*>(m);
-    char* const p = first + ((reinterpret_cast<std::uintptr_t>(first + page) + align - 1) / align * align - reinterpret_cast<std::uintptr_t>(first));
+    char* const p = first + ((reinterpret_cast<std::uintptr_t>(first + page) + align - 1) / align * align -
+                             reinterpret_cast<std::uintptr_t>(first));
     blocks_.push_back({name, p, len, m, mapped});
     // Guards before and after: no access, and a mapping of their own that separates the array's.
     if (mprotect(first, static_cast<std::size_t>(p - first), PROT_NONE) != 0 ||
         mprotect(p + len, mapped - static_cast<std::size_t>(p - first) - len, PROT_NONE) != 0)
-        throw std::runtime_error("cannot set up the guard pages of array '" + name + "': mprotect: " + std::strerror(errno));
+        throw std::runtime_error("cannot set up the guard pages of array '" + name +
+                                 "': mprotect: " + std::strerror(errno));
     if (policy_.hugepages != HugePages::system &&
         madvise(p, len, policy_.hugepages == HugePages::thp ? MADV_HUGEPAGE : MADV_NOHUGEPAGE) != 0)
-        throw std::runtime_error("cannot advise " + std::string(policy_.hugepages == HugePages::thp ? "MADV_HUGEPAGE" : "MADV_NOHUGEPAGE") +
-                                 " for array '" + name + "': madvise: " + std::strerror(errno));
+        throw std::runtime_error(
+            "cannot advise " + std::string(policy_.hugepages == HugePages::thp ? "MADV_HUGEPAGE" : "MADV_NOHUGEPAGE") +
+            " for array '" + name + "': madvise: " + std::strerror(errno));
     if (policy_.kind == PlacementKind::local) return p;
     // The policy is set on the still-untouched range, so the first touch obeys it. mbind is
     // called directly (not through libnuma's helpers, which only print a failure) so that a
@@ -69,14 +76,15 @@ void* Arena::allocate_bytes(const std::string& name, std::size_t bytes) {
     const bool bind = policy_.kind != PlacementKind::interleave;
     std::vector<unsigned long> mask(16, 0);  // room for 1024 nodes
     for (int n : bind ? std::vector<int>{policy_.node} : policy_.nodes) {
-        if (n < 0 || n >= static_cast<int>(mask.size() * 64)) throw std::runtime_error("NUMA node " + std::to_string(n) + " out of range");
+        if (n < 0 || n >= static_cast<int>(mask.size() * 64))
+            throw std::runtime_error("NUMA node " + std::to_string(n) + " out of range");
         mask[static_cast<std::size_t>(n) / 64] |= 1UL << (n % 64);
     }
     // maxnode is one more than the bits to read: the kernel reads maxnode - 1 of them.
     if (mbind(p, len, bind ? MPOL_BIND : MPOL_INTERLEAVE, mask.data(), mask.size() * 64 + 1, 0) != 0)
         throw std::runtime_error("cannot bind array '" + name + "' (" + format_bytes(len) + ") to " +
-                                 (bind ? "node " + std::to_string(policy_.node) : std::string("the interleave nodes")) + ": mbind: " +
-                                 std::strerror(errno));
+                                 (bind ? "node " + std::to_string(policy_.node) : std::string("the interleave nodes")) +
+                                 ": mbind: " + std::strerror(errno));
     return p;
 }
 
@@ -106,14 +114,17 @@ std::vector<ArrayPlacement> Arena::observe() const {
                 continue;
             }
             for (std::size_t k = 0; k < n; ++k) {
-                if (status[k] >= 0) a.pages_per_node[status[k]] += 1;
-                else a.pages_not_present += 1;
+                if (status[k] >= 0)
+                    a.pages_per_node[status[k]] += 1;
+                else
+                    a.pages_not_present += 1;
             }
         }
         const auto start = reinterpret_cast<std::uintptr_t>(b.ptr);
         a.anon_huge_bytes = anon_huge_bytes_in_smaps(smaps, start, start + b.bytes);
         if (!a.anon_huge_bytes)
-            a.huge_error = smaps.empty() ? "/proc/self/smaps is not readable" : "the array's mapping has no AnonHugePages line in /proc/self/smaps";
+            a.huge_error = smaps.empty() ? "/proc/self/smaps is not readable"
+                                         : "the array's mapping has no AnonHugePages line in /proc/self/smaps";
         out.push_back(std::move(a));
     }
     return out;
@@ -122,15 +133,21 @@ std::vector<ArrayPlacement> Arena::observe() const {
 nlohmann::json to_json(const ArrayPlacement& a) {
     nlohmann::json nodes = nlohmann::json::object();
     for (const auto& [node, count] : a.pages_per_node) nodes[std::to_string(node)] = count;
-    nlohmann::json j = {{"array", a.name}, {"bytes", a.bytes}, {"pages", a.pages}, {"pages_per_node", nodes},
+    nlohmann::json j = {{"array", a.name},
+                        {"bytes", a.bytes},
+                        {"pages", a.pages},
+                        {"pages_per_node", nodes},
                         {"pages_not_present", a.pages_not_present}};
     if (!a.error.empty()) j["error"] = a.error;
-    if (a.anon_huge_bytes) j["anon_huge_bytes"] = *a.anon_huge_bytes;
-    else if (!a.huge_error.empty()) j["huge_error"] = a.huge_error;
+    if (a.anon_huge_bytes)
+        j["anon_huge_bytes"] = *a.anon_huge_bytes;
+    else if (!a.huge_error.empty())
+        j["huge_error"] = a.huge_error;
     return j;
 }
 
-std::optional<std::uint64_t> anon_huge_bytes_in_smaps(const std::string& smaps, std::uintptr_t start, std::uintptr_t end) {
+std::optional<std::uint64_t> anon_huge_bytes_in_smaps(const std::string& smaps, std::uintptr_t start,
+                                                      std::uintptr_t end) {
     std::istringstream in(smaps);
     std::string line;
     bool inside = false;  // reading the fields of the mapping [start, end)
@@ -164,7 +181,8 @@ std::optional<std::uint64_t> anon_huge_bytes_in_smaps(const std::string& smaps, 
 std::uint64_t available_memory_bytes(const MemoryPolicy& policy) {
     if ((policy.kind == PlacementKind::node || policy.kind == PlacementKind::remote) && numa_available() >= 0) {
         long long free_bytes = 0;
-        if (numa_node_size64(policy.node, &free_bytes) >= 0 && free_bytes >= 0) return static_cast<std::uint64_t>(free_bytes);
+        if (numa_node_size64(policy.node, &free_bytes) >= 0 && free_bytes >= 0)
+            return static_cast<std::uint64_t>(free_bytes);
         return std::numeric_limits<std::uint64_t>::max();  // unknown: let the allocation decide
     }
     std::ifstream meminfo("/proc/meminfo");

@@ -47,7 +47,8 @@ struct ArrayPlacement {
 
 // AnonHugePages, in bytes, of the mapping that spans exactly [start, end) in the text of a
 // /proc/PID/smaps file; unset when no mapping has those bounds or it has no such line.
-std::optional<std::uint64_t> anon_huge_bytes_in_smaps(const std::string& smaps, std::uintptr_t start, std::uintptr_t end);
+std::optional<std::uint64_t> anon_huge_bytes_in_smaps(const std::string& smaps, std::uintptr_t start,
+                                                      std::uintptr_t end);
 
 // Owns the arrays of one measured point: page-aligned mmap memory, with the point's policy
 // applied before any page is touched. Each array is its own mapping between two inaccessible

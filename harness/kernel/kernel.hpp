@@ -40,11 +40,11 @@ inline bool is_store_variant(const std::string& v) { return v == "nt" || v == "r
 
 struct KernelConfig {
     Access access;
-    std::string variant;     // "" for the plain kernel, a store variant (is_store_variant), or a variant option's choice
+    std::string variant;  // "" for the plain kernel, a store variant (is_store_variant), or a variant option's choice
     std::uint64_t size = 0;  // footprint in bytes (SizeKind::bytes) or a count (SizeKind::count)
     std::uint64_t seed = 1;
     int threads = 1;
-    std::string mesh = "";   // kernels on a mesh: the --mesh spec; "" = a generated mesh of about `size` elements
+    std::string mesh = "";  // kernels on a mesh: the --mesh spec; "" = a generated mesh of about `size` elements
     // The values of the kernel's declared parameters (KernelInfo::params), defaults filled in.
     std::map<std::string, double> params = {};
     // The ranks of the run (comm.hpp): nullptr in a run of one process. A kernel that
@@ -68,8 +68,8 @@ struct Work {
 
 struct Verification {
     bool passed = false;
-    std::string detail;     // what was checked, and the first mismatch if any
-    double max_error = 0;   // largest |computed - expected| seen
+    std::string detail;    // what was checked, and the first mismatch if any
+    double max_error = 0;  // largest |computed - expected| seen
     // An iterative solver did not converge: the record is not verified (the runner sets
     // passed = false too) and the run ends with exit status 3.
     bool solver_failed = false;

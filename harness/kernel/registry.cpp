@@ -22,18 +22,27 @@ namespace {
 // place that reads them.
 void check_info(const KernelInfo& info) {
     const std::string who = "kernel " + info.name + ": ";
-    auto is_variant = [&](const std::string& v) { return std::find(info.variants.begin(), info.variants.end(), v) != info.variants.end(); };
-    if (info.variant_option != "phase" && info.variant_option != "strategy" && info.variant_option != "particles" && info.variant_option != "isa")
-        throw std::logic_error(who + "variant_option '" + info.variant_option + "' is not 'phase', 'strategy', 'particles' or 'isa'");
+    auto is_variant = [&](const std::string& v) {
+        return std::find(info.variants.begin(), info.variants.end(), v) != info.variants.end();
+    };
+    if (info.variant_option != "phase" && info.variant_option != "strategy" && info.variant_option != "particles" &&
+        info.variant_option != "isa")
+        throw std::logic_error(who + "variant_option '" + info.variant_option +
+                               "' is not 'phase', 'strategy', 'particles' or 'isa'");
     for (const auto& v : info.default_variants)
         if (!is_variant(v)) throw std::logic_error(who + "default variant '" + v + "' is not one of its variants");
     for (const auto& v : info.single_thread_variants)
-        if (!is_variant(v)) throw std::logic_error(who + "single-thread variant '" + v + "' is not one of its variants");
+        if (!is_variant(v))
+            throw std::logic_error(who + "single-thread variant '" + v + "' is not one of its variants");
     for (std::size_t i = 0; i < info.params.size(); ++i) {
         const std::string& n = info.params[i].name;
-        const bool lower = !n.empty() && std::isalpha(static_cast<unsigned char>(n[0])) &&
-                           std::all_of(n.begin(), n.end(), [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-'; });
-        if (!lower) throw std::logic_error(who + "parameter '" + n + "' must be lower-case letters, digits and '-', starting with a letter");
+        const bool lower =
+            !n.empty() && std::isalpha(static_cast<unsigned char>(n[0])) && std::all_of(n.begin(), n.end(), [](char c) {
+                return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-';
+            });
+        if (!lower)
+            throw std::logic_error(who + "parameter '" + n +
+                                   "' must be lower-case letters, digits and '-', starting with a letter");
         for (std::size_t j = 0; j < i; ++j)
             if (info.params[j].name == n) throw std::logic_error(who + "parameter '" + n + "' declared twice");
     }
@@ -81,17 +90,20 @@ double parse_param(const std::string& name, const std::string& text) {
     const auto it = std::find(choices->begin(), choices->end(), text);
     if (it != choices->end()) return static_cast<double>(it - choices->begin());
     const std::string hint = nearest(text, *choices);
-    throw UsageError("unknown --" + name + " '" + text + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + join(*choices, ", "));
+    throw UsageError("unknown --" + name + " '" + text + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                     "; accepted: " + join(*choices, ", "));
 }
 
 bool single_thread_only(const KernelInfo& info, const std::string& variant) {
-    return std::find(info.single_thread_variants.begin(), info.single_thread_variants.end(), variant) != info.single_thread_variants.end();
+    return std::find(info.single_thread_variants.begin(), info.single_thread_variants.end(), variant) !=
+           info.single_thread_variants.end();
 }
 
 double KernelConfig::param(const std::string& name) const {
     auto it = params.find(name);
     if (it == params.end())
-        throw std::logic_error("KernelConfig has no parameter '" + name + "' (not declared in KernelInfo::params, or the config was built "
+        throw std::logic_error("KernelConfig has no parameter '" + name +
+                               "' (not declared in KernelInfo::params, or the config was built "
                                "without default_params)");
     return it->second;
 }

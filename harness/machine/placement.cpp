@@ -13,8 +13,10 @@ PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
     PlacementSpec spec;
     spec.text = std::string(text);
     const std::string accepted = "accepted: local, node:N, remote, interleave";
-    if (text == "local") spec.kind = PlacementKind::local;
-    else if (text == "interleave") spec.kind = PlacementKind::interleave;
+    if (text == "local")
+        spec.kind = PlacementKind::local;
+    else if (text == "interleave")
+        spec.kind = PlacementKind::interleave;
     else if (text == "remote") {
         spec.kind = PlacementKind::remote;
         if (topo.nodes.size() < 2)
@@ -25,7 +27,8 @@ PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
         const std::string n(text.substr(5));
         const auto node = whole_number(n);
         if (!node)
-            throw UsageError("invalid --placement '" + std::string(text) + "': expected node:N with N a node number (a whole number from 0), e.g. node:0");
+            throw UsageError("invalid --placement '" + std::string(text) +
+                             "': expected node:N with N a node number (a whole number from 0), e.g. node:0");
         // A number no node has is still a number: said so below, with the nodes there are.
         spec.node = *node > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ? -1 : static_cast<int>(*node);
         if (spec.node < 0 || !topo.find_node(spec.node)) {
@@ -34,12 +37,13 @@ PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
                 if (!have.empty()) have += ',';
                 have += std::to_string(node.os_index);
             }
-            throw UsageError("--placement=node:" + n + ": this machine has no NUMA node " + n + " (its nodes are " + have + ")");
+            throw UsageError("--placement=node:" + n + ": this machine has no NUMA node " + n + " (its nodes are " +
+                             have + ")");
         }
     } else {
         std::string hint = nearest(text, {"local", "remote", "interleave", "node:0"});
-        throw UsageError("unknown --placement '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; " + accepted);
+        throw UsageError("unknown --placement '" + std::string(text) + "'" +
+                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + accepted);
     }
     return spec;
 }
@@ -56,7 +60,10 @@ int choose_remote_node(const Topology& topo, const std::vector<int>& thread_node
                 for (std::size_t k = 0; k < topo.nodes.size(); ++k)
                     if (topo.nodes[k].os_index == tn) distance += topo.distances[k][i];
         }
-        if (distance < best_distance) { best_distance = distance; best = candidate; }
+        if (distance < best_distance) {
+            best_distance = distance;
+            best = candidate;
+        }
     }
     return best;
 }
@@ -65,20 +72,25 @@ MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, con
     MemoryPolicy policy;
     policy.kind = spec.kind;
     switch (spec.kind) {
-        case PlacementKind::local: break;
-        case PlacementKind::node: policy.node = spec.node; break;
+        case PlacementKind::local:
+            break;
+        case PlacementKind::node:
+            policy.node = spec.node;
+            break;
         case PlacementKind::interleave:
             for (const auto& n : topo.nodes) policy.nodes.push_back(n.os_index);
             break;
         case PlacementKind::remote: {
             std::vector<int> used;  // every node a thread may run on counts as the threads' own
             for (int cpu : thread_cpus)
-                if (const Pu* pu = topo.find_pu(cpu); pu && std::find(used.begin(), used.end(), pu->numa_node) == used.end())
+                if (const Pu* pu = topo.find_pu(cpu);
+                    pu && std::find(used.begin(), used.end(), pu->numa_node) == used.end())
                     used.push_back(pu->numa_node);
             policy.node = choose_remote_node(topo, used);
             if (policy.node < 0)
-                throw UsageError("--placement=remote: the threads may run on every NUMA node, so no node is remote to them; "
-                                 "use fewer threads or pin them to one node's CPUs (--pin=compact or a CPU list)");
+                throw UsageError(
+                    "--placement=remote: the threads may run on every NUMA node, so no node is remote to them; "
+                    "use fewer threads or pin them to one node's CPUs (--pin=compact or a CPU list)");
             break;
         }
     }
@@ -90,12 +102,14 @@ HugePages parse_hugepages(std::string_view text, const std::string& path, std::s
     if (text == "none") return HugePages::none;
     if (text != "thp") {
         const std::string hint = nearest(text, {"thp", "none", "system"});
-        throw UsageError("unknown --hugepages '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+        throw UsageError("unknown --hugepages '" + std::string(text) + "'" +
+                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
                          "; accepted: thp, none, system (the default: leave the system's setting)");
     }
     const AttributeText enabled = read_attribute(path);
     if (!enabled.ok)
-        throw UsageError("--hugepages=thp: this kernel offers no transparent huge pages (" + enabled.reason + "); use none or system");
+        throw UsageError("--hugepages=thp: this kernel offers no transparent huge pages (" + enabled.reason +
+                         "); use none or system");
     const std::string& line = enabled.text;
     // Switched off, madvise still succeeds and simply gets no huge pages: the run goes on, says so
     // first, and its records show how many bytes huge pages backed (none).

@@ -31,7 +31,8 @@ int choose_remote_node(const Topology& topo, const std::vector<int>& thread_node
 // "thp" | "none" | "system". Throws UsageError for anything else, and for "thp" where the
 // kernel has no transparent huge pages (no `thp_enabled` file, the kernel's unless a test names
 // another: madvise would fail); where they are switched off ("never") it sets `note`.
-HugePages parse_hugepages(std::string_view text, const std::string& thp_enabled = "/sys/kernel/mm/transparent_hugepage/enabled",
+HugePages parse_hugepages(std::string_view text,
+                          const std::string& thp_enabled = "/sys/kernel/mm/transparent_hugepage/enabled",
                           std::string* note = nullptr);
 
 // The policy of `spec` for threads that may run on `thread_cpus` (OS CPU numbers). Throws

@@ -28,9 +28,10 @@ RankShare share_of(const Topology& topo, int ranks, int index) {
         std::sort(cores.begin(), cores.end());
         const int n = static_cast<int>(cores.size());
         if (ranks > n)
-            throw UsageError(std::to_string(ranks) + " ranks were started on one host with " + std::to_string(n) + " core(s) (CPUs " +
-                             format_cpu_list(topo.mask_cpus.empty() ? std::vector<int>{} : topo.mask_cpus) +
-                             "): they would share cores; start at most one rank a core (one a NUMA node is the documented layout)");
+            throw UsageError(
+                std::to_string(ranks) + " ranks were started on one host with " + std::to_string(n) +
+                " core(s) (CPUs " + format_cpu_list(topo.mask_cpus.empty() ? std::vector<int>{} : topo.mask_cpus) +
+                "): they would share cores; start at most one rank a core (one a NUMA node is the documented layout)");
         const int lo = index * n / ranks, hi = (index + 1) * n / ranks;
         const std::set<int> mine(cores.begin() + lo, cores.begin() + hi);
         for (const Pu& pu : topo.pus)
@@ -47,8 +48,8 @@ bool disjoint_sets(const std::vector<std::vector<int>>& sets, const std::vector<
         for (int cpu : sets[s]) {
             const auto [it, fresh] = owner.emplace(cpu, s);
             if (!fresh) {
-                clash = "rank " + std::to_string(rank_of_set[it->second]) + " and rank " + std::to_string(rank_of_set[s]) + " both have CPU " +
-                        std::to_string(cpu);
+                clash = "rank " + std::to_string(rank_of_set[it->second]) + " and rank " +
+                        std::to_string(rank_of_set[s]) + " both have CPU " + std::to_string(cpu);
                 return false;
             }
         }

@@ -32,7 +32,6 @@ cpu_set_t initial_cpuset() {
     return set;
 }
 
-
 }  // namespace
 
 std::vector<int> current_cpuset() {
@@ -48,23 +47,30 @@ std::vector<int> current_cpuset() {
 PinSpec parse_pin(std::string_view text, const Topology& topo) {
     PinSpec spec;
     spec.text = std::string(text);
-    if (text == "compact") spec.mode = PinMode::compact;
-    else if (text == "scatter") spec.mode = PinMode::scatter;
-    else if (text == "none") spec.mode = PinMode::none;
+    if (text == "compact")
+        spec.mode = PinMode::compact;
+    else if (text == "scatter")
+        spec.mode = PinMode::scatter;
+    else if (text == "none")
+        spec.mode = PinMode::none;
     else if (!text.empty() && std::isdigit(static_cast<unsigned char>(text[0]))) {
         spec.mode = PinMode::list;
         spec.cpus = parse_cpu_list(text);
         for (int c : spec.cpus) {
-            if (!topo.find_pu(c) && std::find(topo.machine_cpus.begin(), topo.machine_cpus.end(), c) != topo.machine_cpus.end())
-                throw UsageError("--pin=" + spec.text + ": CPU " + std::to_string(c) + " is outside this process's CPU mask " +
-                                 format_cpu_list(topo.mask_cpus) + " (set by taskset, a cgroup or the batch scheduler); pin to CPUs in the mask");
+            if (!topo.find_pu(c) &&
+                std::find(topo.machine_cpus.begin(), topo.machine_cpus.end(), c) != topo.machine_cpus.end())
+                throw UsageError("--pin=" + spec.text + ": CPU " + std::to_string(c) +
+                                 " is outside this process's CPU mask " + format_cpu_list(topo.mask_cpus) +
+                                 " (set by taskset, a cgroup or the batch scheduler); pin to CPUs in the mask");
             if (!topo.find_pu(c) || c >= CPU_SETSIZE)
-                throw UsageError("--pin list names CPU " + std::to_string(c) + ", which this machine does not have (it has " +
-                                 std::to_string(topo.pu_count()) + " PUs; see ./suite info)");
+                throw UsageError("--pin list names CPU " + std::to_string(c) +
+                                 ", which this machine does not have (it has " + std::to_string(topo.pu_count()) +
+                                 " PUs; see ./suite info)");
         }
     } else {
         std::string hint = nearest(text, {"compact", "scatter", "none"});
-        throw UsageError("unknown --pin value '" + std::string(text) + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+        throw UsageError("unknown --pin value '" + std::string(text) + "'" +
+                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
                          "; accepted: compact, scatter, none, or a CPU list such as 0,2,4-7");
     }
     initial_cpuset();  // remember the original set before anything is pinned
@@ -92,7 +98,10 @@ std::vector<int> pin_order(const Topology& topo, const PinSpec& spec) {
         for (std::size_t k = 0; order.size() < topo.pus.size(); ++k) {
             bool any = false;
             for (auto& [node, cpus] : by_node)
-                if (k < cpus.size()) { order.push_back(cpus[k]); any = true; }
+                if (k < cpus.size()) {
+                    order.push_back(cpus[k]);
+                    any = true;
+                }
             if (!any) break;
         }
     }
@@ -124,7 +133,8 @@ std::vector<ThreadBinding> bind_team(const Topology& topo, const PinSpec& spec, 
             team[t].requested_cpu = order[t];
         }
         if (int rc = pthread_setaffinity_np(pthread_self(), sizeof set, &set); rc != 0)
-            errors[t] = "cannot pin thread " + std::to_string(t) + " to CPU " + std::to_string(order.empty() ? -1 : order[t]) + ": " + std::strerror(rc);
+            errors[t] = "cannot pin thread " + std::to_string(t) + " to CPU " +
+                        std::to_string(order.empty() ? -1 : order[t]) + ": " + std::strerror(rc);
         sched_yield();  // let the scheduler move us before reading back where we are
         team[t].allowed = current_cpuset();
         team[t].thread = t;
@@ -158,6 +168,5 @@ nlohmann::json to_json(const ThreadBinding& b) {
             {"cpu", known(b.cpu)},
             {"numa_node", known(b.numa_node)}};
 }
-
 
 }  // namespace suite

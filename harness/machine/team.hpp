@@ -33,10 +33,10 @@ std::vector<int> pin_order(const Topology& topo, const PinSpec& spec);
 
 struct ThreadBinding {
     int thread = 0;
-    int requested_cpu = -1;      // -1: not pinned
-    std::vector<int> allowed;    // the CPU set the OS reports for the thread after binding
-    int cpu = -1;                // where it was running when read back
-    int numa_node = -1;          // the NUMA node of `cpu`
+    int requested_cpu = -1;    // -1: not pinned
+    std::vector<int> allowed;  // the CPU set the OS reports for the thread after binding
+    int cpu = -1;              // where it was running when read back
+    int numa_node = -1;        // the NUMA node of `cpu`
 };
 
 // Sets the OpenMP team size to `threads`, pins each thread (or, for PinMode::none, restores the

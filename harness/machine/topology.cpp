@@ -89,9 +89,12 @@ std::string cpuid_brand() {
 
 const char* cache_type_name(hwloc_obj_cache_type_t t) {
     switch (t) {
-        case HWLOC_OBJ_CACHE_DATA: return "data";
-        case HWLOC_OBJ_CACHE_INSTRUCTION: return "instruction";
-        default: return "unified";
+        case HWLOC_OBJ_CACHE_DATA:
+            return "data";
+        case HWLOC_OBJ_CACHE_INSTRUCTION:
+            return "instruction";
+        default:
+            return "unified";
     }
 }
 
@@ -150,8 +153,8 @@ Topology Topology::load(bool whole_machine) {
     if (topo.cores == 0) topo.cores = npus;
 
     std::map<std::pair<int, std::string>, Cache> caches;
-    for (hwloc_obj_type_t type : {HWLOC_OBJ_L1CACHE, HWLOC_OBJ_L2CACHE, HWLOC_OBJ_L3CACHE, HWLOC_OBJ_L4CACHE,
-                                  HWLOC_OBJ_L5CACHE}) {
+    for (hwloc_obj_type_t type :
+         {HWLOC_OBJ_L1CACHE, HWLOC_OBJ_L2CACHE, HWLOC_OBJ_L3CACHE, HWLOC_OBJ_L4CACHE, HWLOC_OBJ_L5CACHE}) {
         int n = hwloc_get_nbobjs_by_type(t, type);
         for (int i = 0; i < n; ++i) {
             hwloc_obj_t c = hwloc_get_obj_by_type(t, type, i);
@@ -255,7 +258,10 @@ nlohmann::json to_json(const Topology& topo) {
     j["pu_map"] = nlohmann::json::array();
     for (const auto& p : topo.pus)
         j["pu_map"].push_back(
-            {{"os_index", p.os_index}, {"core", p.core}, {"smt_rank", p.smt_rank}, {"package", p.package},
+            {{"os_index", p.os_index},
+             {"core", p.core},
+             {"smt_rank", p.smt_rank},
+             {"package", p.package},
              {"numa_node", p.numa_node >= 0 ? nlohmann::json(p.numa_node) : nlohmann::json(nullptr)}});
     j["this_system"] = topo.this_system;
     if (topo.this_system)
@@ -272,14 +278,16 @@ std::string format_table(const Topology& topo) {
       << " core(s), " << topo.pu_count() << " PU(s), " << format_bytes(topo.memory_bytes) << " memory (hwloc)\n";
     if (!topo.this_system) o << "  (a synthetic or XML topology, not this machine's)\n";
     if (topo.mask_restricted())
-        o << "  CPU mask: " << format_cpu_list(topo.mask_cpus) << ", " << topo.mask_cpus.size() << " of the machine's " << topo.machine_cpus.size()
+        o << "  CPU mask: " << format_cpu_list(topo.mask_cpus) << ", " << topo.mask_cpus.size() << " of the machine's "
+          << topo.machine_cpus.size()
           << " PUs (taskset, a cgroup or the batch scheduler); everything below is what this process may use\n";
     o << "\nNUMA nodes\n  node  memory      cpus\n";
     for (const auto& n : topo.nodes) {
         std::ostringstream cpus;
         for (std::size_t i = 0; i < n.cpus.size(); ++i) cpus << (i ? "," : "") << n.cpus[i];
         char line[160];
-        std::snprintf(line, sizeof line, "  %-5d %-11s %s\n", n.os_index, format_bytes(n.memory_bytes).c_str(), cpus.str().c_str());
+        std::snprintf(line, sizeof line, "  %-5d %-11s %s\n", n.os_index, format_bytes(n.memory_bytes).c_str(),
+                      cpus.str().c_str());
         o << line;
     }
     if (!topo.distances.empty()) {
@@ -288,7 +296,11 @@ std::string format_table(const Topology& topo) {
         o << "\n";
         for (std::size_t a = 0; a < topo.nodes.size(); ++a) {
             o << "  node" << topo.nodes[a].os_index;
-            for (int d : topo.distances[a]) { char c[16]; std::snprintf(c, sizeof c, " %5d", d); o << c; }
+            for (int d : topo.distances[a]) {
+                char c[16];
+                std::snprintf(c, sizeof c, " %5d", d);
+                o << c;
+            }
             o << "\n";
         }
     }
@@ -302,7 +314,8 @@ std::string format_table(const Topology& topo) {
     o << "\nPUs\n  cpu  core  smt  package  node\n";
     for (const auto& p : topo.pus) {
         char line[96];
-        std::snprintf(line, sizeof line, "  %-4d %-5d %-4d %-8d %d\n", p.os_index, p.core, p.smt_rank, p.package, p.numa_node);
+        std::snprintf(line, sizeof line, "  %-4d %-5d %-4d %-8d %d\n", p.os_index, p.core, p.smt_rank, p.package,
+                      p.numa_node);
         o << line;
     }
     return o.str();

@@ -27,11 +27,11 @@ struct NumaNode {
 
 struct Cache {
     int level = 0;
-    std::string type;           // "data", "unified", "instruction"
+    std::string type;  // "data", "unified", "instruction"
     std::uint64_t size_bytes = 0;
     int line_bytes = 0;
-    int instances = 0;          // how many such caches the machine has
-    int pus_per_instance = 0;   // how many PUs share one
+    int instances = 0;         // how many such caches the machine has
+    int pus_per_instance = 0;  // how many PUs share one
 };
 
 struct Topology {
@@ -40,8 +40,8 @@ struct Topology {
     int cores = 0;
     std::vector<Pu> pus;
     std::vector<NumaNode> nodes;
-    std::vector<Cache> caches;                  // one entry per distinct (level, type)
-    std::vector<std::vector<int>> distances;    // node x node, relative latency; empty if unknown
+    std::vector<Cache> caches;                // one entry per distinct (level, type)
+    std::vector<std::vector<int>> distances;  // node x node, relative latency; empty if unknown
     std::uint64_t memory_bytes = 0;
     std::string cpu_model;  // the CPUID brand string on x86 (else hwloc's CPUModel of the first package), "" if unknown
     // The CPU mask the process was started with (taskset, a cgroup cpuset, a batch scheduler):

@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/measure/runner.hpp"
 #include "harness/common/units.hpp"
+#include "harness/measure/runner.hpp"
 
 namespace suite {
 
@@ -32,7 +32,8 @@ std::uint64_t default_max_bytes(const Topology& topo) {
     return std::clamp<std::uint64_t>(4 * topo.last_level_cache_total_bytes(), 16ULL << 20, 512ULL << 20);
 }
 
-Record measure(const char* kernel, const char* pattern, std::uint64_t size, const RunSettings& settings, const Topology& topo) {
+Record measure(const char* kernel, const char* pattern, std::uint64_t size, const RunSettings& settings,
+               const Topology& topo) {
     const KernelEntry* k = find_kernel(kernel);
     if (!k) throw std::logic_error(std::string("the cache probe needs the ") + kernel + " kernel");
     Point p{k, Access{pattern, 0}, "", size, 1};
@@ -128,27 +129,32 @@ nlohmann::json to_json(const CacheProbe& probe, const Topology& topo) {
     for (const auto& p : probe.latency_ns) latency.push_back({{"size_bytes", p.size_bytes}, {"ns", p.value}});
     for (const auto& p : probe.bandwidth_gbps) bandwidth.push_back({{"size_bytes", p.size_bytes}, {"gbps", p.value}});
     const std::uint64_t llc = measured_llc_total(probe, topo);
-    return {{"method", "latency: the latency kernel (random pointer chase), 1 thread; bandwidth: the load kernel, 1 thread; footprints "
-                       "from 4 KiB in quarter-octave steps, best of 3 repetitions each; a level's capacity is where its latency has "
-                       "risen a fifth of the way (on a log scale) to the next level's; a plateau at 60 ns or more is memory; a partial "
-                       "level (no plateau) ends where a fifth of the extra latency of memory shows"},
-            {"cpu", probe.cpu >= 0 ? json(probe.cpu) : json(nullptr)},
-            {"hugepages", probe.hugepages},
-            {"seconds", probe.seconds},
-            {"levels", levels},
-            {"memory_latency_ns", h.memory_latency_ns ? json(*h.memory_latency_ns) : json(nullptr)},
-            {"memory_from_bytes", h.memory_from ? json(*h.memory_from) : json(nullptr)},
-            {"last_level_total_bytes", llc ? json(llc) : json(nullptr)},
-            {"bandwidth_steps_bytes", probe.bandwidth_steps},
-            {"latency_sweep", latency},
-            {"bandwidth_sweep", bandwidth}};
+    return {
+        {"method",
+         "latency: the latency kernel (random pointer chase), 1 thread; bandwidth: the load kernel, 1 thread; "
+         "footprints "
+         "from 4 KiB in quarter-octave steps, best of 3 repetitions each; a level's capacity is where its latency has "
+         "risen a fifth of the way (on a log scale) to the next level's; a plateau at 60 ns or more is memory; a "
+         "partial "
+         "level (no plateau) ends where a fifth of the extra latency of memory shows"},
+        {"cpu", probe.cpu >= 0 ? json(probe.cpu) : json(nullptr)},
+        {"hugepages", probe.hugepages},
+        {"seconds", probe.seconds},
+        {"levels", levels},
+        {"memory_latency_ns", h.memory_latency_ns ? json(*h.memory_latency_ns) : json(nullptr)},
+        {"memory_from_bytes", h.memory_from ? json(*h.memory_from) : json(nullptr)},
+        {"last_level_total_bytes", llc ? json(llc) : json(nullptr)},
+        {"bandwidth_steps_bytes", probe.bandwidth_steps},
+        {"latency_sweep", latency},
+        {"bandwidth_sweep", bandwidth}};
 }
 
 std::string format_probe(const CacheProbe& probe, const Topology& topo) {
     std::ostringstream o;
     const Hierarchy& h = probe.hierarchy;
-    o << "Caches measured (pointer chase, 1 thread" << (probe.cpu >= 0 ? " on CPU " + std::to_string(probe.cpu) : std::string()) << ", "
-      << probe.latency_ns.size() << " sizes from 4KiB to "
+    o << "Caches measured (pointer chase, 1 thread"
+      << (probe.cpu >= 0 ? " on CPU " + std::to_string(probe.cpu) : std::string()) << ", " << probe.latency_ns.size()
+      << " sizes from 4KiB to "
       << (probe.latency_ns.empty() ? std::string("-") : format_bytes(probe.latency_ns.back().size_bytes));
     char secs[32];
     std::snprintf(secs, sizeof secs, ", %.1f s)\n", probe.seconds);
@@ -164,19 +170,21 @@ std::string format_probe(const CacheProbe& probe, const Topology& topo) {
             if (l.level == level) m = &l;
         std::string measured = "not seen", latency = "-";
         if (m) {
-            measured = m->capacity_bytes ? format_bytes(*m->capacity_bytes) + (m->partial ? " (partial)" : "") : "> sweep";
+            measured =
+                m->capacity_bytes ? format_bytes(*m->capacity_bytes) + (m->partial ? " (partial)" : "") : "> sweep";
             char ns[32];
             std::snprintf(ns, sizeof ns, "%.2f ns", m->latency_ns);
             latency = ns;
         }
         char line[160];
-        std::snprintf(line, sizeof line, "  L%-5d %-17s %-20s %s\n", level, c ? format_bytes(c->size_bytes).c_str() : "-", measured.c_str(),
-                      latency.c_str());
+        std::snprintf(line, sizeof line, "  L%-5d %-17s %-20s %s\n", level,
+                      c ? format_bytes(c->size_bytes).c_str() : "-", measured.c_str(), latency.c_str());
         o << line;
     }
     if (h.memory_latency_ns) {
         char line[160];
-        std::snprintf(line, sizeof line, "  memory %-17s from %-15s %.0f ns\n", "", format_bytes(*h.memory_from).c_str(), *h.memory_latency_ns);
+        std::snprintf(line, sizeof line, "  memory %-17s from %-15s %.0f ns\n", "",
+                      format_bytes(*h.memory_from).c_str(), *h.memory_latency_ns);
         o << line;
     } else {
         o << "  memory: not reached within the sweep\n";
@@ -188,8 +196,8 @@ std::string format_probe(const CacheProbe& probe, const Topology& topo) {
         o << "\n";
     }
     if (const std::uint64_t llc = measured_llc_total(probe, topo))
-        o << "  last level measured, all instances: " << format_bytes(llc) << " (reported: "
-          << format_bytes(topo.last_level_cache_total_bytes()) << ")\n";
+        o << "  last level measured, all instances: " << format_bytes(llc)
+          << " (reported: " << format_bytes(topo.last_level_cache_total_bytes()) << ")\n";
     return o.str();
 }
 

@@ -12,9 +12,9 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "harness/measure/cache_steps.hpp"
 #include "harness/machine/placement.hpp"
 #include "harness/machine/topology.hpp"
+#include "harness/measure/cache_steps.hpp"
 
 namespace suite {
 
@@ -38,9 +38,9 @@ struct CacheProbe {
     std::vector<CurvePoint> latency_ns;      // best ns per dependent load at each footprint
     std::vector<CurvePoint> bandwidth_gbps;  // best GB/s of the load kernel at each footprint
     Steps latency_steps;
-    Hierarchy hierarchy;                     // read from latency_steps
+    Hierarchy hierarchy;                         // read from latency_steps
     std::vector<std::uint64_t> bandwidth_steps;  // where the bandwidth curve steps down
-    int cpu = -1;                            // the CPU the thread was pinned to (-1: not pinned)
+    int cpu = -1;                                // the CPU the thread was pinned to (-1: not pinned)
     std::string hugepages = "system";
     double seconds = 0;
 };

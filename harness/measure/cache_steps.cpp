@@ -28,7 +28,8 @@ struct Segment {
 std::uint64_t crossing_size(const std::vector<CurvePoint>& c, std::size_t i, double threshold) {
     if (i + 1 >= c.size() || !(c[i + 1].value > c[i].value)) return c[i].size_bytes;
     const double t = std::clamp((threshold - c[i].value) / (c[i + 1].value - c[i].value), 0.0, 1.0);
-    const double lo = std::log(static_cast<double>(c[i].size_bytes)), hi = std::log(static_cast<double>(c[i + 1].size_bytes));
+    const double lo = std::log(static_cast<double>(c[i].size_bytes)),
+                 hi = std::log(static_cast<double>(c[i + 1].size_bytes));
     return static_cast<std::uint64_t>(std::llround(std::exp(lo + t * (hi - lo))));
 }
 
@@ -37,20 +38,24 @@ std::uint64_t crossing_size(const std::vector<CurvePoint>& c, std::size_t i, dou
 Steps find_steps(std::vector<CurvePoint> points, const StepOptions& o) {
     Steps s;
     // Only positive, finite costs have a place on a ratio scale.
-    points.erase(std::remove_if(points.begin(), points.end(), [](const CurvePoint& p) { return !(p.value > 0) || !std::isfinite(p.value); }),
+    points.erase(std::remove_if(points.begin(), points.end(),
+                                [](const CurvePoint& p) { return !(p.value > 0) || !std::isfinite(p.value); }),
                  points.end());
-    std::stable_sort(points.begin(), points.end(), [](const CurvePoint& a, const CurvePoint& b) { return a.size_bytes < b.size_bytes; });
+    std::stable_sort(points.begin(), points.end(),
+                     [](const CurvePoint& a, const CurvePoint& b) { return a.size_bytes < b.size_bytes; });
     // A running median of three takes out a single disturbed point (a spike from another
     // process, or a lucky dip) and keeps a real step as sharp as it was.
     s.curve = points;
-    for (std::size_t i = 1; i + 1 < points.size(); ++i) s.curve[i].value = median({points[i - 1].value, points[i].value, points[i + 1].value});
+    for (std::size_t i = 1; i + 1 < points.size(); ++i)
+        s.curve[i].value = median({points[i - 1].value, points[i].value, points[i + 1].value});
     const auto& c = s.curve;
     if (c.size() < o.min_points) return s;
 
     const std::size_t n = c.size(), w = o.rise_span;
     const double half_jump = std::sqrt(o.jump);
     auto rising = [&](std::size_t i) {
-        return i >= w && i + w < n && c[i].value / c[i - w].value > half_jump && c[i + w].value / c[i].value > half_jump;
+        return i >= w && i + w < n && c[i].value / c[i - w].value > half_jump &&
+               c[i + w].value / c[i].value > half_jump;
     };
     // Where the tail begins (n: no tail).
     std::size_t tail = n;

@@ -45,11 +45,11 @@ struct StepOptions {
 };
 
 struct Steps {
-    std::vector<CurvePoint> curve;       // the points sorted by size, smoothed (running median of 3)
-    std::vector<Plateau> plateaus;       // in order of size, each costlier than the one before
+    std::vector<CurvePoint> curve;          // the points sorted by size, smoothed (running median of 3)
+    std::vector<Plateau> plateaus;          // in order of size, each costlier than the one before
     std::vector<std::uint64_t> capacities;  // capacities[k]: where plateau k ends (plateaus.size() - 1 of them)
     std::vector<std::uint64_t> reaches;     // reaches[k]: where the curve is a fifth of the way to plateau k + 1
-    bool tail = false;                   // the last plateau is the tail (StepOptions::ceiling)
+    bool tail = false;                      // the last plateau is the tail (StepOptions::ceiling)
 };
 
 // The plateaus of `points` (any order) and the capacities between them. Fewer than
@@ -60,7 +60,7 @@ Steps find_steps(std::vector<CurvePoint> points, const StepOptions& options = {}
 // the first one at or above it (and all that follows) is memory. `steps` should come from
 // find_steps with ceiling = memory_ns (latency_step_options()).
 struct MeasuredLevel {
-    int level = 0;                               // 1 for the first plateau, ...
+    int level = 0;                                // 1 for the first plateau, ...
     std::optional<std::uint64_t> capacity_bytes;  // unset when the sweep ended on this level
     double latency_ns = 0;
     // A level without a plateau of its own: between the last plateau and memory the curve

@@ -42,14 +42,20 @@ nlohmann::json instruments_context(const Instruments& in, double timer_resolutio
     for (const auto& e : in.counters.events) {
         const std::string why = probe_event(e, in.access);
         any = any || why.empty();
-        events.push_back({{"name", e.name}, {"canonical", e.canonical}, {"hardware", e.hardware}, {"available", why.empty()},
+        events.push_back({{"name", e.name},
+                          {"canonical", e.canonical},
+                          {"hardware", e.hardware},
+                          {"available", why.empty()},
                           {"reason", why.empty() ? nlohmann::json(nullptr) : nlohmann::json(why)}});
     }
     nlohmann::json omitted = nlohmann::json::array();
     for (const auto& [name, why] : in.counters.omitted) omitted.push_back({{"name", name}, {"reason", why}});
     std::string reason;
-    if (!in.counters.requested) reason = "not requested (--counters=none)";
-    else if (!any) reason = in.counters.events.empty() ? "no event can be opened here" : "none of the requested events can be opened here";
+    if (!in.counters.requested)
+        reason = "not requested (--counters=none)";
+    else if (!any)
+        reason = in.counters.events.empty() ? "no event can be opened here"
+                                            : "none of the requested events can be opened here";
     nlohmann::json counters = {{"available", any},
                                {"reason", reason_or_null(any, reason)},
                                {"scope", in.access.scope()},
@@ -70,16 +76,23 @@ nlohmann::json instruments_context(const Instruments& in, double timer_resolutio
 
     nlohmann::json domains = nlohmann::json::array();
     for (const auto& s : in.energy->domains())
-        domains.push_back({{"domain", s.domain}, {"socket", socket_json(s.socket)}, {"source", s.where},
-                           {"available", s.reason.empty()}, {"reason", reason_or_null(s.reason.empty(), s.reason)}});
+        domains.push_back({{"domain", s.domain},
+                           {"socket", socket_json(s.socket)},
+                           {"source", s.where},
+                           {"available", s.reason.empty()},
+                           {"reason", reason_or_null(s.reason.empty(), s.reason)}});
     const EnergyInstrument& meter = *in.energy;
     const bool energy_ok = meter.available();
-    nlohmann::json energy = {{"available", energy_ok},
-                             {"reason", reason_or_null(energy_ok, meter.requested() ? meter.reason() : "not requested (--energy=none)")},
-                             {"backend", meter.backend().empty() ? nlohmann::json(nullptr) : nlohmann::json(meter.backend())},
-                             {"domains", domains},
-                             {"baseline_s", in.energy_baseline_s > 0 ? nlohmann::json(in.energy_baseline_s) : nlohmann::json(nullptr)}};
-    return {{"timer", {{"available", true}, {"clock", "CLOCK_MONOTONIC (std::chrono::steady_clock)"}, {"resolution_ns", timer_resolution_ns}}},
+    nlohmann::json energy = {
+        {"available", energy_ok},
+        {"reason", reason_or_null(energy_ok, meter.requested() ? meter.reason() : "not requested (--energy=none)")},
+        {"backend", meter.backend().empty() ? nlohmann::json(nullptr) : nlohmann::json(meter.backend())},
+        {"domains", domains},
+        {"baseline_s", in.energy_baseline_s > 0 ? nlohmann::json(in.energy_baseline_s) : nlohmann::json(nullptr)}};
+    return {{"timer",
+             {{"available", true},
+              {"clock", "CLOCK_MONOTONIC (std::chrono::steady_clock)"},
+              {"resolution_ns", timer_resolution_ns}}},
             {"perf_counters", counters},
             {"energy", energy}};
 }
@@ -88,8 +101,11 @@ nlohmann::json to_json(const CounterReadings& c) {
     if (!c.requested) return {{"available", false}, {"reason", "not requested (--counters=none)"}};
     nlohmann::json events = nlohmann::json::array();
     for (const auto& e : c.events) {
-        nlohmann::json j = {{"name", e.name}, {"canonical", e.canonical}, {"kind", e.hardware ? "hardware" : "software"},
-                            {"available", e.available}, {"reason", reason_or_null(e.available, e.reason)}};
+        nlohmann::json j = {{"name", e.name},
+                            {"canonical", e.canonical},
+                            {"kind", e.hardware ? "hardware" : "software"},
+                            {"available", e.available},
+                            {"reason", reason_or_null(e.available, e.reason)}};
         if (e.available) {
             j["per_call"] = per_call(e.per_call);
             j["per_element"] = opt(e.per_element);
@@ -119,7 +135,9 @@ nlohmann::json to_json(const EnergyReadings& e) {
     if (!e.requested) return {{"available", false}, {"reason", "not requested (--energy=none)"}};
     nlohmann::json domains = nlohmann::json::array();
     for (const auto& d : e.domains) {
-        nlohmann::json j = {{"domain", d.domain}, {"socket", socket_json(d.socket)}, {"available", d.available},
+        nlohmann::json j = {{"domain", d.domain},
+                            {"socket", socket_json(d.socket)},
+                            {"available", d.available},
                             {"reason", reason_or_null(d.available, d.reason)}};
         if (d.available) {
             j["joules_per_call"] = per_call(d.joules_per_call);

@@ -15,11 +15,8 @@ namespace {
 // The default sweep, as data: which kernels, in which patterns. sin-add random is left out
 // (ask for it): at a DRAM size it alone would take most of the 2 minutes the sweep may last.
 const std::vector<std::pair<std::string, std::vector<std::string>>> default_sweep = {
-    {"copy", {"sequential"}},
-    {"triad", {"sequential"}},
-    {"add", {"sequential", "random"}},
-    {"sin-add", {"sequential"}},
-    {"latency", {"random"}},
+    {"copy", {"sequential"}},    {"triad", {"sequential"}}, {"add", {"sequential", "random"}},
+    {"sin-add", {"sequential"}}, {"latency", {"random"}},
 };
 
 Access parse_access(const std::string& text, const std::string& option) {
@@ -33,7 +30,9 @@ Access parse_access(const std::string& text, const std::string& option) {
         throw UsageError("--" + option + "=" + text + ": strided needs a stride in elements, e.g. strided:8");
     const auto stride = whole_number(text.substr(8), 1000000000);
     if (!stride || *stride < 1)
-        throw UsageError("--" + option + "=" + text + ": the stride must be a positive whole number of elements, at most 1000000000, e.g. strided:8");
+        throw UsageError(
+            "--" + option + "=" + text +
+            ": the stride must be a positive whole number of elements, at most 1000000000, e.g. strided:8");
     a.stride = *stride;
     return a;
 }
@@ -62,8 +61,10 @@ std::vector<std::pair<std::string, std::string>> option_choices(const KernelInfo
     for (const auto& v : info.variants)
         if (!v.empty() && !is_store_variant(v)) out.push_back({v, v});
     const bool plain = std::find(info.variants.begin(), info.variants.end(), "") != info.variants.end();
-    if (!out.empty() && plain && info.variant_option == "phase") out.insert(out.begin(), {"all", ""});
-    else if (!out.empty() && plain && !info.plain_variant_name.empty()) out.insert(out.begin(), {info.plain_variant_name, ""});
+    if (!out.empty() && plain && info.variant_option == "phase")
+        out.insert(out.begin(), {"all", ""});
+    else if (!out.empty() && plain && !info.plain_variant_name.empty())
+        out.insert(out.begin(), {info.plain_variant_name, ""});
     return out;
 }
 
@@ -91,9 +92,10 @@ Variants plan_variants(const KernelInfo& info, const std::string& stores_variant
             std::vector<std::string> with;
             for (const auto& e : kernels())
                 if (e.info.variant_option == option && !option_choices(e.info).empty()) with.push_back(e.info.name);
-            throw UsageError("kernel '" + info.name + "' has no " + plural(option) + ", so --" + option + " does not apply" +
-                             (choices.empty() ? "" : " (it takes --" + info.variant_option + ")") + "; kernels with " + plural(option) +
-                             ": " + (with.empty() ? std::string("none") : join(with, ", ")));
+            throw UsageError("kernel '" + info.name + "' has no " + plural(option) + ", so --" + option +
+                             " does not apply" + (choices.empty() ? "" : " (it takes --" + info.variant_option + ")") +
+                             "; kernels with " + plural(option) + ": " +
+                             (with.empty() ? std::string("none") : join(with, ", ")));
         }
         out.named = true;
         out.option = "--" + option + "=" + text;
@@ -101,10 +103,12 @@ Variants plan_variants(const KernelInfo& info, const std::string& stores_variant
             auto it = std::find_if(choices.begin(), choices.end(), [&](const auto& c) { return c.first == name; });
             if (it == choices.end()) {
                 // A name a kernel has retired: its new one (MPM's unsorted particles are shuffled).
-                std::string hint = option == "particles" && name == "unsorted" ? std::string("shuffled") : nearest(name, first_of(choices));
-                throw UsageError("kernel '" + info.name + "' has no " + (option == "particles" ? "particle order" : option) + " '" + name + "'" +
-                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + plural(option) + ": " +
-                                 join(first_of(choices), ", "));
+                std::string hint = option == "particles" && name == "unsorted" ? std::string("shuffled")
+                                                                               : nearest(name, first_of(choices));
+                throw UsageError("kernel '" + info.name + "' has no " +
+                                 (option == "particles" ? "particle order" : option) + " '" + name + "'" +
+                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + plural(option) +
+                                 ": " + join(first_of(choices), ", "));
             }
             out.list.push_back(*it);
         }
@@ -129,7 +133,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
     std::vector<std::pair<const KernelEntry*, std::vector<std::string>>> ks;
     const bool use_default_sweep = o.kernels.empty();
     std::vector<std::pair<std::string, std::vector<std::string>>> wanted;
-    if (use_default_sweep) wanted = default_sweep;
+    if (use_default_sweep)
+        wanted = default_sweep;
     else
         for (const auto& name : parse_name_list(o.kernels, "--kernel")) wanted.push_back({name, {}});
     for (const auto& [name, defaults] : wanted) {
@@ -144,9 +149,11 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
 
     // Output.
     if (!o.format.empty() && o.format != "table" && o.format != "json" && o.format != "csv" && o.format != "gbench")
-        throw UsageError("unknown --format '" + o.format + "'; accepted: table, json, csv, gbench (Google Benchmark's JSON)");
+        throw UsageError("unknown --format '" + o.format +
+                         "'; accepted: table, json, csv, gbench (Google Benchmark's JSON)");
     if (!o.out.empty()) {
-        if (o.format == "table") throw UsageError("--format=table cannot be written to a file; use json or csv (or gbench) with --out");
+        if (o.format == "table")
+            throw UsageError("--format=table cannot be written to a file; use json or csv (or gbench) with --out");
         plan.out_path = o.out;
         const bool csv_name = o.out.size() > 4 && o.out.substr(o.out.size() - 4) == ".csv";
         plan.format = o.format.empty() ? (csv_name ? "csv" : "json") : o.format;
@@ -161,7 +168,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         if (!o.threads.empty()) asked = parse_thread_list(o.threads, topo.pu_count());
     } catch (const UsageError& e) {
         if (!topo.mask_restricted()) throw;
-        throw UsageError(std::string(e.what()) + " (this process's CPU mask allows CPUs " + format_cpu_list(topo.mask_cpus) + " of the machine's " +
+        throw UsageError(std::string(e.what()) + " (this process's CPU mask allows CPUs " +
+                         format_cpu_list(topo.mask_cpus) + " of the machine's " +
                          std::to_string(topo.machine_cpus.size()) + ")");
     }
     for (int t : asked)
@@ -172,10 +180,13 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         throw UsageError(std::to_string(most_threads) + " threads were asked for but OpenMP allows at most " +
                          std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT); ask for fewer or unset it");
     if (plan.settings.pin.mode == PinMode::list && static_cast<int>(plan.settings.pin.cpus.size()) < most_threads)
-        throw UsageError("--pin=" + o.pin + " lists " + std::to_string(plan.settings.pin.cpus.size()) + " CPU(s) but up to " +
-                         std::to_string(most_threads) + " threads were asked for; list at least one CPU per thread");
+        throw UsageError("--pin=" + o.pin + " lists " + std::to_string(plan.settings.pin.cpus.size()) +
+                         " CPU(s) but up to " + std::to_string(most_threads) +
+                         " threads were asked for; list at least one CPU per thread");
     if (plan.settings.pin.mode != PinMode::none && !topo.this_system)
-        throw UsageError("the topology is not this machine's (HWLOC_SYNTHETIC or HWLOC_XMLFILE is set), so threads cannot be pinned; use --pin=none");
+        throw UsageError(
+            "the topology is not this machine's (HWLOC_SYNTHETIC or HWLOC_XMLFILE is set), so threads cannot be "
+            "pinned; use --pin=none");
 
     std::string thp_note;
     plan.settings.hugepages = parse_hugepages(o.hugepages, "/sys/kernel/mm/transparent_hugepage/enabled", &thp_note);
@@ -186,23 +197,29 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
     if (plan.settings.placement.kind != PlacementKind::local)
         for (const auto& [k, defaults] : ks)
             if (k->info.heap_arrays)
-                throw UsageError("kernel '" + k->info.name + "' keeps its arrays in ordinary heap memory, not in the harness's arena, so --placement=" +
-                                 plan.settings.placement.text + " cannot place them; give --placement=local (the default) for it");
+                throw UsageError(
+                    "kernel '" + k->info.name +
+                    "' keeps its arrays in ordinary heap memory, not in the harness's arena, so --placement=" +
+                    plan.settings.placement.text + " cannot place them; give --placement=local (the default) for it");
     std::map<int, MemoryPolicy> policies;
-    for (int t : threads) policies[t] = resolve_policy(plan.settings.placement, topo, planned_cpus(topo, plan.settings.pin, t));
+    for (int t : threads)
+        policies[t] = resolve_policy(plan.settings.placement, topo, planned_cpus(topo, plan.settings.pin, t));
 
     // Repetitions.
-    if (o.reps == 0 || o.reps < -1) throw UsageError("--reps=" + std::to_string(o.reps) + ": at least 1 counted repetition is needed");
+    if (o.reps == 0 || o.reps < -1)
+        throw UsageError("--reps=" + std::to_string(o.reps) + ": at least 1 counted repetition is needed");
     if (o.reps > 10000000) throw UsageError("--reps=" + std::to_string(o.reps) + " is too many; at most 10000000");
     plan.settings.reps = o.reps > 0 ? o.reps : 0;
-    if (!(o.min_time > 0) || o.min_time > 3600) throw UsageError("--min-time must be more than 0 and at most 3600 seconds");
+    if (!(o.min_time > 0) || o.min_time > 3600)
+        throw UsageError("--min-time must be more than 0 and at most 3600 seconds");
     plan.settings.min_time_s = o.min_time;
     plan.settings.seed = o.seed;
 
     // Instruments: an unknown event or backend is a usage error; one that cannot measure here is
     // recorded as unavailable, and said once when it was asked for by name.
     if (!(o.energy_baseline >= 0) || o.energy_baseline > 600)
-        throw UsageError("--energy-baseline=" + std::to_string(o.energy_baseline) + ": accepted: 0 (none) to 600 seconds");
+        throw UsageError("--energy-baseline=" + std::to_string(o.energy_baseline) +
+                         ": accepted: 0 (none) to 600 seconds");
     plan.instruments = make_instruments(o.counters, o.energy, open_energy);
     plan.instruments.energy_baseline_s = o.energy_baseline;
     for (int level = 4; level >= 1; --level)
@@ -220,7 +237,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         plan.notes.push_back("energy cannot be measured here: " + meter.reason());
 
     // Sizes.
-    if (!o.size.empty() && !o.sizes.empty()) throw UsageError("--size and --sizes cannot be used together; give one of them");
+    if (!o.size.empty() && !o.sizes.empty())
+        throw UsageError("--size and --sizes cannot be used together; give one of them");
     // Without a size, the cache-level sizes are per thread (each thread's share stays in its
     // cache whatever the team), so they are chosen with the thread count, point by point.
     const bool default_size = o.size.empty() && o.sizes.empty();
@@ -229,18 +247,24 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
     auto given_sizes = [&](const KernelInfo& info) -> std::vector<std::uint64_t> {
         if (info.size_kind == SizeKind::count) {
             const std::string noun = info.unit + "s";
-            return o.size.empty() ? parse_count_list(o.sizes, noun, info.name) : std::vector<std::uint64_t>{parse_count(o.size, noun, info.name)};
+            return o.size.empty() ? parse_count_list(o.sizes, noun, info.name)
+                                  : std::vector<std::uint64_t>{parse_count(o.size, noun, info.name)};
         }
         return o.size.empty() ? parse_size_list(o.sizes) : std::vector<std::uint64_t>{parse_bytes(o.size)};
     };
     auto sizes_for = [&](const KernelInfo& info, int t) {
-        return default_size ? (info.default_count ? std::vector<std::uint64_t>{info.default_count} : default_sizes(topo, t, o.measured)) : given_sizes(info); };
+        return default_size ? (info.default_count ? std::vector<std::uint64_t>{info.default_count}
+                                                  : default_sizes(topo, t, o.measured))
+                            : given_sizes(info);
+    };
 
     // Stores: "nt" or "rep" is a variant of the kernels that have it (is_store_variant).
-    if (o.stores != "default" && !is_store_variant(o.stores)) throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt, rep");
+    if (o.stores != "default" && !is_store_variant(o.stores))
+        throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt, rep");
     const std::string variant = o.stores == "default" ? "" : o.stores;
     std::vector<std::string> with_variant;
-    for (const auto& e : kernels()) if (std::ranges::count(e.info.variants, variant)) with_variant.push_back(e.info.name);
+    for (const auto& e : kernels())
+        if (std::ranges::count(e.info.variants, variant)) with_variant.push_back(e.info.name);
 
     // Kernels on a mesh are sized by it (KernelEntry::mesh_elements).
     std::vector<std::string> on_mesh;
@@ -264,19 +288,25 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
             for (const auto& p : k->info.params) applies = applies || p.name == name;
         }
         if (!applies)
-            throw UsageError("--" + name + " does not apply to " + (selected.size() == 1 ? "kernel " : "kernels ") + join(selected, ", ") +
-                             "; kernels that take it: " + join(takers, ", "));
+            throw UsageError("--" + name + " does not apply to " + (selected.size() == 1 ? "kernel " : "kernels ") +
+                             join(selected, ", ") + "; kernels that take it: " + join(takers, ", "));
     }
     if (!o.mesh.empty()) {
-        if (!default_size) throw UsageError("--mesh and --size/--sizes cannot be used together: the mesh gives the size (its element count)");
+        if (!default_size)
+            throw UsageError(
+                "--mesh and --size/--sizes cannot be used together: the mesh gives the size (its element count)");
         for (const auto& [k, defaults] : ks)
             if (!k->mesh_elements)
-                throw UsageError("kernel '" + k->info.name + "' does not run on a mesh, so --mesh does not apply; kernels on a mesh: " + join(on_mesh, ", "));
+                throw UsageError(
+                    "kernel '" + k->info.name +
+                    "' does not run on a mesh, so --mesh does not apply; kernels on a mesh: " + join(on_mesh, ", "));
     }
 
     // The points: each kernel takes the patterns or orderings of its own axis.
-    const std::vector<std::string> given_patterns = o.patterns.empty() ? std::vector<std::string>{} : parse_name_list(o.patterns, "--pattern");
-    const std::vector<std::string> given_orderings = o.orderings.empty() ? std::vector<std::string>{} : parse_name_list(o.orderings, "--ordering");
+    const std::vector<std::string> given_patterns =
+        o.patterns.empty() ? std::vector<std::string>{} : parse_name_list(o.patterns, "--pattern");
+    const std::vector<std::string> given_orderings =
+        o.orderings.empty() ? std::vector<std::string>{} : parse_name_list(o.orderings, "--ordering");
     for (const auto& [k, defaults] : ks) {
         const KernelInfo& info = k->info;
         const bool by_pattern = info.axis == AccessAxis::pattern;
@@ -289,23 +319,30 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         std::vector<std::string> texts = by_pattern ? given_patterns : given_orderings;
         if (texts.empty()) texts = defaults.empty() ? std::vector<std::string>{info.accesses.front()} : defaults;
         if (!variant.empty() && std::find(info.variants.begin(), info.variants.end(), variant) == info.variants.end())
-            throw UsageError("--stores=" + variant + ": kernel '" + info.name + "' has no " + (variant == "nt" ? "non-temporal-store" : "string-instruction") +
-                             " variant; those that do: " + (with_variant.empty() ? std::string("none in this build") : join(with_variant, ", ")));
+            throw UsageError("--stores=" + variant + ": kernel '" + info.name + "' has no " +
+                             (variant == "nt" ? "non-temporal-store" : "string-instruction") +
+                             " variant; those that do: " +
+                             (with_variant.empty() ? std::string("none in this build") : join(with_variant, ", ")));
         // --phase and --strategy pick variants of the kernels that have them; without, the
         // kernel's default variants run.
-        const Variants vs = plan_variants(info, variant, {{"phase", o.phases}, {"strategy", o.strategies}, {"particles", o.particles}, {"isa", o.isas}});
+        const Variants vs = plan_variants(
+            info, variant,
+            {{"phase", o.phases}, {"strategy", o.strategies}, {"particles", o.particles}, {"isa", o.isas}});
         // A variant on one thread: refused when named with more threads asked for by --threads,
         // else planned for one thread only.
         if (vs.named && !o.threads.empty() && most_threads > 1)
             for (const auto& [name, v] : vs.list)
                 if (single_thread_only(info, v))
-                    throw UsageError(vs.option + ": " + info.variant_option + " '" + name + "' of kernel '" + info.name + "' runs on one thread, but --threads=" +
-                                     o.threads + " asks for up to " + std::to_string(most_threads) + "; give --threads=1, or leave '" + name + "' out");
+                    throw UsageError(vs.option + ": " + info.variant_option + " '" + name + "' of kernel '" +
+                                     info.name + "' runs on one thread, but --threads=" + o.threads +
+                                     " asks for up to " + std::to_string(most_threads) +
+                                     "; give --threads=1, or leave '" + name + "' out");
         std::vector<std::string> kernel_variants;
         for (const auto& [name, v] : vs.list) kernel_variants.push_back(v);
         auto team_sizes = [&](const std::string& v) {
             if (!single_thread_only(info, v)) return threads;
-            return std::find(threads.begin(), threads.end(), 1) != threads.end() ? std::vector<int>{1} : std::vector<int>{};
+            return std::find(threads.begin(), threads.end(), 1) != threads.end() ? std::vector<int>{1}
+                                                                                 : std::vector<int>{};
         };
         std::map<std::string, double> kparams = default_params(info);
         for (const auto& [name, value] : given_params)
@@ -319,9 +356,12 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
                 std::string what = e.what();
                 for (const auto& [name, text] : o.params) {
                     if (!kparams.count(name)) continue;
-                    const std::string shown = "--" + name + "=" + format_number(kparams.at(name)), typed = "--" + name + "=" + text;
+                    const std::string shown = "--" + name + "=" + format_number(kparams.at(name)),
+                                      typed = "--" + name + "=" + text;
                     for (auto at = what.find(shown); at != std::string::npos; at = what.find(shown, at + typed.size()))
-                        if (at + shown.size() == what.size() || (!std::isalnum(static_cast<unsigned char>(what[at + shown.size()])) && what[at + shown.size()] != '.'))
+                        if (at + shown.size() == what.size() ||
+                            (!std::isalnum(static_cast<unsigned char>(what[at + shown.size()])) &&
+                             what[at + shown.size()] != '.'))
                             what.replace(at, shown.size(), typed);
                 }
                 throw UsageError(what);
@@ -336,12 +376,14 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         for (const auto& text : texts) {
             Access a = parse_access(text, axis);
             if (std::find(labels.begin(), labels.end(), a.label()) != labels.end())
-                throw UsageError("--" + std::string(axis) + "=" + (by_pattern ? o.patterns : o.orderings) + " names " + a.label() + " twice; give each once");
+                throw UsageError("--" + std::string(axis) + "=" + (by_pattern ? o.patterns : o.orderings) + " names " +
+                                 a.label() + " twice; give each once");
             labels.push_back(a.label());
             if (std::find(info.accesses.begin(), info.accesses.end(), a.name) == info.accesses.end()) {
                 std::string hint = nearest(a.name, info.accesses);
                 throw UsageError("kernel '" + info.name + "' has no " + axis + " '" + text + "'" +
-                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; it accepts: " + join(info.accesses, ", "));
+                                 (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                                 "; it accepts: " + join(info.accesses, ", "));
             }
             for (const auto& kv : kernel_variants)
                 for (const auto& mesh : meshes) {
@@ -364,9 +406,11 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
                 }
         }
         if (plan.points.size() == points_before &&
-            std::all_of(kernel_variants.begin(), kernel_variants.end(), [&](const std::string& v) { return single_thread_only(info, v); }))
-            throw UsageError("kernel '" + info.name + "': every " + info.variant_option + " planned (" + join(first_of(vs.list), ", ") +
-                             ") runs on one thread, and --threads=" + o.threads + " does not ask for one; add 1 to --threads");
+            std::all_of(kernel_variants.begin(), kernel_variants.end(),
+                        [&](const std::string& v) { return single_thread_only(info, v); }))
+            throw UsageError("kernel '" + info.name + "': every " + info.variant_option + " planned (" +
+                             join(first_of(vs.list), ", ") + ") runs on one thread, and --threads=" + o.threads +
+                             " does not ask for one; add 1 to --threads");
     }
 
     // Memory: refuse before allocating anything.
@@ -375,7 +419,8 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         const MemoryPolicy& policy = policies.at(p.threads);
         const std::uint64_t available = available_memory_bytes(policy);
         if (p.size > available)
-            throw UsageError("size " + format_bytes(p.size) + " is larger than the memory available (" + format_bytes(available) +
+            throw UsageError("size " + format_bytes(p.size) + " is larger than the memory available (" +
+                             format_bytes(available) +
                              (policy.node >= 0 ? " free on node " + std::to_string(policy.node) : std::string()) + ")");
     }
 
@@ -385,11 +430,14 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
     const std::uint64_t largest = default_sizes(topo, 1, o.measured).back();
     const char* which = o.measured.llc_total > 0 && llc == o.measured.llc_total ? "measured" : "reported";
     if (default_size && llc > 0 && largest < 12 * llc)
-        plan.notes.push_back("the largest default size, " + format_bytes(largest) + ", is less than 4x the " + which + " last-level cache (" +
-                             format_bytes(llc) + ") per array; it may not measure DRAM (see each record's size.smallest_array_over_llc)");
+        plan.notes.push_back("the largest default size, " + format_bytes(largest) + ", is less than 4x the " + which +
+                             " last-level cache (" + format_bytes(llc) +
+                             ") per array; it may not measure DRAM (see each record's size.smallest_array_over_llc)");
     if (o.probe_caches && o.measured.llc_total == 0 && default_size)
-        plan.notes.push_back(o.dry_run ? "--probe-caches does not run with --dry-run: the default sizes shown follow the reported caches"
-                                       : "the cache probe found no last level below memory: the default sizes follow the reported caches");
+        plan.notes.push_back(
+            o.dry_run
+                ? "--probe-caches does not run with --dry-run: the default sizes shown follow the reported caches"
+                : "the cache probe found no last level below memory: the default sizes follow the reported caches");
 
     // Last, as it creates (and removes) a probe file: nothing is written before all else is
     // checked. The run claims the file (lock, inputs) before it measures: app/suite/run.cpp.

@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/machine/topology.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/measure/default_sizes.hpp"
 #include "harness/measure/runner.hpp"
-#include "harness/machine/topology.hpp"
 
 namespace suite {
 
@@ -20,8 +20,8 @@ struct RunOptions {
     std::string kernels;  // empty: the default sweep
     std::string patterns;
     std::string orderings;
-    std::string mesh;    // --mesh: the mesh of kernels on a mesh
-    std::string phases;  // --phase: the phases of kernels that have them (their variants)
+    std::string mesh;        // --mesh: the mesh of kernels on a mesh
+    std::string phases;      // --phase: the phases of kernels that have them (their variants)
     std::string strategies;  // --strategy: the strategies of kernels that have them (their variants)
     std::string particles;   // --particles: the particle orders of the MPM kernels (their variants)
     std::string isas;        // --isa: the instruction widths of peak-flops (its variants)
@@ -39,7 +39,7 @@ struct RunOptions {
     std::string out;
     std::string format;  // table | json | csv; "" = from --out's extension, table on the console
     bool quiet = false;
-    bool dry_run = false;  // print the points and stop
+    bool dry_run = false;              // print the points and stop
     std::string counters = "default";  // default | none | event names, comma separated
     std::string energy = "auto";       // auto | sysfs | perf | none
     double energy_baseline = 0;        // seconds of idle power measured before the sweep

@@ -6,13 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "harness/kernel/kernel.hpp"
+#include "harness/common/stats.hpp"
+#include "harness/common/units.hpp"
 #include "harness/instruments/machine_load.hpp"
 #include "harness/instruments/measurements.hpp"
+#include "harness/kernel/kernel.hpp"
 #include "harness/machine/placement.hpp"
-#include "harness/common/stats.hpp"
 #include "harness/machine/team.hpp"
-#include "harness/common/units.hpp"
 
 namespace suite {
 
@@ -32,52 +32,52 @@ struct Rates {
 // Scope::none in a run of one process, and then absent from the JSON.
 struct RankScope {
     enum class Kind { none, rank, aggregate } kind = Kind::none;
-    int ranks = 0;             // in the run
-    int rank = -1;             // Kind::rank
-    std::string host;          // Kind::rank: the rank's host
-    int hosts = 0;             // Kind::aggregate: distinct hosts
-    int slowest_rank = -1;     // Kind::aggregate: the rank with the longest best time
+    int ranks = 0;          // in the run
+    int rank = -1;          // Kind::rank
+    std::string host;       // Kind::rank: the rank's host
+    int hosts = 0;          // Kind::aggregate: distinct hosts
+    int slowest_rank = -1;  // Kind::aggregate: the rank with the longest best time
     std::string slowest_host;
-    double spread = 0;         // Kind::aggregate: slowest rank's best time / fastest rank's (>= 1)
+    double spread = 0;  // Kind::aggregate: slowest rank's best time / fastest rank's (>= 1)
 };
 
 struct Record {
     std::string kernel;
-    std::string variant;       // "" or "nt", a phase or a strategy
-    std::string name;          // kernel plus variant, e.g. "copy-nt": the name reports use
+    std::string variant;  // "" or "nt", a phase or a strategy
+    std::string name;     // kernel plus variant, e.g. "copy-nt": the name reports use
     AccessAxis axis = AccessAxis::pattern;
-    std::string access;        // "sequential", "random", "strided:8", "morton", ...
+    std::string access;  // "sequential", "random", "strided:8", "morton", ...
     SizeKind size_kind = SizeKind::bytes;
     std::uint64_t size_requested = 0;
     // The smallest array over all last-level cache instances together: a DRAM figure wants >= 4.
     std::optional<double> smallest_array_over_llc;
-    Work work;                 // per repetition
+    Work work;  // per repetition
     std::string unit;
     Metric metric = Metric::bandwidth;
     int threads = 1;
     std::string pin;
     std::vector<ThreadBinding> bindings;
     bool binding_held = false;  // every thread still had its CPU set after the timed repetitions
-    std::string placement;     // as asked
-    int placement_node = -1;   // node chosen for node:N / remote
+    std::string placement;      // as asked
+    int placement_node = -1;    // node chosen for node:N / remote
     std::vector<int> interleave_nodes;
     std::vector<ArrayPlacement> pages;  // as observed after first touch
     std::string hugepages = "system";   // --hugepages as asked: system, thp or none
-    int repetitions = 0;       // counted ones, after the warm-up
-    int warmup = 0;            // uncounted calls before the repetitions (the runner sets it)
-    int batch = 1;             // kernel calls per timed sample (tiny sizes); times are per call
-    std::vector<double> samples_s;  // per call, one per counted repetition
+    int repetitions = 0;                // counted ones, after the warm-up
+    int warmup = 0;                     // uncounted calls before the repetitions (the runner sets it)
+    int batch = 1;                      // kernel calls per timed sample (tiny sizes); times are per call
+    std::vector<double> samples_s;      // per call, one per counted repetition
     TimeStats time;
     Rates rates;
     Verification verification;
     CounterReadings counters;  // around the same repetitions as samples_s
     EnergyReadings energy;
-    Stability stability;       // what else the machine did around the repetitions; unstable: a noisy point
+    Stability stability;  // what else the machine did around the repetitions; unstable: a noisy point
     std::uint64_t seed = 0;
-    std::string mesh;          // the --mesh spec of a kernel on a mesh; "" otherwise
+    std::string mesh;                      // the --mesh spec of a kernel on a mesh; "" otherwise
     std::map<std::string, double> params;  // the kernel's declared parameters, as it ran (KernelConfig::params)
-    std::vector<Fact> facts;   // what the kernel reported about its last run (Kernel::facts)
-    RankScope mpi;             // the rank it came from in an MPI run; Kind::none otherwise
+    std::vector<Fact> facts;               // what the kernel reported about its last run (Kernel::facts)
+    RankScope mpi;                         // the rank it came from in an MPI run; Kind::none otherwise
 };
 
 // A size as people read it: "64MiB" for a footprint, "1000000" for a count.

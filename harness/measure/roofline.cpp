@@ -25,9 +25,9 @@ struct CeilingKernel {
     bool memory_only;
 };
 constexpr CeilingKernel ceiling_kernels[] = {
-    {"load", "", true, false},   {"copy", "", false, false},   {"triad", "", false, false}, {"store", "", false, false},
-    {"copy", "nt", false, true}, {"triad", "nt", false, true}, {"store", "nt", false, true},
-    {"copy", "rep", false, false}, {"store", "rep", false, false},
+    {"load", "", true, false},    {"copy", "", false, false},    {"triad", "", false, false},
+    {"store", "", false, false},  {"copy", "nt", false, true},   {"triad", "nt", false, true},
+    {"store", "nt", false, true}, {"copy", "rep", false, false}, {"store", "rep", false, false},
 };
 
 void keep_best(std::optional<BandwidthFigure>& best, const BandwidthFigure& f) {
@@ -87,7 +87,9 @@ std::vector<RooflineLevel> roofline_levels(const Topology& topo, const CacheProb
             // ended on has none). A VM reports caches it does not give; the probe is believed.
             for (const auto& m : probe->hierarchy.levels)
                 if (m.level == lv && m.capacity_bytes) l.capacity_bytes = *m.capacity_bytes, l.source = "measured";
-            if (l.capacity_bytes == 0 && !probe->hierarchy.levels.empty() && lv > static_cast<int>(probe->hierarchy.levels.size())) continue;
+            if (l.capacity_bytes == 0 && !probe->hierarchy.levels.empty() &&
+                lv > static_cast<int>(probe->hierarchy.levels.size()))
+                continue;
         }
         if (l.capacity_bytes == 0 && c && c->size_bytes) l.capacity_bytes = c->size_bytes, l.source = "reported";
         if (l.capacity_bytes == 0) continue;
@@ -127,7 +129,8 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
         if (o.progress) o.progress(line);
     };
     // One verified point; nullopt when the kernel refuses the configuration (why: `refused`).
-    auto measure = [&](const char* name, const std::string& variant, std::uint64_t size, int threads, std::string& refused) -> std::optional<Record> {
+    auto measure = [&](const char* name, const std::string& variant, std::uint64_t size, int threads,
+                       std::string& refused) -> std::optional<Record> {
         const KernelEntry* k = find_kernel(name);
         if (!k) throw std::logic_error(std::string("the roofline needs the ") + name + " kernel");
         Point p{k, Access{k->info.accesses.front(), 0}, variant, size, threads};
@@ -139,7 +142,8 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
         }
         Record r = run_point(p, settings, topo);
         if (!r.verification.passed)
-            throw std::runtime_error("the roofline's " + r.name + " at " + size_label(k->info.size_kind, size) + " on " + std::to_string(threads) +
+            throw std::runtime_error("the roofline's " + r.name + " at " + size_label(k->info.size_kind, size) +
+                                     " on " + std::to_string(threads) +
                                      " thread(s) failed verification: " + r.verification.detail);
         return r;
     };
@@ -155,7 +159,8 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
                 const auto r = measure("peak-flops", isa, peak->info.default_count, t, refused);
                 if (!r) throw std::logic_error("peak-flops refused its own default size: " + refused);
                 tc.peak.push_back({isa, r->name, r->rates.gflops_best.value_or(0)});
-                say("peak  " + r->name + " on " + std::to_string(t) + " thread(s): " + format_significant(tc.peak.back().gflops, 4) + " GFLOP/s");
+                say("peak  " + r->name + " on " + std::to_string(t) +
+                    " thread(s): " + format_significant(tc.peak.back().gflops, 4) + " GFLOP/s");
             }
             const std::uint64_t dram = o.dram_bytes ? o.dram_bytes : default_sizes(topo, t, measured).back();
             std::uint64_t below = 0;  // what the level below holds for these threads
@@ -166,7 +171,8 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
                 const std::uint64_t holds = level_bytes(level, t);
                 const std::uint64_t footprint = memory ? dram : holds / 2 / 4096 * 4096;
                 if (!memory && footprint <= below) {
-                    lc.reason = "half of " + level.name + " for " + std::to_string(t) + " thread(s) (" + format_bytes(holds / 2) + ") fits in the levels above";
+                    lc.reason = "half of " + level.name + " for " + std::to_string(t) + " thread(s) (" +
+                                format_bytes(holds / 2) + ") fits in the levels above";
                 } else {
                     lc.footprint_bytes = footprint;
                     for (const auto& ck : ceiling_kernels) {
@@ -174,13 +180,16 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
                         std::string refused;
                         const auto r = measure(ck.kernel, ck.variant, footprint, t, refused);
                         if (!r) continue;  // too small for this kernel at this thread count
-                        const BandwidthFigure f{r->name, r->rates.stream_gbps_best.value_or(0), r->rates.hardware_gbps_best.value_or(0)};
+                        const BandwidthFigure f{r->name, r->rates.stream_gbps_best.value_or(0),
+                                                r->rates.hardware_gbps_best.value_or(0)};
                         lc.measured.push_back(f);
                         keep_best(ck.read_only ? lc.read_only : lc.read_write, f);
-                        say(level.name + "  " + r->name + " " + format_bytes(footprint) + " on " + std::to_string(t) + " thread(s): " + format_significant(f.gbps, 4) +
-                            " GB/s");
+                        say(level.name + "  " + r->name + " " + format_bytes(footprint) + " on " + std::to_string(t) +
+                            " thread(s): " + format_significant(f.gbps, 4) + " GB/s");
                     }
-                    if (lc.measured.empty()) lc.reason = "no ceiling kernel runs at " + format_bytes(footprint) + " on " + std::to_string(t) + " thread(s)";
+                    if (lc.measured.empty())
+                        lc.reason = "no ceiling kernel runs at " + format_bytes(footprint) + " on " +
+                                    std::to_string(t) + " thread(s)";
                 }
                 if (!memory) below = std::max(below, holds);
                 tc.bandwidth.push_back(lc);
@@ -227,9 +236,16 @@ nlohmann::json to_json(const Roofline& roof) {
             if (!lc.reason.empty()) entry["reason"] = lc.reason;
             bw.push_back(entry);
         }
-        ceilings.push_back({{"threads", tc.threads}, {"peak_gflops", tc.peak.empty() ? json(nullptr) : json(tc.peak_gflops())}, {"peak", peak}, {"bandwidth", bw}});
+        ceilings.push_back({{"threads", tc.threads},
+                            {"peak_gflops", tc.peak.empty() ? json(nullptr) : json(tc.peak_gflops())},
+                            {"peak", peak},
+                            {"bandwidth", bw}});
     }
-    return {{"complete", roof.complete}, {"seconds", roof.seconds}, {"levels", levels}, {"ceilings", ceilings}, {"caches_measured", roof.caches_measured}};
+    return {{"complete", roof.complete},
+            {"seconds", roof.seconds},
+            {"levels", levels},
+            {"ceilings", ceilings},
+            {"caches_measured", roof.caches_measured}};
 }
 
 }  // namespace suite

@@ -22,17 +22,17 @@
 
 #include "harness/machine/placement.hpp"
 #include "harness/machine/team.hpp"
-#include "harness/measure/cache_probe.hpp"
 #include "harness/machine/topology.hpp"
+#include "harness/measure/cache_probe.hpp"
 
 namespace suite {
 
 struct RooflineLevel {
-    std::string name;                 // "L1", "L2", "L3", "DRAM"
-    std::uint64_t capacity_bytes = 0; // one instance; 0 for DRAM
-    int instances = 1;                // how many the machine has
-    int pus_per_instance = 1;         // how many PUs share one
-    std::string source;               // "measured" (the probe), "reported" (hwloc), "memory"
+    std::string name;                  // "L1", "L2", "L3", "DRAM"
+    std::uint64_t capacity_bytes = 0;  // one instance; 0 for DRAM
+    int instances = 1;                 // how many the machine has
+    int pus_per_instance = 1;          // how many PUs share one
+    std::string source;                // "measured" (the probe), "reported" (hwloc), "memory"
 };
 
 // What the level holds for t threads pinned compact: one instance per pus_per_instance threads
@@ -64,27 +64,27 @@ struct PeakFigure {
 
 struct ThreadCeilings {
     int threads = 1;
-    std::vector<PeakFigure> peak;      // one per width, narrowest first
+    std::vector<PeakFigure> peak;         // one per width, narrowest first
     std::vector<LevelCeiling> bandwidth;  // one per level, in order
-    double peak_gflops() const;        // the best of `peak`
+    double peak_gflops() const;           // the best of `peak`
     const LevelCeiling* level(const std::string& name) const;
 };
 
 struct Roofline {
-    std::vector<RooflineLevel> levels;  // caches in order, DRAM last
+    std::vector<RooflineLevel> levels;     // caches in order, DRAM last
     std::vector<ThreadCeilings> ceilings;  // one per thread count, as asked
-    nlohmann::json caches_measured;     // the probe's findings (null: no probe)
+    nlohmann::json caches_measured;        // the probe's findings (null: no probe)
     double seconds = 0;
-    bool complete = true;               // false: interrupted; what was measured is kept
+    bool complete = true;  // false: interrupted; what was measured is kept
 };
 
 struct RooflineOptions {
     std::vector<int> threads = {1};
-    PinSpec pin;                         // compact, normally
-    double min_time_s = 0.2;             // per point
-    bool probe = true;                   // measure the caches first; else use the reported ones
-    std::uint64_t dram_bytes = 0;        // 0: the default sweep's DRAM size for each thread count
-    const std::atomic<int>* stop = nullptr;  // raised: stop at the next point, complete = false
+    PinSpec pin;                                       // compact, normally
+    double min_time_s = 0.2;                           // per point
+    bool probe = true;                                 // measure the caches first; else use the reported ones
+    std::uint64_t dram_bytes = 0;                      // 0: the default sweep's DRAM size for each thread count
+    const std::atomic<int>* stop = nullptr;            // raised: stop at the next point, complete = false
     std::function<void(const std::string&)> progress;  // one line per point measured
 };
 

@@ -8,8 +8,8 @@
 
 #include <unistd.h>
 
-#include "harness/instruments/callgrind_marks.hpp"
 #include "harness/common/units.hpp"
+#include "harness/instruments/callgrind_marks.hpp"
 
 namespace suite {
 
@@ -43,7 +43,8 @@ int agree(const RunSettings& s, int mine) { return s.comm ? static_cast<int>(s.c
 }  // namespace
 
 std::string callgrind_label(const Record& r) {
-    return "suite point " + r.name + " " + r.access + " " + size_label(r.size_kind, r.size_requested) + " t=" + std::to_string(r.threads);
+    return "suite point " + r.name + " " + r.access + " " + size_label(r.size_kind, r.size_requested) +
+           " t=" + std::to_string(r.threads);
 }
 
 Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int threads) {
@@ -148,9 +149,9 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         rec.batch = agree(settings, std::max(rec.batch, static_cast<int>(std::ceil(settings.min_sample_s / first))));
     }
     const double per_sample = first * rec.batch;
-    rec.repetitions = settings.reps > 0
-                          ? settings.reps
-                          : std::clamp(static_cast<int>(std::ceil(settings.min_time_s / per_sample)), settings.min_reps, 1000000);
+    rec.repetitions = settings.reps > 0 ? settings.reps
+                                        : std::clamp(static_cast<int>(std::ceil(settings.min_time_s / per_sample)),
+                                                     settings.min_reps, 1000000);
     rec.repetitions = agree(settings, rec.repetitions);
 
     // Counters are opened by the team's own threads; energy is read by this one. Both bracket
@@ -186,7 +187,8 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     callgrind::dump(callgrind_label(rec).c_str());
     rec.binding_held = team_still_bound(rec.bindings);
     rec.verification = kernel->verify();
-    if (rec.verification.solver_failed) rec.verification.passed = false;  // a solver that did not converge verifies nothing
+    if (rec.verification.solver_failed)
+        rec.verification.passed = false;  // a solver that did not converge verifies nothing
     rec.facts = kernel->facts();
     for (std::size_t i = 0; i < rec.facts.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
@@ -194,7 +196,9 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
                 throw std::logic_error("kernel " + info.name + " reported the fact '" + rec.facts[i].name + "' twice");
     rec.time = summarise(rec.samples_s);
     rec.rates = derive_rates(rec.work, rec.time, rec.metric, rec.threads);
-    if (judge_load) rec.stability = assess_stability(load_before, load_after, rec.samples_s, rec.threads, settings.stability, clock_ticks_per_s());
+    if (judge_load)
+        rec.stability = assess_stability(load_before, load_after, rec.samples_s, rec.threads, settings.stability,
+                                         clock_ticks_per_s());
     if (in) {
         rec.counters = counters.readings(rec.batch, rec.work.units, rec.work.stream_bytes, in->line_bytes);
         rec.counters.requested = in->counters.requested;

@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "harness/measure/instrument_set.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "harness/machine/placement.hpp"
-#include "harness/measure/result.hpp"
 #include "harness/machine/team.hpp"
 #include "harness/machine/topology.hpp"
+#include "harness/measure/instrument_set.hpp"
+#include "harness/measure/result.hpp"
 
 namespace suite {
 
@@ -33,7 +33,7 @@ struct RunSettings {
     PinSpec pin;
     PlacementSpec placement;
     HugePages hugepages = HugePages::system;  // --hugepages: advice for every array of the point
-    int reps = 0;               // counted repetitions; 0: adaptive (>= min_time in total, >= min_reps)
+    int reps = 0;                             // counted repetitions; 0: adaptive (>= min_time in total, >= min_reps)
     int min_reps = 5;
     double min_time_s = 0.2;
     // Shorter kernel calls are batched so that a sample spans many clock ticks and the default

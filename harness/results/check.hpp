@@ -25,7 +25,7 @@ enum class Verdict { regressed, improved, unchanged, inconclusive };
 
 struct Finding {
     PointKey key;
-    std::string host;  // the run's host of a rank record of an MPI run; "" otherwise
+    std::string host;    // the run's host of a rank record of an MPI run; "" otherwise
     std::string figure;  // "bandwidth GB/s", "callgrind instructions per call", "verification"
     Direction direction = Direction::higher_is_better;
     double baseline = 0, run = 0;  // medians
@@ -57,13 +57,15 @@ struct CheckReport {
     std::size_t points_compared = 0;
     std::vector<PointKey> missing_from_run, not_in_baseline;
     std::vector<std::string> notes;  // context differences and anything else worth knowing
-    std::string rule_text;  // how the figures were judged, where not check's own rule (history check)
+    std::string rule_text;           // how the figures were judged, where not check's own rule (history check)
     std::size_t count(Verdict v) const;
 };
 
 // The verdict on one figure (key and unstable flags are the caller's).
 Finding judge(const Measure& baseline, const Measure& run, const GateRule& rule);
-inline Finding judge(const Measure& baseline, const Measure& run, double tolerance) { return judge(baseline, run, GateRule{tolerance}); }
+inline Finding judge(const Measure& baseline, const Measure& run, double tolerance) {
+    return judge(baseline, run, GateRule{tolerance});
+}
 
 // Compares every point of `run` with the same point of `baseline`. Throws InputError when no
 // point of the run is in the baseline, or they share no figure, and when the two contexts differ

@@ -71,8 +71,10 @@ std::string process_mismatch(const std::vector<ResultFile>& files) {
     for (std::size_t f = 1; f < files.size(); ++f) {
         const int other = files[f].mpi ? files[f].mpi->ranks : 0;
         if (other == first || (other <= 1 && first <= 1)) continue;
-        return "; [1] is a run of " + files.front().processes_label() + " and " + file_tag(f) + " of " + files[f].processes_label() +
-               ": an MPI run's points are its ranks' and their aggregate, which meet only the same rank or the aggregate of a run "
+        return "; [1] is a run of " + files.front().processes_label() + " and " + file_tag(f) + " of " +
+               files[f].processes_label() +
+               ": an MPI run's points are its ranks' and their aggregate, which meet only the same rank or the "
+               "aggregate of a run "
                "of as many ranks (a plain run's points meet the aggregate of a run of one rank)";
     }
     return "";
@@ -104,7 +106,8 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     {
         TextTable t{{"file", "path", "machine", "date", "git", "points", "complete"}, {}, {}};
         for (std::size_t f = 0; f < files.size(); ++f) {
-            const std::string machine = files[f].machine_label() + (files[f].mpi ? ", " + files[f].processes_label() : "");
+            const std::string machine =
+                files[f].machine_label() + (files[f].mpi ? ", " + files[f].processes_label() : "");
             t.rows.push_back({file_tag(f), files[f].path, machine, context_text(files[f].context, "date"),
                               context_text(files[f].context, "git_revision"), std::to_string(files[f].points.size()),
                               files[f].complete ? "yes" : "no (interrupted)"});
@@ -114,15 +117,19 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     const auto diffs = context_differences(ptrs);
     out += markdown ? "\n### Context differences\n\n" : "\nContext differences that matter:\n";
     if (diffs.empty()) {
-        out += "none: the same CPU, sockets, NUMA nodes, caches, memory, compiler and flags, build type, instruction set, THP, huge pages "
-               "asked and governor\n";
+        out +=
+            "none: the same CPU, sockets, NUMA nodes, caches, memory, compiler and flags, build type, instruction set, "
+            "THP, huge pages "
+            "asked and governor\n";
     } else {
         TextTable t{{"field", "kind"}, {}, {}};
         for (std::size_t f = 0; f < files.size(); ++f) t.header.push_back(file_tag(f));
         std::string machine, setting;
         for (const auto& [field, values] : diffs) {
             const FieldKind kind = context_field_kind(field);
-            std::vector<std::string> row{field, kind == FieldKind::machine ? "machine" : kind == FieldKind::setting ? "build/setting" : "info"};
+            std::vector<std::string> row{field, kind == FieldKind::machine   ? "machine"
+                                                : kind == FieldKind::setting ? "build/setting"
+                                                                             : "info"};
             row.insert(row.end(), values.begin(), values.end());
             t.rows.push_back(row);
             if (kind == FieldKind::machine) machine += (machine.empty() ? "" : ", ") + field;
@@ -131,8 +138,9 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
         // One comparison answers one question: these machines, or these settings on one machine.
         // When both changed, a ratio mixes two causes that nothing here can separate.
         if (!machine.empty() && !setting.empty() && !force)
-            throw InputError("the files differ both as machines (" + machine + ") and in how they were built or set up (" + setting +
-                             "), so a ratio cannot say which made the difference; compare like with like, or pass --force");
+            throw InputError(
+                "the files differ both as machines (" + machine + ") and in how they were built or set up (" + setting +
+                "), so a ratio cannot say which made the difference; compare like with like, or pass --force");
         out += markdown ? t.render_markdown() : t.render_text();
     }
 
@@ -198,8 +206,10 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
         table.rows.push_back(row);
     }
     if (common == 0)
-        throw InputError("no point of " + first.path + " is in any other file (points are matched by kernel, variant, pattern, size, "
-                         "threads, pinning, placement, kernel parameters and MPI rank); run the same --kernel/--pattern/--sizes/--threads on each machine" +
+        throw InputError("no point of " + first.path +
+                         " is in any other file (points are matched by kernel, variant, pattern, size, "
+                         "threads, pinning, placement, kernel parameters and MPI rank); run the same "
+                         "--kernel/--pattern/--sizes/--threads on each machine" +
                          process_mismatch(files));
     std::size_t only_first = first.points.size() - common;
     out += markdown ? "\n### Points\n\n" : "\n";
@@ -208,12 +218,14 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
     for (std::size_t f = 1; f < files.size(); ++f) {
         std::size_t extra = 0;
         for (const auto& p : files[f].points)
-            if (!index[0].count(matching_key(p.key)) && !(on_all_threads(files[f], p) && all_index[0].count(all_threads_key(matching_key(p.key)))))
+            if (!index[0].count(matching_key(p.key)) &&
+                !(on_all_threads(files[f], p) && all_index[0].count(all_threads_key(matching_key(p.key)))))
                 ++extra;
         if (extra) out += " " + std::to_string(extra) + " point(s) of " + file_tag(f) + " are not in [1].";
     }
-    out += " \"vs [1]\": performance relative to [1] from the medians, above 1 is better, with a 95 % bootstrap interval"
-           " [low, high] of that ratio where both files kept their repetitions.\n";
+    out +=
+        " \"vs [1]\": performance relative to [1] from the medians, above 1 is better, with a 95 % bootstrap interval"
+        " [low, high] of that ratio where both files kept their repetitions.\n";
     if (!markdown) out += "\n";
     out += markdown ? "\n" + table.render_markdown() : table.render_text();
     if (unverified) out += "! failed verification in that file: not a valid result\n";
@@ -235,7 +247,8 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
         }
         geo.rows.push_back(row);
     }
-    out += markdown ? "\n### Geometric mean per kernel\n\n" + geo.render_markdown() : "\nGeometric mean of the ratios to [1], per kernel:\n" + geo.render_text();
+    out += markdown ? "\n### Geometric mean per kernel\n\n" + geo.render_markdown()
+                    : "\nGeometric mean of the ratios to [1], per kernel:\n" + geo.render_text();
     for (const auto& f : files)
         for (const auto& note : f.notes) out += "note: " + note + "\n";
     return out;

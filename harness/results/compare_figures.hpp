@@ -12,8 +12,10 @@ namespace suite {
 
 inline std::string compare_value_text(double v) {
     char buf[32];
-    if (v != 0 && (std::fabs(v) >= 1e6 || std::fabs(v) < 1e-2)) std::snprintf(buf, sizeof buf, "%.3e", v);
-    else std::snprintf(buf, sizeof buf, v >= 100 ? "%.1f" : v >= 1 ? "%.2f" : "%.3g", v);
+    if (v != 0 && (std::fabs(v) >= 1e6 || std::fabs(v) < 1e-2))
+        std::snprintf(buf, sizeof buf, "%.3e", v);
+    else
+        std::snprintf(buf, sizeof buf, v >= 100 ? "%.1f" : v >= 1 ? "%.2f" : "%.3g", v);
     return buf;
 }
 

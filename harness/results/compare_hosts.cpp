@@ -108,12 +108,14 @@ std::string memory_text(std::uint64_t bytes) { return bytes ? format_bytes(bytes
 
 // The hosts as the context lists them, and the machine fields on which they differ.
 std::string hosts_section(const LoadedMpiJob& job, bool markdown) {
-    TextTable t{{"host", "ranks", "CPU", "cores", "PUs", "NUMA nodes", "memory"}, {}, {false, false, false, true, true, true, true}};
+    TextTable t{{"host", "ranks", "CPU", "cores", "PUs", "NUMA nodes", "memory"},
+                {},
+                {false, false, false, true, true, true, true}};
     for (const auto& h : job.hosts) {
         std::string ranks;
         for (int r : h.ranks) ranks.append(ranks.empty() ? "" : ",").append(std::to_string(r));
-        t.rows.push_back({h.host, ranks, h.cpu_model.empty() ? "?" : h.cpu_model, std::to_string(h.cores), std::to_string(h.pus),
-                          std::to_string(h.numa_node_count), memory_text(h.memory_bytes)});
+        t.rows.push_back({h.host, ranks, h.cpu_model.empty() ? "?" : h.cpu_model, std::to_string(h.cores),
+                          std::to_string(h.pus), std::to_string(h.numa_node_count), memory_text(h.memory_bytes)});
     }
     std::string differ;
     auto check = [&](const char* name, auto get) {
@@ -131,19 +133,24 @@ std::string hosts_section(const LoadedMpiJob& job, bool markdown) {
     std::string out = markdown ? "\n### Hosts\n\n" + t.render_markdown() : "\nHosts:\n" + t.render_text();
     if (job.hosts.size() > 1)
         out += std::string(markdown ? "\n" : "") +
-               (differ.empty() ? "The hosts are alike as machines (CPU, cores, PUs, NUMA nodes, memory).\n"
-                              : "The hosts differ as machines in: " + differ + " (a difference below may come from that).\n");
+               (differ.empty()
+                    ? "The hosts are alike as machines (CPU, cores, PUs, NUMA nodes, memory).\n"
+                    : "The hosts differ as machines in: " + differ + " (a difference below may come from that).\n");
     return out;
 }
 
 }  // namespace
 
 std::string render_host_comparison(const ResultFile& f, bool markdown) {
-    if (!f.mpi) throw InputError(f.path + ": a run of one process; compare needs two result files, or one of an MPI run (suite-mpi)");
+    if (!f.mpi)
+        throw InputError(f.path +
+                         ": a run of one process; compare needs two result files, or one of an MPI run (suite-mpi)");
     const LoadedMpiJob& job = *f.mpi;
     const bool by_host = job.hosts.size() > 1;
     if (!by_host && job.ranks < 2)
-        throw InputError(f.path + ": an MPI run of one rank on one host has no hosts or ranks to line up; compare it with another file");
+        throw InputError(
+            f.path +
+            ": an MPI run of one rank on one host has no hosts or ranks to line up; compare it with another file");
     std::vector<Lane> lanes;
     if (by_host) {
         for (const auto& h : job.hosts) lanes.push_back({h.host, h.ranks});
@@ -151,16 +158,19 @@ std::string render_host_comparison(const ResultFile& f, bool markdown) {
         for (int r = 0; r < job.ranks; ++r) lanes.push_back({"rank " + std::to_string(r), {r}});
     }
     const std::vector<RankGroup> groups = group_ranks(f);
-    if (groups.empty()) throw InputError(f.path + ": no record of a rank with a figure to line up (is every record an aggregate?)");
+    if (groups.empty())
+        throw InputError(f.path + ": no record of a rank with a figure to line up (is every record an aggregate?)");
     const std::string what = by_host ? "host" : "rank";
 
-    std::string out = markdown ? "## suite compare: the " + what + "s of one MPI run\n\n" : "suite compare: the " + what + "s of one MPI run side by side\n\n";
+    std::string out = markdown ? "## suite compare: the " + what + "s of one MPI run\n\n"
+                               : "suite compare: the " + what + "s of one MPI run side by side\n\n";
     {
         // The library's name and version: "Open MPI v4.1.4" of "Open MPI v4.1.4, package: ...".
         const std::string library = job.library.substr(0, job.library.find(','));
         TextTable t{{"path", "machine", "date", "git", "processes", "layout", "MPI", "complete"}, {}, {}};
-        t.rows.push_back({f.path, f.machine_label(), context_text(f.context, "date"), context_text(f.context, "git_revision"), f.processes_label(),
-                          job.layout, library.empty() ? "?" : library, f.complete ? "yes" : "no (interrupted)"});
+        t.rows.push_back({f.path, f.machine_label(), context_text(f.context, "date"),
+                          context_text(f.context, "git_revision"), f.processes_label(), job.layout,
+                          library.empty() ? "?" : library, f.complete ? "yes" : "no (interrupted)"});
         out += markdown ? t.render_markdown() : t.render_text();
     }
     out += hosts_section(job, markdown);
@@ -168,7 +178,8 @@ std::string render_host_comparison(const ResultFile& f, bool markdown) {
     TextTable table{{"point", "figure"}, {}, {false, false}};
     for (const auto& lane : lanes) {
         const std::size_t n = lane.ranks.size();
-        table.header.push_back(by_host ? lane.name + " (" + std::to_string(n) + (n == 1 ? " rank)" : " ranks)") : lane.name);
+        table.header.push_back(by_host ? lane.name + " (" + std::to_string(n) + (n == 1 ? " rank)" : " ranks)")
+                                       : lane.name);
         table.header.push_back("vs fastest");
         table.right.insert(table.right.end(), {true, true});
     }
@@ -227,12 +238,16 @@ std::string render_host_comparison(const ResultFile& f, bool markdown) {
 
     out += markdown ? "\n### Points\n\n" : "\n";
     out += std::to_string(groups.size()) + " point(s), one column per " + what + ": " +
-           (by_host ? "for a figure where higher is better (GB/s) the sum of the best figures of the host's ranks, which ran at once; where "
+           (by_host ? "for a figure where higher is better (GB/s) the sum of the best figures of the host's ranks, "
+                      "which ran at once; where "
                       "lower is better (ns/load) its worst rank's best"
                     : "the rank's best figure") +
            ". \"vs fastest\": its performance relative to the fastest " + what +
-           " at that point, 1.000x for the fastest and below 1 for a slower one, whichever way the figure goes; \"slowest\": the " + what +
-           " furthest behind (\"-\" when all are equal). \"all ranks\": the aggregate record (the work of all ranks over the slowest rank's "
+           " at that point, 1.000x for the fastest and below 1 for a slower one, whichever way the figure goes; "
+           "\"slowest\": the " +
+           what +
+           " furthest behind (\"-\" when all are equal). \"all ranks\": the aggregate record (the work of all ranks "
+           "over the slowest rank's "
            "time, per repetition); \"rank spread\": its slowest rank's best time over its fastest rank's.\n";
     if (!markdown) out += "\n";
     out += markdown ? "\n" + table.render_markdown() : table.render_text();
@@ -256,15 +271,17 @@ std::string render_host_comparison(const ResultFile& f, bool markdown) {
     };
     for (const auto& kernel : kernel_order) {
         geo_row(kernel, logs[kernel]);
-        for (std::size_t l = 0; l < lanes.size(); ++l) everything[l].insert(everything[l].end(), logs[kernel][l].begin(), logs[kernel][l].end());
+        for (std::size_t l = 0; l < lanes.size(); ++l)
+            everything[l].insert(everything[l].end(), logs[kernel][l].begin(), logs[kernel][l].end());
     }
     if (kernel_order.size() > 1) geo_row("all kernels", everything);
     out += markdown ? "\n### Geometric mean per kernel\n\n" + geo.render_markdown() + "\n"
                     : "\nGeometric mean of each " + what + "'s ratio to the fastest, per kernel:\n" + geo.render_text();
     if (named) {
-        const std::size_t most = static_cast<std::size_t>(std::max_element(slowest_count.begin(), slowest_count.end()) - slowest_count.begin());
-        out += "Slowest most often: " + lanes[most].name + ", at " + std::to_string(slowest_count[most]) + " of " + std::to_string(groups.size()) +
-               " point(s).\n";
+        const std::size_t most = static_cast<std::size_t>(std::max_element(slowest_count.begin(), slowest_count.end()) -
+                                                          slowest_count.begin());
+        out += "Slowest most often: " + lanes[most].name + ", at " + std::to_string(slowest_count[most]) + " of " +
+               std::to_string(groups.size()) + " point(s).\n";
     } else {
         out += "No " + what + " is slower than another at any point.\n";
     }

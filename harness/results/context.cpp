@@ -69,7 +69,9 @@ nlohmann::json string_ops_context() {
     unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
     if (!__get_cpuid_count(7, 0, &eax, &ebx, &ecx, &edx))
         return {{"erms", nullptr}, {"fsrm", nullptr}, {"reason", "this CPU has no CPUID leaf 7"}};
-    return {{"erms", ((ebx >> 9) & 1u) != 0}, {"fsrm", ((edx >> 4) & 1u) != 0}, {"source", "CPUID leaf 7: EBX bit 9, EDX bit 4"}};
+    return {{"erms", ((ebx >> 9) & 1u) != 0},
+            {"fsrm", ((edx >> 4) & 1u) != 0},
+            {"source", "CPUID leaf 7: EBX bit 9, EDX bit 4"}};
 #else
     return {{"erms", nullptr}, {"fsrm", nullptr}, {"reason", "not an x86-64 CPU: the rep variants are not built"}};
 #endif
@@ -77,7 +79,8 @@ nlohmann::json string_ops_context() {
 
 }  // namespace
 
-nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments) {
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv,
+                             const Instruments& instruments) {
     nlohmann::json c;
     c["suite_version"] = build::version;
     c["git_revision"] = build::git_revision;
@@ -132,19 +135,24 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
     utsname u{};
     uname(&u);
     c["os_kernel"] = std::string(u.sysname) + " " + u.release;
-    c["memory_bytes"] = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE));
+    c["memory_bytes"] =
+        static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(sysconf(_SC_PAGESIZE));
     c["page_size_bytes"] = sysconf(_SC_PAGESIZE);
     c["transparent_hugepages"] = readable("/sys/kernel/mm/transparent_hugepage/enabled", true, "THP setting unknown");
     c["frequency_governor"] = readable("/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor", false,
                                        "no cpufreq driver exposes a governor here (common in VMs)");
     c["instruments"] = instruments_context(instruments, timer_resolution_ns());
     c["conventions"] = {
-        {"bandwidth", "STREAM convention: each array element read or written counts once, 8 B per double; "
-                      "copy/scale 16 B, add/triad/sin-add 24 B per element; index arrays not counted"},
+        {"bandwidth",
+         "STREAM convention: each array element read or written counts once, 8 B per double; "
+         "copy/scale 16 B, add/triad/sin-add 24 B per element; index arrays not counted"},
         {"gigabyte", "1 GB/s = 1e9 B/s"},
-        {"hardware_bytes", "estimate of memory-system traffic: +1 read per store (write-allocate) unless non-temporal or a string instruction (rep), "
-                           "4 B per index for random, whole 64 B lines for random and wide-strided accesses"},
-        {"headline", "best = minimum time over the counted repetitions; the first repetition is a warm-up, not counted"},
+        {"hardware_bytes",
+         "estimate of memory-system traffic: +1 read per store (write-allocate) unless non-temporal or a string "
+         "instruction (rep), "
+         "4 B per index for random, whole 64 B lines for random and wide-strided accesses"},
+        {"headline",
+         "best = minimum time over the counted repetitions; the first repetition is a warm-up, not counted"},
         {"timing", "monotonic clock around the whole parallel region, barriers included"},
     };
     return c;

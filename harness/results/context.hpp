@@ -6,11 +6,12 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "harness/measure/instrument_set.hpp"
 #include "harness/machine/topology.hpp"
+#include "harness/measure/instrument_set.hpp"
 
 namespace suite {
 
-nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments);
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv,
+                             const Instruments& instruments);
 
 }  // namespace suite

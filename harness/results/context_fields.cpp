@@ -21,21 +21,25 @@ std::string setting_text(const json& v) {
     return it->is_string() ? it->get<std::string>() : "unknown";
 }
 
-
 }  // namespace
 
 std::string context_text(const json& c, const std::string& field) {
     if (!c.is_object()) return "?";
     if (field == "caches") {
         const auto topo = c.find("topology");
-        if (topo == c.end() || !topo->is_object() || !topo->contains("caches") || !(*topo)["caches"].is_array()) return "?";
+        if (topo == c.end() || !topo->is_object() || !topo->contains("caches") || !(*topo)["caches"].is_array())
+            return "?";
         std::string out;
         for (const auto& cache : (*topo)["caches"]) {
-            if (!cache.is_object() || !cache.contains("level") || !cache["level"].is_number_integer() || !cache.contains("size_bytes") ||
-                !cache["size_bytes"].is_number_unsigned())
+            if (!cache.is_object() || !cache.contains("level") || !cache["level"].is_number_integer() ||
+                !cache.contains("size_bytes") || !cache["size_bytes"].is_number_unsigned())
                 return "?";
-            const std::string type = cache.contains("type") && cache["type"].is_string() ? cache["type"].get<std::string>() : "";
-            std::string item = "L" + std::to_string(cache["level"].get<std::int64_t>()) + (type == "data" ? "d" : type == "instruction" ? "i" : "") +
+            const std::string type =
+                cache.contains("type") && cache["type"].is_string() ? cache["type"].get<std::string>() : "";
+            std::string item = "L" + std::to_string(cache["level"].get<std::int64_t>()) +
+                               (type == "data"          ? "d"
+                                : type == "instruction" ? "i"
+                                                        : "") +
                                " " + format_bytes(cache["size_bytes"].get<std::uint64_t>());
             if (cache.contains("instances") && cache["instances"].is_number_integer())
                 item += " x" + std::to_string(cache["instances"].get<std::int64_t>());
@@ -58,19 +62,30 @@ std::string context_text(const json& c, const std::string& field) {
 }
 
 const std::vector<std::string>& context_fields_that_matter() {
-    static const std::vector<std::string> fields = {"cpu_model",      "sockets",         "numa_node_count",       "cores",
-                                                    "pus",            "caches",          "memory_bytes",          "compiler",
-                                                    "compiler_flags", "build_type",      "instruction_set",       "transparent_hugepages",
+    static const std::vector<std::string> fields = {"cpu_model",
+                                                    "sockets",
+                                                    "numa_node_count",
+                                                    "cores",
+                                                    "pus",
+                                                    "caches",
+                                                    "memory_bytes",
+                                                    "compiler",
+                                                    "compiler_flags",
+                                                    "build_type",
+                                                    "instruction_set",
+                                                    "transparent_hugepages",
                                                     "frequency_governor"};
     return fields;
 }
 
-std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(const std::vector<const ResultFile*>& files) {
+std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(
+    const std::vector<const ResultFile*>& files) {
     std::vector<std::pair<std::string, std::vector<std::string>>> out;
     for (const auto& field : context_fields_that_matter()) {
         std::vector<std::string> values;
         for (const auto* f : files) values.push_back(context_text(f->context, field));
-        if (std::adjacent_find(values.begin(), values.end(), std::not_equal_to<>()) != values.end()) out.push_back({field, values});
+        if (std::adjacent_find(values.begin(), values.end(), std::not_equal_to<>()) != values.end())
+            out.push_back({field, values});
     }
     std::vector<std::string> huge;
     for (const auto* f : files) {
@@ -80,7 +95,8 @@ std::vector<std::pair<std::string, std::vector<std::string>>> context_difference
         for (const auto& a : asked) text += (text.empty() ? "" : ", ") + a;
         huge.push_back(text.empty() ? "no points" : text);
     }
-    if (std::adjacent_find(huge.begin(), huge.end(), std::not_equal_to<>()) != huge.end()) out.push_back({"hugepages", huge});
+    if (std::adjacent_find(huge.begin(), huge.end(), std::not_equal_to<>()) != huge.end())
+        out.push_back({"hugepages", huge});
     // The processes of the run: one, or MPI ranks on hosts (which rank ran where).
     std::vector<std::string> procs;
     for (const auto* f : files) {
@@ -89,19 +105,22 @@ std::vector<std::pair<std::string, std::vector<std::string>>> context_difference
             text += " (" + f->mpi->layout + "):";
             for (const auto& h : f->mpi->hosts) {
                 text += " " + h.host + " [";
-                for (std::size_t i = 0; i < h.ranks.size(); ++i) text.append(i ? "," : "").append(std::to_string(h.ranks[i]));
+                for (std::size_t i = 0; i < h.ranks.size(); ++i)
+                    text.append(i ? "," : "").append(std::to_string(h.ranks[i]));
                 text += "]";
             }
         }
         procs.push_back(text);
     }
-    if (std::adjacent_find(procs.begin(), procs.end(), std::not_equal_to<>()) != procs.end()) out.push_back({"mpi", procs});
+    if (std::adjacent_find(procs.begin(), procs.end(), std::not_equal_to<>()) != procs.end())
+        out.push_back({"mpi", procs});
     return out;
 }
 
 FieldKind context_field_kind(const std::string& field) {
-    static const std::set<std::string> machine = {"cpu_model", "sockets", "numa_node_count", "cores", "pus", "memory_bytes"};
-    static const std::set<std::string> setting = {"compiler",        "compiler_flags", "build_type",
+    static const std::set<std::string> machine = {"cpu_model", "sockets", "numa_node_count",
+                                                  "cores",     "pus",     "memory_bytes"};
+    static const std::set<std::string> setting = {"compiler",        "compiler_flags",        "build_type",
                                                   "instruction_set", "transparent_hugepages", "hugepages"};
     if (machine.count(field)) return FieldKind::machine;
     if (setting.count(field)) return FieldKind::setting;

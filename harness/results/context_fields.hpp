@@ -22,13 +22,14 @@ const std::vector<std::string>& context_fields_that_matter();
 // each file's value, in the order of `files`; then "hugepages" (what the records asked of huge
 // pages, e.g. "none" against "thp") where the files' records disagree on it, and "mpi" (one
 // process, or MPI ranks and which host each ran on) where the runs' processes differ.
-std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(const std::vector<const ResultFile*>& files);
+std::vector<std::pair<std::string, std::vector<std::string>>> context_differences(
+    const std::vector<const ResultFile*>& files);
 
 // What a context field says: what the machine is (its CPU, cores, memory: compare's subject,
 // and a gate's baseline must share them), how the run was built and set up (compiler, flags,
-// the instruction set -march resolved to, huge pages: a difference changes every result), or a fact worth listing that varies without
-// changing what a point means (the reported caches on a VM that moves between hosts, the
-// frequency governor).
+// the instruction set -march resolved to, huge pages: a difference changes every result), or a fact worth listing that
+// varies without changing what a point means (the reported caches on a VM that moves between hosts, the frequency
+// governor).
 enum class FieldKind { machine, setting, informational };
 FieldKind context_field_kind(const std::string& field);
 

@@ -29,12 +29,23 @@ std::string html_text(const std::string& s) {
     out.reserve(s.size());
     for (char c : s) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&#39;"; break;
-            default: out += c;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&#39;";
+                break;
+            default:
+                out += c;
         }
     }
     return out;
@@ -70,22 +81,34 @@ void add_band(nlohmann::json& out, const Series& s, const DashboardOptions& opti
     const RunBand band = fit_band(medians, {}, alpha, min_runs);
     if (band.usable()) {
         out["band"] = {{"centre", band.centre}, {"low", band.low}, {"high", band.high}, {"spread", band.spread},
-                       {"runs", band.runs},     {"first", first},   {"alpha", alpha}};
+                       {"runs", band.runs},     {"first", first},  {"alpha", alpha}};
         return;
     }
     out["band"] = nullptr;
-    out["band_reason"] = medians.size() < min_runs ? "fewer than " + std::to_string(min_runs) + " runs: no band yet"
-                                                   : std::string("a median in the window is not a positive number: no band");
+    out["band_reason"] = medians.size() < min_runs
+                             ? "fewer than " + std::to_string(min_runs) + " runs: no band yet"
+                             : std::string("a median in the window is not a positive number: no band");
 }
 
 nlohmann::json series_json(const Series& s, const DashboardOptions& options, double alpha) {
     nlohmann::json entries = nlohmann::json::array(), steps = nlohmann::json::array();
     for (const auto& e : s.entries)
-        entries.push_back({{"commit", e.commit}, {"branch", e.branch}, {"date", e.date}, {"run_id", e.run_id}, {"median", e.median},
-                           {"noise", e.noise}, {"samples", e.samples.size()}, {"unstable", e.unstable}});
+        entries.push_back({{"commit", e.commit},
+                           {"branch", e.branch},
+                           {"date", e.date},
+                           {"run_id", e.run_id},
+                           {"median", e.median},
+                           {"noise", e.noise},
+                           {"samples", e.samples.size()},
+                           {"unstable", e.unstable}});
     for (const auto& st : s.steps)
-        steps.push_back({{"index", st.index}, {"commit", st.commit}, {"before", st.before}, {"after", st.after}, {"change", st.change},
-                         {"p", st.p}, {"worse", st.worse}});
+        steps.push_back({{"index", st.index},
+                         {"commit", st.commit},
+                         {"before", st.before},
+                         {"after", st.after},
+                         {"change", st.change},
+                         {"p", st.p},
+                         {"worse", st.worse}});
     nlohmann::json out = {{"machine", s.machine},
                           {"fingerprint", s.fingerprint},
                           {"context", s.context_class},
@@ -123,21 +146,28 @@ std::string summary_line(const std::vector<Series>& series) {
         steps += s.steps.size();
         for (const auto& st : s.steps) worse += st.worse ? 1 : 0;
     }
-    auto count = [](std::size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
+    auto count = [](std::size_t n, const char* one, const char* many) {
+        return std::to_string(n) + " " + (n == 1 ? one : many);
+    };
     return count(series.size(), "series", "series") + " on " + count(machines.size(), "machine", "machines") + ", " +
-           count(runs.size(), "run", "runs") + " of " + count(commits.size(), "commit", "commits") + ", " + count(steps, "step", "steps") +
-           " (" + std::to_string(worse) + " worse)";
+           count(runs.size(), "run", "runs") + " of " + count(commits.size(), "commit", "commits") + ", " +
+           count(steps, "step", "steps") + " (" + std::to_string(worse) + " worse)";
 }
 
 std::string read_chart_library(const std::string& path) {
-    const std::string install = "; install Debian's libjs-chart.js (apt-get install libjs-chart.js, or scripts/install-deps.sh run)";
-    struct stat st{};
-    if (stat(path.c_str(), &st) != 0) throw UsageError("the history page needs Chart.js, not found at " + path + install);
-    if (!S_ISREG(st.st_mode)) throw UsageError("the history page needs Chart.js, and " + path + " is not a file" + install);
+    const std::string install =
+        "; install Debian's libjs-chart.js (apt-get install libjs-chart.js, or scripts/install-deps.sh run)";
+    struct stat st {};
+    if (stat(path.c_str(), &st) != 0)
+        throw UsageError("the history page needs Chart.js, not found at " + path + install);
+    if (!S_ISREG(st.st_mode))
+        throw UsageError("the history page needs Chart.js, and " + path + " is not a file" + install);
     std::ifstream in(path, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
-    if (!in || text.str().empty()) throw UsageError("the history page needs Chart.js, and " + path + " cannot be read (" + std::strerror(errno) + ")" + install);
+    if (!in || text.str().empty())
+        throw UsageError("the history page needs Chart.js, and " + path + " cannot be read (" + std::strerror(errno) +
+                         ")" + install);
     return text.str();
 }
 
@@ -148,42 +178,56 @@ std::string page_html(const std::vector<Series>& series, const DashboardOptions&
     std::map<std::pair<std::string, std::string>, std::size_t> gated;
     for (const auto& s : series) ++gated[{s.fingerprint, s.context_class}];
     for (const auto& s : series)
-        doc["series"].push_back(series_json(s, options, band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}])));
+        doc["series"].push_back(
+            series_json(s, options, band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}])));
     // A host name or label with bytes that are not UTF-8 must not cost the whole page.
     const std::string data = script_safe(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     const std::string title = html_text(options.title);
 
-    std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-                       "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-                       "<link rel=\"icon\" href=\"data:,\">\n"
-                       // Nothing but this page's inline code and the chart library beside it: no network.
-                       "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'self' file: 'unsafe-inline'; "
-                       "style-src 'unsafe-inline'; img-src data:\">\n"
-                       "<title>" + title + "</title>\n<style>\n" + page_style + "</style>\n</head>\n<body>\n"
-                       "<header class=\"top\">\n<h1>" + title + "</h1>\n"
-                       "<p class=\"summary\">Generated " + utc_now() + " &middot; " + html_text(summary_line(series)) + "</p>\n";
+    std::string html =
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+        "<link rel=\"icon\" href=\"data:,\">\n"
+        // Nothing but this page's inline code and the chart library beside it: no network.
+        "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'self' file: "
+        "'unsafe-inline'; "
+        "style-src 'unsafe-inline'; img-src data:\">\n"
+        "<title>" +
+        title + "</title>\n<style>\n" + page_style +
+        "</style>\n</head>\n<body>\n"
+        "<header class=\"top\">\n<h1>" +
+        title +
+        "</h1>\n"
+        "<p class=\"summary\">Generated " +
+        utc_now() + " &middot; " + html_text(summary_line(series)) + "</p>\n";
     if (series.empty()) {
-        html += "</header>\n<main>\n<p class=\"empty\" id=\"empty\">The history is empty: no run has been recorded yet, so there is no "
-                "trend to draw.</p>\n</main>\n";
+        html +=
+            "</header>\n<main>\n<p class=\"empty\" id=\"empty\">The history is empty: no run has been recorded yet, so "
+            "there is no "
+            "trend to draw.</p>\n</main>\n";
     } else {
         html += page_controls;
         html += "</header>\n<p class=\"failure\" id=\"failure\" hidden></p>\n<main id=\"charts\"></main>\n";
     }
     html += "<script type=\"application/json\" id=\"history-data\">" + data + "</script>\n";
-    if (!series.empty()) html += "<script src=\"chart.min.js\"></script>\n<script>\n" + std::string(page_script) + "</script>\n";
+    if (!series.empty())
+        html += "<script src=\"chart.min.js\"></script>\n<script>\n" + std::string(page_script) + "</script>\n";
     html += "</body>\n</html>\n";
     return html;
 }
 
 }  // namespace dashboard_detail
 
-std::string write_dashboard(const std::vector<Series>& series, const std::string& out_dir, const DashboardOptions& options) {
+std::string write_dashboard(const std::vector<Series>& series, const std::string& out_dir,
+                            const DashboardOptions& options) {
     // Everything that can fail for want of the library fails before the directory is created.
     const std::string library = dashboard_detail::read_chart_library(options.chart_js);
     const std::string page = dashboard_detail::page_html(series, options);
     // The page's two files, replaced by every `history html` into the same directory; what else
     // the directory holds (a site's CNAME) is left alone.
-    OutputDir out = OutputDir::claim(out_dir, DirPolicy{.option = "--out", .command = "suite history html", .fixed_files = {"chart.min.js", "index.html"}});
+    OutputDir out = OutputDir::claim(
+        out_dir,
+        DirPolicy{.option = "--out", .command = "suite history html", .fixed_files = {"chart.min.js", "index.html"}});
     out.write("chart.min.js", library);
     out.write("index.html", page);
     std::string dir = out_dir;

@@ -25,6 +25,7 @@ struct DashboardOptions {
 // Writes DIR/index.html and DIR/chart.min.js (through the suite's one safe writer, so a failed
 // write leaves any previous page whole). Returns the page's path. Throws UsageError when the
 // chart library is missing (naming the package to install) or DIR cannot be written.
-std::string write_dashboard(const std::vector<Series>& series, const std::string& out_dir, const DashboardOptions& options = {});
+std::string write_dashboard(const std::vector<Series>& series, const std::string& out_dir,
+                            const DashboardOptions& options = {});
 
 }  // namespace suite

@@ -5,7 +5,8 @@
 
 namespace suite::dashboard_detail {
 
-const char* const page_style = R"css(:root { --ink: #1d2330; --muted: #5b6474; --line: #d9dee7; --median: #1f5fa8; --gate: #b35c00; --worse: #c62828; --better: #2e7d32; }
+const char* const page_style =
+    R"css(:root { --ink: #1d2330; --muted: #5b6474; --line: #d9dee7; --median: #1f5fa8; --gate: #b35c00; --worse: #c62828; --better: #2e7d32; }
 * { box-sizing: border-box; }
 [hidden] { display: none !important; }
 body { margin: 0; font: 14px/1.45 system-ui, "DejaVu Sans", "Liberation Sans", sans-serif; color: var(--ink); background: #f3f5f8; }

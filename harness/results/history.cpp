@@ -55,8 +55,10 @@ const char* direction_text(Direction d) { return d == Direction::higher_is_bette
 // one process (""). A rank's host (rank_host) is stored but is no part of the identity: the gate
 // looks a series up by its point (PointKey), which has none.
 std::string history_series_columns(int version) {
-    return std::string("r.fingerprint, r.machine, r.context_class, c.hugepages, c.kernel, c.variant, c.access, c.size_kind, c.size, c.threads, "
-                       "c.pin, c.placement, c.params, c.figure, c.unit, c.direction, ") +
+    return std::string(
+               "r.fingerprint, r.machine, r.context_class, c.hugepages, c.kernel, c.variant, c.access, c.size_kind, "
+               "c.size, c.threads, "
+               "c.pin, c.placement, c.params, c.figure, c.unit, c.direction, ") +
            (version >= 3 ? "c.rank_scope" : "''");
 }
 constexpr int history_series_column_count = 17;
@@ -76,9 +78,11 @@ RunIdentity identify_run(const ResultFile& file, const std::string& commit, cons
     const json& c = file.context;
     RunIdentity id;
     id.fingerprint = machine_fingerprint(c);
-    id.machine = context_text(c, "host") + " (" + context_text(c, "cpu_model") + ", " + context_text(c, "cores") + " cores)";
-    id.context_class = context_text(c, "compiler") + ", " + context_text(c, "compiler_flags") + ", " + context_text(c, "build_type") + ", " +
-                       context_text(c, "instruction_set") + ", THP " + context_text(c, "transparent_hugepages");
+    id.machine =
+        context_text(c, "host") + " (" + context_text(c, "cpu_model") + ", " + context_text(c, "cores") + " cores)";
+    id.context_class = context_text(c, "compiler") + ", " + context_text(c, "compiler_flags") + ", " +
+                       context_text(c, "build_type") + ", " + context_text(c, "instruction_set") + ", THP " +
+                       context_text(c, "transparent_hugepages");
     const std::string revision = context_text(c, "git_revision");
     id.commit = !commit.empty() ? commit : revision != "?" && !revision.empty() ? revision : "unknown";
     id.branch = branch.empty() ? "unknown" : branch;
@@ -95,30 +99,36 @@ std::string run_content_hash(const ResultFile& file) {
     h.add(file.context.dump());
     for (const auto& p : file.points) {
         h.add(p.key.label());
-        h.add(p.key.size_kind + " " + p.hugepages + (p.verified ? " verified" : " failed") + (p.unstable ? " unstable " + p.unstable_why : ""));
+        h.add(p.key.size_kind + " " + p.hugepages + (p.verified ? " verified" : " failed") +
+              (p.unstable ? " unstable " + p.unstable_why : ""));
         for (const auto& m : p.measures) {
-            h.add(m.name + " " + m.unit + " " + exact_text(m.best) + " " + exact_text(m.median) + " " + exact_text(m.noise));
+            h.add(m.name + " " + m.unit + " " + exact_text(m.best) + " " + exact_text(m.median) + " " +
+                  exact_text(m.noise));
             for (double s : m.samples) h.add(exact_text(s));
         }
     }
     return h.hex();
 }
 
-std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const std::string& commit, const std::string& branch) {
+std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const std::string& commit,
+                                     const std::string& branch) {
     std::vector<AddOutcome> out;
     SqlTransaction t(db_);
     // Under the write lock: a newer suite may have migrated the file since it was opened.
     if (const int v = history_file_version(db_); v > history_schema_version)
-        throw InputError(path() + ": schema version " + std::to_string(v) + " is newer than this suite's (" + std::to_string(history_schema_version) +
-                         "); nothing was changed");
+        throw InputError(path() + ": schema version " + std::to_string(v) + " is newer than this suite's (" +
+                         std::to_string(history_schema_version) + "); nothing was changed");
     SqlStatement find = db_.prepare("SELECT id, commit_sha FROM runs WHERE content_hash = ?1");
     SqlStatement run = db_.prepare(
-        "INSERT INTO runs (content_hash, fingerprint, machine, context_class, commit_sha, branch, date, source, added, context) "
+        "INSERT INTO runs (content_hash, fingerprint, machine, context_class, commit_sha, branch, date, source, added, "
+        "context) "
         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)");
     SqlStatement record = db_.prepare(
-        "INSERT INTO records (run_id, kernel, variant, access, size_kind, size, threads, pin, placement, params, hugepages, figure, unit, "
+        "INSERT INTO records (run_id, kernel, variant, access, size_kind, size, threads, pin, placement, params, "
+        "hugepages, figure, unit, "
         "direction, median, noise, count_per_call, samples, verified, unstable, unstable_why, rank_scope, rank_host) "
-        "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, ?23)");
+        "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, "
+        "?23)");
     const std::string now = history_added_at();
     for (const auto& f : files) {
         AddOutcome o;
@@ -134,7 +144,12 @@ std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const
             continue;
         }
         run.reset();
-        run.bind(1, hash).bind(2, o.id.fingerprint).bind(3, o.id.machine).bind(4, o.id.context_class).bind(5, o.id.commit).bind(6, o.id.branch);
+        run.bind(1, hash)
+            .bind(2, o.id.fingerprint)
+            .bind(3, o.id.machine)
+            .bind(4, o.id.context_class)
+            .bind(5, o.id.commit)
+            .bind(6, o.id.branch);
         run.bind(7, o.id.date).bind(8, f.path).bind(9, now).bind(10, f.context.dump());
         run.run();
         o.run_id = db_.last_insert_id();
@@ -145,10 +160,18 @@ std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const
             for (const auto& m : p.measures) {
                 record.reset();
                 record.bind(1, o.run_id).bind(2, k.kernel).bind(3, k.variant).bind(4, k.access).bind(5, k.size_kind);
-                record.bind(6, static_cast<std::int64_t>(k.size)).bind(7, static_cast<std::int64_t>(k.threads)).bind(8, k.pin).bind(9, k.placement);
+                record.bind(6, static_cast<std::int64_t>(k.size))
+                    .bind(7, static_cast<std::int64_t>(k.threads))
+                    .bind(8, k.pin)
+                    .bind(9, k.placement);
                 record.bind(10, json(k.params).dump()).bind(11, p.hugepages).bind(12, m.name).bind(13, m.unit);
-                record.bind(14, std::string(direction_text(m.direction))).bind(15, m.median).bind(16, m.noise).bind(17, m.count_per_call);
-                record.bind(18, json(m.samples).dump()).bind(19, std::int64_t{p.verified}).bind(20, std::int64_t{p.unstable});
+                record.bind(14, std::string(direction_text(m.direction)))
+                    .bind(15, m.median)
+                    .bind(16, m.noise)
+                    .bind(17, m.count_per_call);
+                record.bind(18, json(m.samples).dump())
+                    .bind(19, std::int64_t{p.verified})
+                    .bind(20, std::int64_t{p.unstable});
                 record.bind(21, p.unstable_why).bind(22, k.rank_scope);
                 record.bind(23, p.mpi.scope == RankOrigin::Scope::rank ? p.mpi.host : std::string());
                 record.run();
@@ -172,25 +195,28 @@ std::vector<std::pair<std::string, std::string>> History::machines_matching(cons
     SqlStatement s = db_.prepare("SELECT fingerprint, max(machine) FROM runs GROUP BY fingerprint ORDER BY 2, 1");
     while (s.step()) {
         const std::string fp = s.text(0), label = s.text(1);
-        if (text.empty() || fp.rfind(text, 0) == 0 || label.find(text) != std::string::npos) out.emplace_back(fp, label);
+        if (text.empty() || fp.rfind(text, 0) == 0 || label.find(text) != std::string::npos)
+            out.emplace_back(fp, label);
     }
     return out;
 }
 
 std::vector<Series> History::series(const SeriesFilter& filter) const {
     const std::string series_columns = history_series_columns(version_);
-    SqlStatement s = db_.prepare("SELECT " + series_columns +
-                                 ", r.commit_sha, r.branch, r.date, r.id, c.median, c.noise, c.samples, c.unstable, c.count_per_call "
-                                 "FROM records c JOIN runs r ON r.id = c.run_id "
-                                 "WHERE c.verified = 1 AND (?1 = '' OR c.kernel = ?1) AND (?2 = '' OR r.context_class = ?2) ORDER BY " +
-                                 series_columns + ", r.date, r.id");
+    SqlStatement s = db_.prepare(
+        "SELECT " + series_columns +
+        ", r.commit_sha, r.branch, r.date, r.id, c.median, c.noise, c.samples, c.unstable, c.count_per_call "
+        "FROM records c JOIN runs r ON r.id = c.run_id "
+        "WHERE c.verified = 1 AND (?1 = '' OR c.kernel = ?1) AND (?2 = '' OR r.context_class = ?2) ORDER BY " +
+        series_columns + ", r.date, r.id");
     s.bind(1, filter.kernel).bind(2, filter.context_class);
     std::vector<Series> out;
     std::vector<std::string> last;  // the series columns of the previous row
     while (s.step()) {
         std::vector<std::string> cols;
         for (int i = 0; i < history_series_column_count; ++i) cols.push_back(s.text(i));
-        if (!filter.fingerprints.empty() && std::find(filter.fingerprints.begin(), filter.fingerprints.end(), cols[0]) == filter.fingerprints.end())
+        if (!filter.fingerprints.empty() &&
+            std::find(filter.fingerprints.begin(), filter.fingerprints.end(), cols[0]) == filter.fingerprints.end())
             continue;
         if (out.empty() || cols != last) {
             Series x;
@@ -241,12 +267,15 @@ std::size_t History::run_count() const {
 
 std::vector<MachineSummary> History::summary() const {
     std::vector<MachineSummary> out;
-    SqlStatement machines =
-        db_.prepare("SELECT fingerprint, max(machine), count(*), count(DISTINCT context_class) FROM runs GROUP BY fingerprint ORDER BY 2, 1");
-    SqlStatement series = db_.prepare("SELECT count(*) FROM (SELECT DISTINCT " + history_series_columns(version_) +
-                                      " FROM records c JOIN runs r ON r.id = c.run_id WHERE c.verified = 1 AND r.fingerprint = ?1)");
+    SqlStatement machines = db_.prepare(
+        "SELECT fingerprint, max(machine), count(*), count(DISTINCT context_class) FROM runs GROUP BY fingerprint "
+        "ORDER BY 2, 1");
+    SqlStatement series =
+        db_.prepare("SELECT count(*) FROM (SELECT DISTINCT " + history_series_columns(version_) +
+                    " FROM records c JOIN runs r ON r.id = c.run_id WHERE c.verified = 1 AND r.fingerprint = ?1)");
     SqlStatement commits = db_.prepare(
-        "SELECT commit_sha, branch, max(date), count(*) FROM runs WHERE fingerprint = ?1 GROUP BY commit_sha, branch ORDER BY min(date), commit_sha");
+        "SELECT commit_sha, branch, max(date), count(*) FROM runs WHERE fingerprint = ?1 GROUP BY commit_sha, branch "
+        "ORDER BY min(date), commit_sha");
     while (machines.step()) {
         MachineSummary m;
         m.fingerprint = machines.text(0);
@@ -259,7 +288,8 @@ std::vector<MachineSummary> History::summary() const {
         commits.reset();
         commits.bind(1, m.fingerprint);
         while (commits.step())
-            m.commits.push_back({commits.text(0), commits.text(1), commits.text(2), static_cast<std::size_t>(commits.integer(3))});
+            m.commits.push_back(
+                {commits.text(0), commits.text(1), commits.text(2), static_cast<std::size_t>(commits.integer(3))});
         out.push_back(std::move(m));
     }
     return out;

@@ -56,16 +56,16 @@ struct HistoryOptions {
 struct AddOutcome {
     std::string source;
     std::int64_t run_id = 0;
-    bool added = false;  // false: the same run was already there (run_id is that one)
+    bool added = false;         // false: the same run was already there (run_id is that one)
     std::string stored_commit;  // the commit the history has for it
     std::size_t figures = 0;    // records stored (one a figure of a point)
     RunIdentity id;
 };
 
 struct SeriesFilter {
-    std::string kernel;            // "" any
+    std::string kernel;                     // "" any
     std::vector<std::string> fingerprints;  // empty: any
-    std::string context_class;     // "" any (the run-level class)
+    std::string context_class;              // "" any (the run-level class)
 };
 
 struct MachineSummary {
@@ -91,7 +91,8 @@ public:
     int schema_version() const { return version_; }
 
     // All of `files` in one transaction: all land or none does.
-    std::vector<AddOutcome> add(const std::vector<ResultFile>& files, const std::string& commit, const std::string& branch);
+    std::vector<AddOutcome> add(const std::vector<ResultFile>& files, const std::string& commit,
+                                const std::string& branch);
     // The id of the run with this content, 0 when it is not in the history.
     std::int64_t find_run(const std::string& content_hash) const;
     // The fingerprints whose machine label contains `text`, or that start with it.

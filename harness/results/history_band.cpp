@@ -23,15 +23,18 @@ std::vector<double> logs_of(const std::vector<double>& v, bool& all_positive) {
     std::vector<double> out;
     all_positive = true;
     for (double x : v) {
-        if (!(x > 0) || !std::isfinite(x)) all_positive = false;
-        else out.push_back(std::log(x));
+        if (!(x > 0) || !std::isfinite(x))
+            all_positive = false;
+        else
+            out.push_back(std::log(x));
     }
     return out;
 }
 
 }  // namespace
 
-RunBand fit_band(const std::vector<double>& window, const std::vector<double>& centre, double alpha, std::size_t min_runs) {
+RunBand fit_band(const std::vector<double>& window, const std::vector<double>& centre, double alpha,
+                 std::size_t min_runs) {
     RunBand b;
     const std::vector<double>& c = centre.empty() ? window : centre;
     bool window_ok = false, centre_ok = false;
@@ -60,8 +63,8 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     if (!band.usable()) {
         if (rule.auto_tolerance) g.tolerance = rule.fallback_tolerance;
         Finding f = judge(base, run, g);
-        const std::string why = "fewer than " + std::to_string(rule.min_runs) + " runs in the window (" + std::to_string(band.runs) +
-                                "): no band; check's rule at " + percent_text(g.tolerance);
+        const std::string why = "fewer than " + std::to_string(rule.min_runs) + " runs in the window (" +
+                                std::to_string(band.runs) + "): no band; check's rule at " + percent_text(g.tolerance);
         f.note = f.note.empty() ? why : why + "; " + f.note;
         return f;
     }
@@ -85,7 +88,9 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     return f;
 }
 
-double band_alpha(double alpha, std::size_t family) { return std::min(1.0, 2 * alpha / static_cast<double>(std::max<std::size_t>(family, 1))); }
+double band_alpha(double alpha, std::size_t family) {
+    return std::min(1.0, 2 * alpha / static_cast<double>(std::max<std::size_t>(family, 1)));
+}
 
 void parse_history_tolerance(const std::string& text, HistoryRule& rule) {
     if (text == "auto") {

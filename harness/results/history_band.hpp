@@ -30,14 +30,14 @@ namespace suite {
 
 // How `history check` and `history noise` judge a figure against its history.
 struct HistoryRule {
-    GateRule gate;                  // the minimum effect (tolerance), alpha and min_count of check
-    bool auto_tolerance = false;    // --tolerance=auto: the minimum effect is the band's edge
-    double auto_floor = 0.01;       // ...never below 1 %
+    GateRule gate;                // the minimum effect (tolerance), alpha and min_count of check
+    bool auto_tolerance = false;  // --tolerance=auto: the minimum effect is the band's edge
+    double auto_floor = 0.01;     // ...never below 1 %
     // A series with fewer runs than the model needs is gated by check's rule at this tolerance
     // under --tolerance=auto (the A/A reruns of docs/results-tools.md: no false alarm at 25 %).
     double fallback_tolerance = 0.25;
-    std::size_t min_runs = 5;       // runs the band needs (the spread of 4 logarithms says little)
-    bool confirmed = false;         // --confirm: a rerun must show the change too
+    std::size_t min_runs = 5;  // runs the band needs (the spread of 4 logarithms says little)
+    bool confirmed = false;    // --confirm: a rerun must show the change too
 };
 
 // The two-sided chance a band leaves to one figure, for a run that gates `family` figures:
@@ -50,12 +50,12 @@ struct HistoryRule {
 double band_alpha(double alpha, std::size_t family);
 
 struct RunBand {
-    std::size_t runs = 0;         // medians the spread was estimated from
-    std::size_t centre_runs = 0;  // medians the centre was taken from
-    double centre = NAN;          // in the figure's units
-    double spread = NAN;          // relative: 1.4826 · the median absolute deviation of the log medians
-    double half_width = NAN;      // of the band, in log units; NAN: no band (too few runs)
-    double low = NAN, high = NAN; // the band, in the figure's units
+    std::size_t runs = 0;          // medians the spread was estimated from
+    std::size_t centre_runs = 0;   // medians the centre was taken from
+    double centre = NAN;           // in the figure's units
+    double spread = NAN;           // relative: 1.4826 · the median absolute deviation of the log medians
+    double half_width = NAN;       // of the band, in log units; NAN: no band (too few runs)
+    double low = NAN, high = NAN;  // the band, in the figure's units
     bool usable() const { return std::isfinite(half_width); }
 };
 
@@ -63,7 +63,8 @@ struct RunBand {
 // the centre is taken from (empty: the window's). `alpha`: the chance, for this one figure, that
 // an unchanged run leaves it (two-sided). Fewer than `min_runs` window medians, or any that is
 // not positive: no band (half_width NAN), the centre still set where there is one.
-RunBand fit_band(const std::vector<double>& window, const std::vector<double>& centre, double alpha, std::size_t min_runs);
+RunBand fit_band(const std::vector<double>& window, const std::vector<double>& centre, double alpha,
+                 std::size_t min_runs);
 
 // One figure of a run against its history: `base` pooled from the runs (history_gate.hpp), the
 // band fitted from their medians. With a band, the baseline's median is the band's centre, the

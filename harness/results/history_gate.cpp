@@ -28,7 +28,8 @@ Measure pool_entries(const std::vector<const SeriesEntry*>& entries, const Measu
     m.best = m.median;
     // The pool's spread holds both each run's own noise and how runs differ from one another;
     // without repetitions, the larger of the runs' typical noise and the spread of their medians.
-    m.noise = m.samples.size() >= 2 ? robust_relative_spread(m.samples) : std::max(median_of(noises), robust_relative_spread(medians));
+    m.noise = m.samples.size() >= 2 ? robust_relative_spread(m.samples)
+                                    : std::max(median_of(noises), robust_relative_spread(medians));
     if (!counts.empty()) m.count_per_call = median_of(counts);
     return m;
 }
@@ -39,8 +40,9 @@ bool same_commit(const std::string& stored, const std::string& given) {
     return n >= 7 && stored.compare(0, n, given, 0, n) == 0;
 }
 
-WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFile& run, const RunIdentity& id, std::int64_t own_run_id,
-                               std::size_t window, const std::string& label, const std::string& base_commit) {
+WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFile& run, const RunIdentity& id,
+                               std::int64_t own_run_id, std::size_t window, const std::string& label,
+                               const std::string& base_commit) {
     using SeriesId = std::tuple<std::string, PointKey, std::string, std::string>;  // class, point, figure, unit
     std::map<SeriesId, const Series*> by_id;
     for (const Series& s : series)
@@ -64,7 +66,8 @@ WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFi
             std::vector<const SeriesEntry*> stable, unstable, base;
             const auto& entries = it->second->entries;
             for (auto e = entries.rbegin(); e != entries.rend(); ++e) {
-                const bool own = (id.commit != "unknown" && e->commit == id.commit) || (own_run_id != 0 && e->run_id == own_run_id);
+                const bool own =
+                    (id.commit != "unknown" && e->commit == id.commit) || (own_run_id != 0 && e->run_id == own_run_id);
                 if (own) continue;
                 if (!base_commit.empty() && !e->unstable && same_commit(e->commit, base_commit)) base.push_back(&*e);
                 if (stable.size() < window) (e->unstable ? unstable : stable).push_back(&*e);
@@ -137,15 +140,18 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         f = std::move(g);
     }
     auto percent = [](double x) { return format_significant(x * 100, 3) + "%"; };
-    const std::string effect = rule.auto_tolerance ? "the band's edge (--tolerance=auto, at least " + percent(rule.auto_floor) + ")"
-                                                   : percent(rule.gate.tolerance);
-    rep.rule_text = "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval at " +
-                    format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) + (rule.confirmed ? ", confirmed by a rerun," : "") + " over " +
-                    std::to_string(family) + " figures), is beyond " + effect + ", and the repetitions tell it from the pool's at p < " +
-                    format_significant(rule.gate.alpha, 3);
+    const std::string effect = rule.auto_tolerance
+                                   ? "the band's edge (--tolerance=auto, at least " + percent(rule.auto_floor) + ")"
+                                   : percent(rule.gate.tolerance);
+    rep.rule_text =
+        "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval at " +
+        format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) +
+        (rule.confirmed ? ", confirmed by a rerun," : "") + " over " + std::to_string(family) +
+        " figures), is beyond " + effect + ", and the repetitions tell it from the pool's at p < " +
+        format_significant(rule.gate.alpha, 3);
     if (without_band)
-        rep.notes.push_back(std::to_string(without_band) + " figure(s) have fewer than " + std::to_string(rule.min_runs) +
-                            " runs in the window: no band; check's rule at " +
+        rep.notes.push_back(std::to_string(without_band) + " figure(s) have fewer than " +
+                            std::to_string(rule.min_runs) + " runs in the window: no band; check's rule at " +
                             percent(rule.auto_tolerance ? rule.fallback_tolerance : rule.gate.tolerance));
     return rep;
 }
@@ -161,9 +167,10 @@ void confirm_findings(CheckReport& first, const CheckReport& second) {
         const std::string was = f.verdict == Verdict::regressed ? "regressed" : "improved";
         f.verdict = Verdict::inconclusive;
         f.note = was + " here but not in the confirming run " + second.run_path +
-                 (it == again.end() ? " (which lacks this figure)"
-                                    : " (" + std::string(it->second->run / it->second->baseline >= 1 ? "+" : "") +
-                                          format_significant((it->second->run / it->second->baseline - 1) * 100, 3) + "% there)");
+                 (it == again.end()
+                      ? " (which lacks this figure)"
+                      : " (" + std::string(it->second->run / it->second->baseline >= 1 ? "+" : "") +
+                            format_significant((it->second->run / it->second->baseline - 1) * 100, 3) + "% there)");
     }
     first.notes.push_back("confirmed by " + second.run_path + ": a change counts only where both runs show it");
 }

@@ -18,8 +18,8 @@
 namespace suite {
 
 struct WindowBaseline {
-    ResultFile file;             // the pooled baseline, one point for each point of the run with history
-    std::size_t runs_pooled = 0; // distinct runs that went into it
+    ResultFile file;              // the pooled baseline, one point for each point of the run with history
+    std::size_t runs_pooled = 0;  // distinct runs that went into it
     // For each point and figure ("bandwidth GB/s") pooled: the medians of the window's runs (for
     // the spread) and of the runs pooled (for the centre: the window's, or the base commit's).
     struct Medians {
@@ -33,8 +33,9 @@ struct WindowBaseline {
 // a figure whose entries are all unstable makes that point unstable (so inconclusive).
 // `base_commit` "": the window's runs are pooled; otherwise the stable runs of that commit (a
 // prefix of at least 7 hex digits either way) are, and a point without any is left out.
-WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFile& run, const RunIdentity& id, std::int64_t own_run_id,
-                               std::size_t window, const std::string& label, const std::string& base_commit = "");
+WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFile& run, const RunIdentity& id,
+                               std::int64_t own_run_id, std::size_t window, const std::string& label,
+                               const std::string& base_commit = "");
 
 // The entries of one series pooled into one measure shaped like `like` (name, unit, direction).
 Measure pool_entries(const std::vector<const SeriesEntry*>& entries, const Measure& like);

@@ -14,7 +14,8 @@ namespace {
 
 // The stable entries of a series other than `skip` (and `also`), the `window` nearest to `skip`
 // in the series' order (ties to the earlier one); `skip` = entries.size(): the last `window`.
-std::vector<const SeriesEntry*> nearest_window(const Series& s, std::size_t skip, std::size_t window, std::size_t also = SIZE_MAX) {
+std::vector<const SeriesEntry*> nearest_window(const Series& s, std::size_t skip, std::size_t window,
+                                               std::size_t also = SIZE_MAX) {
     std::vector<std::pair<std::size_t, std::size_t>> by_distance;  // distance, index
     const std::size_t n = s.entries.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -64,7 +65,8 @@ double sd_of_logs(const std::vector<double>& medians) {
 
 }  // namespace
 
-NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window, const HistoryRule& rule, bool use_band, bool confirm) {
+NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window, const HistoryRule& rule, bool use_band,
+                          bool confirm) {
     NoiseReport out;
     // The Bonferroni family of a run: the series of its machine and build that have it.
     std::map<std::pair<std::string, std::int64_t>, std::size_t> family;

@@ -19,10 +19,10 @@ namespace suite {
 
 struct SeriesNoise {
     const Series* series = nullptr;
-    RunBand band;                    // of the latest window (what the next run is held against)
-    double sd_spread = NAN;          // the standard deviation of the log medians of that window: above the
-                                     // band's spread where a stray run is in the window (heavy tails)
-    std::size_t tried = 0;           // runs (or pairs of runs, confirming) gated leaving each out
+    RunBand band;            // of the latest window (what the next run is held against)
+    double sd_spread = NAN;  // the standard deviation of the log medians of that window: above the
+                             // band's spread where a stray run is in the window (heavy tails)
+    std::size_t tried = 0;   // runs (or pairs of runs, confirming) gated leaving each out
     std::size_t regressed = 0, improved = 0;
 };
 
@@ -36,7 +36,7 @@ struct NoiseReport {
 // `use_band` false: check's rule on the pooled window alone, the gate before the band, to compare.
 // `confirm`: each run is gated with the next stable run of its series as its confirming rerun
 // (both left out of the window), and an alarm needs both to regress, as history check --confirm.
-NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window, const HistoryRule& rule, bool use_band = true,
-                          bool confirm = false);
+NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window, const HistoryRule& rule,
+                          bool use_band = true, bool confirm = false);
 
 }  // namespace suite

@@ -48,13 +48,16 @@ static_assert(std::size(history_migrations) == history_schema_version, "one migr
 
 [[noreturn]] void refuse_newer(const std::string& path, int version) {
     throw InputError(path + ": schema version " + std::to_string(version) + " is newer than this suite's (" +
-                     std::to_string(history_schema_version) + "); a newer suite wrote it, so use that one (nothing was changed)");
+                     std::to_string(history_schema_version) +
+                     "); a newer suite wrote it, so use that one (nothing was changed)");
 }
 
 // Applies the migrations from the file's version up to `to`, inside the caller's transaction.
 void migrate_history(SqlDatabase& db, int from, int to) {
     for (int v = from + 1; v <= to; ++v) db.exec(history_migrations[v - 1]);
-    db.prepare("INSERT OR REPLACE INTO meta (key, value) VALUES ('schema_version', ?1)").bind(1, std::to_string(to)).run();
+    db.prepare("INSERT OR REPLACE INTO meta (key, value) VALUES ('schema_version', ?1)")
+        .bind(1, std::to_string(to))
+        .run();
 }
 
 // SQLite's own check of the file's structure (pages, b-trees), without the slower index scan.
@@ -66,14 +69,17 @@ void check_history_integrity(const SqlDatabase& db) {
     for (char& c : first)
         if (c == '\n') c = ' ';
     first.erase(0, first.find_first_not_of(' '));
-    if (first != "ok") throw InputError(db.path() + ": is not a suite history database (SQLite finds it damaged: " + first + "); nothing was changed");
+    if (first != "ok")
+        throw InputError(db.path() + ": is not a suite history database (SQLite finds it damaged: " + first +
+                         "); nothing was changed");
 }
 
 struct stat stat_or_missing(const std::string& path, bool& exists) {
-    struct stat st{};
+    struct stat st {};
     exists = ::stat(path.c_str(), &st) == 0;
     if (!exists && errno != ENOENT) throw InputError(path + ": cannot read it: " + std::strerror(errno));
-    if (exists && !S_ISREG(st.st_mode)) throw InputError(path + ": is not a regular file; give a history database (e.g. results/history.sqlite)");
+    if (exists && !S_ISREG(st.st_mode))
+        throw InputError(path + ": is not a regular file; give a history database (e.g. results/history.sqlite)");
     // What the file holds, not what stat says of it (a /proc file says 0 bytes and has text):
     // an SQLite database starts with its 16-byte header; only an empty file may lack it.
     if (exists) {
@@ -81,9 +87,12 @@ struct stat stat_or_missing(const std::string& path, bool& exists) {
         char head[16] = {};
         in.read(head, sizeof head);
         const std::streamsize got = in.gcount();
-        static const char sqlite_header[16] = {'S', 'Q', 'L', 'i', 't', 'e', ' ', 'f', 'o', 'r', 'm', 'a', 't', ' ', '3', '\0'};
+        static const char sqlite_header[16] = {'S', 'Q', 'L', 'i', 't', 'e', ' ', 'f',
+                                               'o', 'r', 'm', 'a', 't', ' ', '3', '\0'};
         if (got > 0 && (got < 16 || std::memcmp(head, sqlite_header, 16) != 0))
-            throw InputError(path + ": is not a suite history database (it does not start as an SQLite file does); nothing was changed");
+            throw InputError(
+                path +
+                ": is not a suite history database (it does not start as an SQLite file does); nothing was changed");
     }
     return st;
 }
@@ -96,7 +105,10 @@ int history_file_version(const SqlDatabase& db) {
     if (all.integer(0) == 0) return 0;
     SqlStatement meta = db.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'meta'");
     meta.step();
-    if (meta.integer(0) == 0) throw InputError(db.path() + ": is not a suite history database (an SQLite file without suite's meta table); nothing was changed");
+    if (meta.integer(0) == 0)
+        throw InputError(
+            db.path() +
+            ": is not a suite history database (an SQLite file without suite's meta table); nothing was changed");
     SqlStatement v = db.prepare("SELECT value FROM meta WHERE key = 'schema_version'");
     const std::string text = v.step() ? v.text(0) : "";
     std::size_t used = 0;
@@ -107,18 +119,23 @@ int history_file_version(const SqlDatabase& db) {
         used = 0;
     }
     if (text.empty() || used != text.size() || version < 1)
-        throw InputError(db.path() + ": is not a suite history database (its meta table has no schema version); nothing was changed");
+        throw InputError(
+            db.path() +
+            ": is not a suite history database (its meta table has no schema version); nothing was changed");
     return version;
 }
 
 History History::open_for_reading(const std::string& path, const HistoryOptions& options) {
     bool exists = false;
     stat_or_missing(path, exists);
-    if (!exists) throw InputError(path + ": no history database there; add runs to it first: ./suite history add RUN.json --db " + path);
+    if (!exists)
+        throw InputError(
+            path + ": no history database there; add runs to it first: ./suite history add RUN.json --db " + path);
     SqlDatabase db = SqlDatabase::open(path, {false, false, options.wait_ms});
     check_history_integrity(db);
     const int version = history_file_version(db);
-    if (version == 0) throw InputError(path + ": no run has been added to it yet (./suite history add RUN.json --db " + path + ")");
+    if (version == 0)
+        throw InputError(path + ": no run has been added to it yet (./suite history add RUN.json --db " + path + ")");
     if (version > history_schema_version) refuse_newer(path, version);
     return History(std::move(db), version);
 }
@@ -129,15 +146,21 @@ History History::open_for_adding(const std::string& path, const HistoryOptions& 
     // Checked before SQLite opens anything: SQLite writes its rollback journal beside the file.
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();
     const std::string dir = parent.empty() ? "." : parent.string();
-    struct stat st{};
+    struct stat st {};
     if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-        throw InputError(path + ": its directory " + dir + " does not exist; create it, or give --db a path in an existing one");
+        throw InputError(path + ": its directory " + dir +
+                         " does not exist; create it, or give --db a path in an existing one");
     if (exists && ::access(path.c_str(), W_OK) != 0)
-        throw InputError(path + ": is read-only (" + std::strerror(errno) + "); suite history add changes it, so nothing was added");
+        throw InputError(path + ": is read-only (" + std::strerror(errno) +
+                         "); suite history add changes it, so nothing was added");
     if (::access(dir.c_str(), W_OK) != 0)
-        throw InputError(path + ": its directory " + dir + " is not writable (SQLite keeps its journal beside the file); nothing was added");
-    SqlDatabase db = SqlDatabase::open(path, {!options.open_read_only, !exists && !options.open_read_only, options.wait_ms});
-    if (db.read_only()) throw InputError(path + ": is read-only (SQLite opened it read-only); suite history add changes it, so nothing was added");
+        throw InputError(path + ": its directory " + dir +
+                         " is not writable (SQLite keeps its journal beside the file); nothing was added");
+    SqlDatabase db =
+        SqlDatabase::open(path, {!options.open_read_only, !exists && !options.open_read_only, options.wait_ms});
+    if (db.read_only())
+        throw InputError(
+            path + ": is read-only (SQLite opened it read-only); suite history add changes it, so nothing was added");
     check_history_integrity(db);
     int version = history_file_version(db);
     if (version > history_schema_version) refuse_newer(path, version);

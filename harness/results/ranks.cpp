@@ -10,7 +10,8 @@ namespace suite {
 namespace {
 
 const nlohmann::json& rank_field(const nlohmann::json& j, const char* name, const char* where) {
-    if (!j.is_object() || !j.contains(name)) throw std::runtime_error(std::string("a rank's record lacks ") + where + name);
+    if (!j.is_object() || !j.contains(name))
+        throw std::runtime_error(std::string("a rank's record lacks ") + where + name);
     return j.at(name);
 }
 
@@ -28,7 +29,8 @@ RankRun rank_run_from_json(const nlohmann::json& record) {
     r.work.stream_bytes = rank_field(w, "stream_bytes", "work_per_repetition.").get<double>();
     r.work.hardware_bytes = rank_field(w, "hardware_bytes_estimate", "work_per_repetition.").get<double>();
     r.work.flops = rank_field(w, "flops", "work_per_repetition.").get<double>();
-    r.work.footprint_bytes = rank_field(rank_field(record, "size", ""), "footprint_bytes", "size.").get<std::uint64_t>();
+    r.work.footprint_bytes =
+        rank_field(rank_field(record, "size", ""), "footprint_bytes", "size.").get<std::uint64_t>();
     const nlohmann::json& v = rank_field(record, "verification", "");
     r.passed = rank_field(v, "passed", "verification.").get<bool>();
     r.detail = rank_field(v, "detail", "verification.").get<std::string>();
@@ -69,8 +71,9 @@ Record aggregate_record(const Record& first, const std::vector<RankRun>& ranks, 
     const RankRun* slowest = nullptr;
     for (const RankRun& r : ranks) {
         if (r.samples_s.size() != reps)
-            throw std::logic_error("rank " + std::to_string(r.rank) + " timed " + std::to_string(r.samples_s.size()) + " repetitions, rank " +
-                                   std::to_string(ranks.front().rank) + " " + std::to_string(reps));
+            throw std::logic_error("rank " + std::to_string(r.rank) + " timed " + std::to_string(r.samples_s.size()) +
+                                   " repetitions, rank " + std::to_string(ranks.front().rank) + " " +
+                                   std::to_string(reps));
         a.threads += r.threads;
         a.work.units += r.work.units;
         a.work.stream_bytes += r.work.stream_bytes;
@@ -90,10 +93,13 @@ Record aggregate_record(const Record& first, const std::vector<RankRun>& ranks, 
         }
         if (r.unstable && r.rank != first.mpi.rank) {
             a.stability.unstable = true;
-            a.stability.reasons.push_back({"another rank", "rank " + std::to_string(r.rank) + " was unstable: " + r.unstable_why});
+            a.stability.reasons.push_back(
+                {"another rank", "rank " + std::to_string(r.rank) + " was unstable: " + r.unstable_why});
         }
     }
-    a.verification.detail = a.verification.passed ? "every one of the " + std::to_string(ranks.size()) + " ranks verified its share" : failures;
+    a.verification.detail = a.verification.passed
+                                ? "every one of the " + std::to_string(ranks.size()) + " ranks verified its share"
+                                : failures;
     a.time = summarise(a.samples_s);
     a.rates = derive_rates(a.work, a.time, a.metric, a.threads);
     a.bindings.clear();
@@ -109,7 +115,8 @@ Record aggregate_record(const Record& first, const std::vector<RankRun>& ranks, 
     a.counters.reason = "counters are in each rank's record; a sum over ranks is not taken";
     a.energy = EnergyReadings{};
     a.energy.requested = first.energy.requested;
-    a.energy.reason = "energy is in each rank's record: the ranks of one host share its packages, so a sum would count them twice";
+    a.energy.reason =
+        "energy is in each rank's record: the ranks of one host share its packages, so a sum would count them twice";
     a.facts = first.facts;
     a.mpi = RankScope{};
     a.mpi.kind = RankScope::Kind::aggregate;

@@ -32,9 +32,9 @@ RankRun rank_run_from_json(const nlohmann::json& record);
 
 // The aggregate record of `ranks` (every rank of the run, in rank order; the same repetitions
 // each), built on `first` (rank 0's own record: the point's kernel, access, size, parameters).
-// threads and work are the sums, the thread bindings every rank's in rank order (numbered on); per repetition the longest of the ranks' times; verified when
-// every rank verified; counters and energy stay in the rank records (the ranks of one host
-// share its packages: a sum would count them twice), so here they say where to look.
+// threads and work are the sums, the thread bindings every rank's in rank order (numbered on); per repetition the
+// longest of the ranks' times; verified when every rank verified; counters and energy stay in the rank records (the
+// ranks of one host share its packages: a sum would count them twice), so here they say where to look.
 Record aggregate_record(const Record& first, const std::vector<RankRun>& ranks, int hosts);
 
 }  // namespace suite

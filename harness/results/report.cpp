@@ -4,8 +4,8 @@
 #include <map>
 #include <sstream>
 
-#include "harness/measure/instrument_set.hpp"
 #include "harness/common/units.hpp"
+#include "harness/measure/instrument_set.hpp"
 
 namespace suite {
 
@@ -43,7 +43,6 @@ std::string csv_opt(const std::optional<double>& v) { return v ? fmt("%.6g", *v)
 // A fact's value; null where it is not a finite number (JSON has no NaN), e.g. an eigenvalue
 // of a solver that did not converge.
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
 
 }  // namespace
 
@@ -95,16 +94,17 @@ nlohmann::json to_json(const Record& r) {
                       {"arrays", pages}};
     j["hugepages"] = hugepages_json(r);
     j["repetitions"] = {{"counted", r.repetitions}, {"warmup", r.warmup}, {"batch", r.batch}};
-    j["time_s"] = {{"min", r.time.min},     {"median", r.time.median}, {"max", r.time.max},
-                   {"mean", r.time.mean},   {"cv", r.time.cv},         {"samples", r.samples_s}};
+    j["time_s"] = {{"min", r.time.min},   {"median", r.time.median}, {"max", r.time.max},
+                   {"mean", r.time.mean}, {"cv", r.time.cv},         {"samples", r.samples_s}};
     j["work_per_repetition"] = {{"units", r.work.units},
                                 {"stream_bytes", r.work.stream_bytes},
                                 {"hardware_bytes_estimate", r.work.hardware_bytes},
                                 {"flops", r.work.flops}};
     if (r.metric == Metric::bandwidth)
-        j["bandwidth_gbps"] = {{"stream", {{"best", opt(r.rates.stream_gbps_best)}, {"median", opt(r.rates.stream_gbps_median)}}},
-                               {"hardware_estimate",
-                                {{"best", opt(r.rates.hardware_gbps_best)}, {"median", opt(r.rates.hardware_gbps_median)}}}};
+        j["bandwidth_gbps"] = {
+            {"stream", {{"best", opt(r.rates.stream_gbps_best)}, {"median", opt(r.rates.stream_gbps_median)}}},
+            {"hardware_estimate",
+             {{"best", opt(r.rates.hardware_gbps_best)}, {"median", opt(r.rates.hardware_gbps_median)}}}};
     else
         j["bandwidth_gbps"] = nullptr;
     if (r.metric == Metric::latency)
@@ -116,7 +116,8 @@ nlohmann::json to_json(const Record& r) {
     j["counters"] = to_json(r.counters);
     j["energy"] = to_json(r.energy);
     if (r.stability.assessed) j["stability"] = to_json(r.stability);  // absent: not judged (under valgrind)
-    j["verification"] = {{"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
+    j["verification"] = {
+        {"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
     if (r.verification.solver_failed) j["verification"]["solver_failed"] = true;
     j["seed"] = r.seed;
     if (!r.mesh.empty()) j["mesh"] = r.mesh;
@@ -133,9 +134,12 @@ nlohmann::json to_json(const Record& r) {
     if (r.mpi.kind == RankScope::Kind::rank)
         j["mpi"] = {{"scope", "rank"}, {"rank", r.mpi.rank}, {"ranks", r.mpi.ranks}, {"host", r.mpi.host}};
     else if (r.mpi.kind == RankScope::Kind::aggregate)
-        j["mpi"] = {{"scope", "aggregate"},         {"ranks", r.mpi.ranks},
-                    {"hosts", r.mpi.hosts},         {"slowest_rank", r.mpi.slowest_rank},
-                    {"slowest_host", r.mpi.slowest_host}, {"spread", r.mpi.spread}};
+        j["mpi"] = {{"scope", "aggregate"},
+                    {"ranks", r.mpi.ranks},
+                    {"hosts", r.mpi.hosts},
+                    {"slowest_rank", r.mpi.slowest_rank},
+                    {"slowest_host", r.mpi.slowest_host},
+                    {"spread", r.mpi.spread}};
     return j;
 }
 
@@ -154,11 +158,14 @@ std::string params_text(const std::map<std::string, double>& params) {
 }
 
 std::string csv_header(const Record* first) {
-    std::string h = "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,stream_bytes,hardware_bytes_estimate,flops,"
-                    "threads,pin,placement,repetitions,batch,time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,"
-                    "stream_gbps_best,stream_gbps_median,hardware_gbps_best,hardware_gbps_median,ns_per_load_best,ns_per_load_median,"
-                    "gflops_best,units_per_second_best,verified,parameters,unstable,hugepages,host,cpu_model,date,"
-                    "git_revision";
+    std::string h =
+        "kernel,variant,name,axis,access,size_requested,footprint_bytes,units,stream_bytes,hardware_bytes_estimate,"
+        "flops,"
+        "threads,pin,placement,repetitions,batch,time_min_s,time_median_s,time_max_s,time_mean_s,time_cv,"
+        "stream_gbps_best,stream_gbps_median,hardware_gbps_best,hardware_gbps_median,ns_per_load_best,ns_per_load_"
+        "median,"
+        "gflops_best,units_per_second_best,verified,parameters,unstable,hugepages,host,cpu_model,date,"
+        "git_revision";
     if (first) {
         for (const auto& e : first->counters.events) h += ",counter_" + e.name + "_per_call";
         for (const auto& d : first->energy.domains) h += ",energy_" + domain_label(d) + "_j_per_call";
@@ -177,17 +184,19 @@ std::string to_csv_row(const Record& r, const nlohmann::json& context) {
         return "\"" + v + "\"";
     };
     std::ostringstream o;
-    o << r.kernel << ',' << r.variant << ',' << r.name << ',' << axis_name(r.axis) << ',' << r.access << ',' << r.size_requested << ','
-      << r.work.footprint_bytes << ',' << fmt("%.0f", r.work.units) << ',' << fmt("%.17g", r.work.stream_bytes) << ','
-      << fmt("%.17g", r.work.hardware_bytes) << ',' << fmt("%.17g", r.work.flops) << ',' << r.threads << ",\"" << r.pin << "\"," << r.placement
-      << ',' << r.repetitions << ',' << r.batch << ',' << fmt("%.9g", r.time.min) << ',' << fmt("%.9g", r.time.median) << ','
+    o << r.kernel << ',' << r.variant << ',' << r.name << ',' << axis_name(r.axis) << ',' << r.access << ','
+      << r.size_requested << ',' << r.work.footprint_bytes << ',' << fmt("%.0f", r.work.units) << ','
+      << fmt("%.17g", r.work.stream_bytes) << ',' << fmt("%.17g", r.work.hardware_bytes) << ','
+      << fmt("%.17g", r.work.flops) << ',' << r.threads << ",\"" << r.pin << "\"," << r.placement << ','
+      << r.repetitions << ',' << r.batch << ',' << fmt("%.9g", r.time.min) << ',' << fmt("%.9g", r.time.median) << ','
       << fmt("%.9g", r.time.max) << ',' << fmt("%.9g", r.time.mean) << ',' << fmt("%.4g", r.time.cv) << ','
       << csv_opt(r.rates.stream_gbps_best) << ',' << csv_opt(r.rates.stream_gbps_median) << ','
       << csv_opt(r.rates.hardware_gbps_best) << ',' << csv_opt(r.rates.hardware_gbps_median) << ','
-      << csv_opt(r.rates.ns_per_load_best) << ',' << csv_opt(r.rates.ns_per_load_median) << ',' << csv_opt(r.rates.gflops_best)
-      << ',' << fmt("%.6g", r.rates.units_per_second_best) << ',' << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params)
-      << ',' << (r.stability.unstable ? "true" : "false") << ',' << r.hugepages << ',' << ctx("host") << ',' << ctx("cpu_model") << ','
-      << ctx("date") << ',' << ctx("git_revision");
+      << csv_opt(r.rates.ns_per_load_best) << ',' << csv_opt(r.rates.ns_per_load_median) << ','
+      << csv_opt(r.rates.gflops_best) << ',' << fmt("%.6g", r.rates.units_per_second_best) << ','
+      << (r.verification.passed ? "true" : "false") << ',' << params_text(r.params) << ','
+      << (r.stability.unstable ? "true" : "false") << ',' << r.hugepages << ',' << ctx("host") << ','
+      << ctx("cpu_model") << ',' << ctx("date") << ',' << ctx("git_revision");
     for (const auto& e : r.counters.events) o << ',' << (e.available ? fmt("%.9g", e.per_call.median) : "");
     for (const auto& d : r.energy.domains) o << ',' << (d.available ? fmt("%.9g", d.joules_per_call.median) : "");
     o << '\n';
@@ -203,8 +212,9 @@ std::string stability_summary(const std::vector<Record>& records) {
         for (const auto& why : r.stability.reasons) ++kinds[why.kind];
     }
     if (unstable == 0) return "";
-    std::string out = std::to_string(unstable) + " of " + std::to_string(records.size()) +
-                      " point(s) unstable (the machine was busy or the repetitions spread; `suite check` calls them inconclusive):";
+    std::string out =
+        std::to_string(unstable) + " of " + std::to_string(records.size()) +
+        " point(s) unstable (the machine was busy or the repetitions spread; `suite check` calls them inconclusive):";
     std::string sep = " ";
     for (const auto& [kind, n] : kinds) {
         out += sep + kind + " (" + std::to_string(n) + ")";
@@ -215,8 +225,8 @@ std::string stability_summary(const std::vector<Record>& records) {
 
 std::string table_header() {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3s %-10s %10s %10s %10s %6s %6s %s\n", "#", "kernel", "pattern", "size",
-                  "thr", "placement", "best", "median", "hw-est", "cv%", "reps", "check");
+    std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3s %-10s %10s %10s %10s %6s %6s %s\n", "#", "kernel",
+                  "pattern", "size", "thr", "placement", "best", "median", "hw-est", "cv%", "reps", "check");
     return std::string(buf) + std::string(110, '-') + "\n";
 }
 
@@ -236,16 +246,18 @@ std::string table_row(std::size_t index, std::size_t total, const Record& r) {
     const std::string size = size_label(r.size_kind, r.size_requested);
     std::string pos = std::to_string(index) + "/" + std::to_string(total);
     char buf[320];
-    std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3d %-10s %10s %10s %10s %6.1f %6d %s\n", pos.c_str(), r.name.c_str(),
-                  r.access.c_str(), size.c_str(), r.threads, r.placement.c_str(), best.c_str(), median.c_str(), hw.c_str(),
-                  r.time.cv * 100.0, r.repetitions,
-                  r.verification.passed ? (r.stability.unstable ? "ok unstable" : "ok") : (r.stability.unstable ? "FAILED unstable" : "FAILED"));
+    std::snprintf(buf, sizeof buf, "%-7s %-10s %-12s %9s %3d %-10s %10s %10s %10s %6.1f %6d %s\n", pos.c_str(),
+                  r.name.c_str(), r.access.c_str(), size.c_str(), r.threads, r.placement.c_str(), best.c_str(),
+                  median.c_str(), hw.c_str(), r.time.cv * 100.0, r.repetitions,
+                  r.verification.passed ? (r.stability.unstable ? "ok unstable" : "ok")
+                                        : (r.stability.unstable ? "FAILED unstable" : "FAILED"));
     std::string row = buf;
     // What the kernel reported about the run, on a line of its own under the row.
     if (!r.facts.empty()) {
         std::string line;
         for (const auto& f : r.facts)
-            line += (line.empty() ? "" : ", ") + f.name + "=" + fmt("%.6g", f.value) + (f.unit.empty() ? "" : " " + f.unit);
+            line +=
+                (line.empty() ? "" : ", ") + f.name + "=" + fmt("%.6g", f.value) + (f.unit.empty() ? "" : " " + f.unit);
         row += "        " + line + "\n";
     }
     return row;

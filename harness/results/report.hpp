@@ -48,6 +48,7 @@ struct ResultDocument {
 std::string render_gbench(const nlohmann::json& context, const std::vector<Record>& records, bool complete);
 // The benchmark name shared by --format=gbench and suite-gbench: kernel/pattern/size/threads,
 // with Google Benchmark's "/real_time" suffix (the time is the wall clock of the whole team).
-std::string gbench_name(const std::string& kernel_name, const std::string& access, const std::string& size, int threads);
+std::string gbench_name(const std::string& kernel_name, const std::string& access, const std::string& size,
+                        int threads);
 
 }  // namespace suite

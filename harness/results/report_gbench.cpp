@@ -22,7 +22,9 @@ json gbench_caches(const json& context) {
     if (!context.contains("topology") || !context["topology"].contains("caches")) return out;
     for (const auto& c : context["topology"]["caches"]) {
         const std::string type = c.value("type", "");
-        out.push_back({{"type", type == "data" ? "Data" : type == "instruction" ? "Instruction" : "Unified"},
+        out.push_back({{"type", type == "data"          ? "Data"
+                                : type == "instruction" ? "Instruction"
+                                                        : "Unified"},
                        {"level", c.value("level", 0)},
                        {"size", c.value("size_bytes", std::uint64_t{0})},
                        {"num_sharing", c.value("pus_per_instance", 0)}});
@@ -56,7 +58,8 @@ json base_entry(const std::string& name, std::size_t family, const Record& r) {
 
 }  // namespace
 
-std::string gbench_name(const std::string& kernel_name, const std::string& access, const std::string& size, int threads) {
+std::string gbench_name(const std::string& kernel_name, const std::string& access, const std::string& size,
+                        int threads) {
     return kernel_name + "/" + access + "/" + size + "/" + std::to_string(threads) + "/real_time";
 }
 
@@ -75,37 +78,52 @@ std::string render_gbench(const json& context, const std::vector<Record>& record
     ctx["cpu_model"] = ctx_string(context, "cpu_model");
     ctx["compiler_flags"] = ctx_string(context, "compiler_flags");
     ctx["suite_complete"] = complete ? "true" : "false";
-    ctx["suite_timing"] = "real_time: CLOCK_MONOTONIC around the whole OpenMP region, per kernel call; cpu_time is not measured by suite "
-                          "and repeats real_time; mhz_per_cpu is not known and left out";
+    ctx["suite_timing"] =
+        "real_time: CLOCK_MONOTONIC around the whole OpenMP region, per kernel call; cpu_time is not measured by suite "
+        "and repeats real_time; mhz_per_cpu is not known and left out";
     json benchmarks = json::array();
     for (std::size_t i = 0; i < records.size(); ++i) {
         const Record& r = records[i];
         const std::string name = gbench_name(r.name, r.access, size_label(r.size_kind, r.size_requested), r.threads);
         if (!r.verification.passed) {
             json e = base_entry(name, i, r);
-            e.update({{"run_type", "iteration"}, {"repetition_index", 0}, {"iterations", 0}, {"real_time", 0}, {"cpu_time", 0},
+            e.update({{"run_type", "iteration"},
+                      {"repetition_index", 0},
+                      {"iterations", 0},
+                      {"real_time", 0},
+                      {"cpu_time", 0},
                       {"error_occurred", true},
-                      {"error_message", (r.verification.solver_failed ? "solver failed: " : "failed verification: ") + r.verification.detail}});
+                      {"error_message", (r.verification.solver_failed ? "solver failed: " : "failed verification: ") +
+                                            r.verification.detail}});
             benchmarks.push_back(e);
             continue;
         }
         for (std::size_t k = 0; k < r.samples_s.size(); ++k) {
             json e = base_entry(name, i, r);
             const double t = r.samples_s[k];
-            e.update({{"run_type", "iteration"}, {"repetition_index", k}, {"iterations", r.batch}, {"real_time", t * 1e9}, {"cpu_time", t * 1e9}});
+            e.update({{"run_type", "iteration"},
+                      {"repetition_index", k},
+                      {"iterations", r.batch},
+                      {"real_time", t * 1e9},
+                      {"cpu_time", t * 1e9}});
             add_counters(e, r, t);
             benchmarks.push_back(e);
         }
         // The aggregates Google Benchmark adds after repetitions: times in ns, cv as a fraction.
         const double stddev = r.time.cv * r.time.mean;
-        const std::pair<const char*, double> aggregates[] = {{"mean", r.time.mean}, {"median", r.time.median}, {"stddev", stddev}, {"cv", r.time.cv}};
+        const std::pair<const char*, double> aggregates[] = {
+            {"mean", r.time.mean}, {"median", r.time.median}, {"stddev", stddev}, {"cv", r.time.cv}};
         for (const auto& [agg, value] : aggregates) {
             json e = base_entry(name + "_" + agg, i, r);
             e["run_name"] = name;
             const bool cv = std::string(agg) == "cv";
             const double v = cv ? value : value * 1e9;
-            e.update({{"run_type", "aggregate"}, {"aggregate_name", agg}, {"aggregate_unit", cv ? "percentage" : "time"},
-                      {"iterations", r.repetitions}, {"real_time", v}, {"cpu_time", v}});
+            e.update({{"run_type", "aggregate"},
+                      {"aggregate_name", agg},
+                      {"aggregate_unit", cv ? "percentage" : "time"},
+                      {"iterations", r.repetitions},
+                      {"real_time", v},
+                      {"cpu_time", v}});
             if (std::string(agg) == "mean" || std::string(agg) == "median") add_counters(e, r, value);
             benchmarks.push_back(e);
         }

@@ -25,7 +25,8 @@ struct FieldReader {
         if (it == obj.end()) fail(where + "." + key, "missing");
         return *it;
     }
-    std::string string(const nlohmann::json& obj, const char* key, const std::string& where, bool may_be_empty = false) const {
+    std::string string(const nlohmann::json& obj, const char* key, const std::string& where,
+                       bool may_be_empty = false) const {
         const nlohmann::json& v = field(obj, key, where);
         if (!v.is_string()) fail(where + "." + key, "expected a string");
         if (!may_be_empty && v.get_ref<const std::string&>().empty()) fail(where + "." + key, "empty");
@@ -40,11 +41,13 @@ struct FieldReader {
     double number(const nlohmann::json& obj, const char* key, const std::string& where) const {
         return number(field(obj, key, where), where + "." + key);
     }
-    std::uint64_t count(const nlohmann::json& obj, const char* key, const std::string& where, std::uint64_t least) const {
+    std::uint64_t count(const nlohmann::json& obj, const char* key, const std::string& where,
+                        std::uint64_t least) const {
         return count(field(obj, key, where), where + "." + key, least);
     }
     std::uint64_t count(const nlohmann::json& v, const std::string& where, std::uint64_t least) const {
-        if (!v.is_number_integer() || (!v.is_number_unsigned() && v.get<std::int64_t>() < 0)) fail(where, "expected a non-negative integer");
+        if (!v.is_number_integer() || (!v.is_number_unsigned() && v.get<std::int64_t>() < 0))
+            fail(where, "expected a non-negative integer");
         const std::uint64_t x = v.get<std::uint64_t>();
         if (x < least) fail(where, "expected at least " + std::to_string(least));
         return x;
@@ -64,7 +67,8 @@ struct FieldReader {
 
 // result_file_mpi.cpp: the record's `mpi` (absent: a run of one process), checked against the
 // file's context.mpi (`job`, empty for a plain file); and context.mpi itself.
-RankOrigin read_rank_origin(const FieldReader& r, const nlohmann::json& rec, const std::string& where, const std::optional<LoadedMpiJob>& job);
+RankOrigin read_rank_origin(const FieldReader& r, const nlohmann::json& rec, const std::string& where,
+                            const std::optional<LoadedMpiJob>& job);
 std::optional<LoadedMpiJob> read_mpi_job(const FieldReader& r, const nlohmann::json& context);
 
 }  // namespace suite

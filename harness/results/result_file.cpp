@@ -1,5 +1,6 @@
 #include "harness/results/result_file.hpp"
 
+#include <sys/stat.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -7,7 +8,6 @@
 #include <fstream>
 #include <set>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "harness/common/stats.hpp"
 #include "harness/results/context_fields.hpp"
@@ -26,9 +26,12 @@ std::size_t nesting_depth(const std::string& text) {
     bool in_string = false, escaped = false;
     for (char c : text) {
         if (in_string) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') in_string = false;
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                in_string = false;
         } else if (c == '"') {
             in_string = true;
         } else if (c == '[' || c == '{') {
@@ -42,7 +45,8 @@ std::size_t nesting_depth(const std::string& text) {
 
 // Spread estimated from a min..max range of a few dozen repetitions (about four standard deviations).
 double range_spread(const FieldReader& r, const json& stats, const std::string& where) {
-    const double median = r.number(stats, "median", where), lo = r.number(stats, "min", where), hi = r.number(stats, "max", where);
+    const double median = r.number(stats, "median", where), lo = r.number(stats, "min", where),
+                 hi = r.number(stats, "max", where);
     // A spread from figures out of order would be negative and shrink the gate's threshold.
     if (!(lo <= median && median <= hi)) r.fail(where, "expected min <= median <= max");
     return median > 0 ? (hi - lo) / (4 * median) : 0.0;
@@ -58,7 +62,14 @@ void read_counters(const FieldReader& r, const json& block, const std::string& w
         if (!r.boolean(events[e], "available", at)) continue;
         const json& per_element = r.field(events[e], "per_element", at);
         if (per_element.is_null()) continue;
-        Measure m{"counter " + name, "per element", Direction::lower_is_better, 0, r.number(per_element, at + ".per_element"), 0, {}, NAN};
+        Measure m{"counter " + name,
+                  "per element",
+                  Direction::lower_is_better,
+                  0,
+                  r.number(per_element, at + ".per_element"),
+                  0,
+                  {},
+                  NAN};
         m.best = m.median;
         const json& per_call = r.field(events[e], "per_call", at);
         if (!per_call.is_null()) {
@@ -79,12 +90,20 @@ void read_energy(const FieldReader& r, const json& block, const std::string& whe
         const std::string at = where + ".domains[" + std::to_string(d) + "]";
         std::string name = r.string(domains[d], "domain", at);
         const json& socket = r.field(domains[d], "socket", at);
-        if (socket.is_number_integer()) name.append("-").append(std::to_string(socket.get<std::int64_t>()));
-        else if (!socket.is_null()) r.fail(at + ".socket", "expected an integer or null");
+        if (socket.is_number_integer())
+            name.append("-").append(std::to_string(socket.get<std::int64_t>()));
+        else if (!socket.is_null())
+            r.fail(at + ".socket", "expected an integer or null");
         const json& j = r.field(domains[d], "joules_per_call", at);
         const std::string jat = at + ".joules_per_call";
-        Measure m{"energy " + name, "J/call", Direction::lower_is_better, r.number(j, "min", jat), r.number(j, "median", jat),
-                  range_spread(r, j, jat), {}, NAN};
+        Measure m{"energy " + name,
+                  "J/call",
+                  Direction::lower_is_better,
+                  r.number(j, "min", jat),
+                  r.number(j, "median", jat),
+                  range_spread(r, j, jat),
+                  {},
+                  NAN};
         p.measures.push_back(m);
     }
 }
@@ -103,7 +122,8 @@ void read_callgrind(const FieldReader& r, const json& block, const std::string& 
     add("callgrind LL misses", r.number(per_call, "DLmr", at) + r.number(per_call, "DLmw", at));
 }
 
-LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index, const std::optional<LoadedMpiJob>& job) {
+LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
+                       const std::optional<LoadedMpiJob>& job) {
     const std::string where = "results[" + std::to_string(index) + "]";
     if (!rec.is_object()) r.fail(where, "expected an object");
     LoadedPoint p;
@@ -125,45 +145,64 @@ LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
     if (auto it = rec.find("parameters"); it != rec.end()) {
         if (!it->is_object()) r.fail(where + ".parameters", "expected an object of numbers");
         for (const auto& [name, value] : it->items()) {
-            if (!value.is_number() || !std::isfinite(value.get<double>())) r.fail(where + ".parameters." + name, "expected a finite number");
+            if (!value.is_number() || !std::isfinite(value.get<double>()))
+                r.fail(where + ".parameters." + name, "expected a finite number");
             k.params[name] = value.get<double>();
         }
     }
     p.mpi = read_rank_origin(r, rec, where, job);
-    if (p.mpi.scope != RankOrigin::Scope::none) k.rank_scope = rank_scope_text(p.mpi.scope == RankOrigin::Scope::rank ? p.mpi.rank : -1, p.mpi.ranks);
+    if (p.mpi.scope != RankOrigin::Scope::none)
+        k.rank_scope = rank_scope_text(p.mpi.scope == RankOrigin::Scope::rank ? p.mpi.rank : -1, p.mpi.ranks);
 
     if (rec.contains("callgrind")) {
         p.under_callgrind = true;
         read_callgrind(r, rec["callgrind"], where + ".callgrind", p);
     } else {
         const std::string metric = r.string(rec, "metric", where);
-        if (metric != "bandwidth" && metric != "latency") r.fail(where + ".metric", "expected 'bandwidth' or 'latency'");
+        if (metric != "bandwidth" && metric != "latency")
+            r.fail(where + ".metric", "expected 'bandwidth' or 'latency'");
         const json& time = r.field(rec, "time_s", where);
         const json& samples = r.field(time, "samples", where + ".time_s");
         if (!samples.is_array() || samples.empty()) r.fail(where + ".time_s.samples", "expected a non-empty array");
         std::vector<double> s;
-        for (std::size_t i = 0; i < samples.size(); ++i) s.push_back(r.number(samples[i], where + ".time_s.samples[" + std::to_string(i) + "]"));
+        for (std::size_t i = 0; i < samples.size(); ++i)
+            s.push_back(r.number(samples[i], where + ".time_s.samples[" + std::to_string(i) + "]"));
         const double noise = robust_relative_spread(s);
         const bool bw = metric == "bandwidth";
         const std::string at = bw ? where + ".bandwidth_gbps" : where + ".latency_ns";
-        const json& rates = bw ? r.field(r.field(rec, "bandwidth_gbps", where), "stream", at) : r.field(rec, "latency_ns", where);
+        const json& rates =
+            bw ? r.field(r.field(rec, "bandwidth_gbps", where), "stream", at) : r.field(rec, "latency_ns", where);
         const std::string rat = bw ? at + ".stream" : at;
         const json& best = r.field(rates, "best", rat);
         const json& median = r.field(rates, "median", rat);
         // A kernel that moves no bytes but counts flops (peak-flops): its headline is GFLOP/s.
         const json* work = rec.contains("work_per_repetition") ? &rec["work_per_repetition"] : nullptr;
-        const bool flops_only = bw && work && work->is_object() && work->value("stream_bytes", 1.0) == 0 && work->value("flops", 0.0) > 0;
+        const bool flops_only =
+            bw && work && work->is_object() && work->value("stream_bytes", 1.0) == 0 && work->value("flops", 0.0) > 0;
         const double min_time = r.number(r.field(time, "min", where + ".time_s"), where + ".time_s.min");
         // null: the rate could not be derived (a best time of 0); the point then has no headline.
         if (flops_only && min_time > 0) {
             const double flops = work->value("flops", 0.0);
-            Measure m{"flops", "GFLOP/s", Direction::higher_is_better, flops / min_time / 1e9, flops / median_of(s) / 1e9, noise, {}, NAN};
+            Measure m{"flops",
+                      "GFLOP/s",
+                      Direction::higher_is_better,
+                      flops / min_time / 1e9,
+                      flops / median_of(s) / 1e9,
+                      noise,
+                      {},
+                      NAN};
             for (double t : s)
                 if (t > 0) m.samples.push_back(flops / t / 1e9);
             p.measures.push_back(m);
         } else if (!best.is_null() && !median.is_null()) {
-            Measure m{bw ? "bandwidth" : "latency", bw ? "GB/s" : "ns/load", bw ? Direction::higher_is_better : Direction::lower_is_better,
-                      r.number(best, rat + ".best"), r.number(median, rat + ".median"), noise, {}, NAN};
+            Measure m{bw ? "bandwidth" : "latency",
+                      bw ? "GB/s" : "ns/load",
+                      bw ? Direction::higher_is_better : Direction::lower_is_better,
+                      r.number(best, rat + ".best"),
+                      r.number(median, rat + ".median"),
+                      noise,
+                      {},
+                      NAN};
             // Each repetition's figure: the rate goes as 1/time and the latency as time, scaled
             // so that the median time gives the recorded median.
             const double median_time = median_of(s);
@@ -173,7 +212,8 @@ LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
             p.measures.push_back(m);
         }
     }
-    if (auto it = rec.find("hugepages"); it != rec.end() && it->is_object()) p.hugepages = r.string(*it, "requested", where + ".hugepages");
+    if (auto it = rec.find("hugepages"); it != rec.end() && it->is_object())
+        p.hugepages = r.string(*it, "requested", where + ".hugepages");
     // The noise flag; optional, absent in older files.
     if (auto it = rec.find("stability"); it != rec.end() && !it->is_null()) {
         const std::string at = where + ".stability";
@@ -188,7 +228,8 @@ LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
         }
     }
     // Issue 3's instruments; optional, absent in older files.
-    if (rec.contains("counters") && !rec["counters"].is_null()) read_counters(r, rec["counters"], where + ".counters", p);
+    if (rec.contains("counters") && !rec["counters"].is_null())
+        read_counters(r, rec["counters"], where + ".counters", p);
     if (rec.contains("energy") && !rec["energy"].is_null()) read_energy(r, rec["energy"], where + ".energy", p);
     return p;
 }
@@ -200,8 +241,8 @@ std::string PointKey::size_label() const { return size_kind == "bytes" ? format_
 std::string PointKey::label() const { return label_with_threads("t=" + std::to_string(threads)); }
 
 std::string PointKey::label_with_threads(const std::string& threads_text) const {
-    std::string out = (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " " + threads_text + " " + pin +
-                      "/" + placement;
+    std::string out = (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " " +
+                      threads_text + " " + pin + "/" + placement;
     for (const auto& [name, value] : params) out += " " + name + "=" + format_number(value);
     if (!rank_scope.empty()) out += " " + rank_scope;
     return out;
@@ -214,26 +255,34 @@ std::string ResultFile::machine_label() const {
 
 ResultFile parse_result_text(const std::string& text, const std::string& path) {
     FieldReader r{path};
-    if (nesting_depth(text) > 256) throw InputError(path + ": not a suite result file (JSON nested more than 256 levels deep)");
+    if (nesting_depth(text) > 256)
+        throw InputError(path + ": not a suite result file (JSON nested more than 256 levels deep)");
     json doc;
     try {
         doc = json::parse(text);
     } catch (const json::exception& e) {
         std::string why = e.what();
-        if (auto close = why.find("] "); why.rfind("[json.exception", 0) == 0 && close != std::string::npos) why = why.substr(close + 2);
+        if (auto close = why.find("] "); why.rfind("[json.exception", 0) == 0 && close != std::string::npos)
+            why = why.substr(close + 2);
         throw InputError(path + ": not valid JSON (truncated or not a result file?): " + why);
     }
-    if (!doc.is_object()) throw InputError(path + ": not a suite result file (the JSON is not an object with schema_version, context, results)");
+    if (!doc.is_object())
+        throw InputError(path +
+                         ": not a suite result file (the JSON is not an object with schema_version, context, results)");
     if (doc.contains("benchmarks") && !doc.contains("results"))
-        throw InputError(path + ": not a suite result file (it looks like Google Benchmark output: 'benchmarks', no 'results'); "
-                                "compare suite's own JSON (--out=FILE.json)");
+        throw InputError(
+            path +
+            ": not a suite result file (it looks like Google Benchmark output: 'benchmarks', no 'results'); "
+            "compare suite's own JSON (--out=FILE.json)");
     if (!doc.contains("schema_version"))
-        throw InputError(path + ": not a suite result file (no schema_version; suite writes schema_version, context and results)");
+        throw InputError(
+            path + ": not a suite result file (no schema_version; suite writes schema_version, context and results)");
     const json& version = doc["schema_version"];
     if (!version.is_number_integer()) r.fail("schema_version", "expected an integer");
     if (version.get<std::int64_t>() != readable_schema_version)
-        throw InputError(path + ": schema_version " + std::to_string(version.get<std::int64_t>()) + " is not one this suite reads (it reads " +
-                         std::to_string(readable_schema_version) + "); use the suite version that wrote it");
+        throw InputError(path + ": schema_version " + std::to_string(version.get<std::int64_t>()) +
+                         " is not one this suite reads (it reads " + std::to_string(readable_schema_version) +
+                         "); use the suite version that wrote it");
     ResultFile f;
     f.path = path;
     f.schema_version = readable_schema_version;
@@ -247,7 +296,8 @@ ResultFile parse_result_text(const std::string& text, const std::string& path) {
     for (std::size_t i = 0; i < results.size(); ++i) {
         LoadedPoint p = read_point(r, results[i], i, f.mpi);
         if (!seen.insert(p.key).second) {
-            f.notes.push_back(path + ": results[" + std::to_string(i) + "] repeats " + p.key.label() + "; the first one is used");
+            f.notes.push_back(path + ": results[" + std::to_string(i) + "] repeats " + p.key.label() +
+                              "; the first one is used");
             continue;
         }
         f.points.push_back(std::move(p));
@@ -256,7 +306,7 @@ ResultFile parse_result_text(const std::string& text, const std::string& path) {
 }
 
 std::string read_input_file(const std::string& path, const std::string& example) {
-    struct stat st{};
+    struct stat st {};
     if (stat(path.c_str(), &st) != 0) throw InputError(path + ": cannot read it: " + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory; give " + example);
     if (st.st_size > (1LL << 30)) throw InputError(path + ": larger than 1 GiB; not a file suite wrote");
@@ -271,9 +321,9 @@ std::string read_input_file(const std::string& path, const std::string& example)
 }
 
 ResultFile load_result_file(const std::string& path) {
-    const std::string text = read_input_file(path, "a result file written by suite --out=FILE.json (e.g. results/latest.json)");
+    const std::string text =
+        read_input_file(path, "a result file written by suite --out=FILE.json (e.g. results/latest.json)");
     return parse_result_text(text, path);
 }
-
 
 }  // namespace suite

@@ -58,7 +58,9 @@ struct PointKey {
     // An MPI run (suite-mpi) writes each point once per rank and once for all ranks together:
     // "rank 3 of 4", "aggregate of 4 ranks" (rank_scope_text); "" for a run of one process.
     std::string rank_scope;
-    auto tie() const { return std::tie(kernel, variant, access, size_kind, size, threads, pin, placement, params, rank_scope); }
+    auto tie() const {
+        return std::tie(kernel, variant, access, size_kind, size, threads, pin, placement, params, rank_scope);
+    }
     bool operator<(const PointKey& o) const { return tie() < o.tie(); }
     bool operator==(const PointKey& o) const { return tie() == o.tie(); }
     // "add random 64KiB t=2 compact/local" (with the variant: "copy-nt ...", with parameters:
@@ -72,8 +74,8 @@ struct PointKey {
 // Where a record of an MPI run comes from (the record's `mpi`); scope none in a run of one process.
 struct RankOrigin {
     enum class Scope { none, rank, aggregate } scope = Scope::none;
-    int ranks = 0;  // in the run
-    int rank = -1;  // Scope::rank: which
+    int ranks = 0;     // in the run
+    int rank = -1;     // Scope::rank: which
     std::string host;  // Scope::rank: where it ran
     // Scope::aggregate: the hosts of the run, and the rank (and its host) with the longest best
     // time; spread = that time over the shortest rank's (>= 1).
@@ -95,7 +97,7 @@ PointKey matching_key(const PointKey& key);
 struct LoadedPoint {
     PointKey key;
     bool verified = true;
-    bool under_callgrind = false;  // timings were taken under valgrind: only its counts are figures
+    bool under_callgrind = false;   // timings were taken under valgrind: only its counts are figures
     std::vector<Measure> measures;  // the headline first
     // Flagged by the run as unstable (the machine was busy, or the repetitions spread): its
     // timings are not to be trusted, so `check` calls it inconclusive. False in older files.

@@ -29,8 +29,8 @@ const LoadedHost* LoadedMpiJob::host_of(int rank) const {
 
 std::string ResultFile::processes_label() const {
     if (!mpi) return "one process";
-    return std::to_string(mpi->ranks) + (mpi->ranks == 1 ? " MPI rank" : " MPI ranks") + " on " + std::to_string(mpi->hosts.size()) +
-           (mpi->hosts.size() == 1 ? " host" : " hosts");
+    return std::to_string(mpi->ranks) + (mpi->ranks == 1 ? " MPI rank" : " MPI ranks") + " on " +
+           std::to_string(mpi->hosts.size()) + (mpi->hosts.size() == 1 ? " host" : " hosts");
 }
 
 std::optional<LoadedMpiJob> read_mpi_job(const FieldReader& r, const json& context) {
@@ -56,8 +56,10 @@ std::optional<LoadedMpiJob> read_mpi_job(const FieldReader& r, const json& conte
         for (std::size_t k = 0; k < ranks.size(); ++k) {
             const std::string rat = hat + ".ranks[" + std::to_string(k) + "]";
             const std::uint64_t rank = r.count(ranks[k], rat, 0);
-            if (rank >= static_cast<std::uint64_t>(job.ranks)) r.fail(rat, "rank " + std::to_string(rank) + " of a run of " + std::to_string(job.ranks));
-            if (!placed.insert(static_cast<int>(rank)).second) r.fail(rat, "rank " + std::to_string(rank) + " is on two hosts");
+            if (rank >= static_cast<std::uint64_t>(job.ranks))
+                r.fail(rat, "rank " + std::to_string(rank) + " of a run of " + std::to_string(job.ranks));
+            if (!placed.insert(static_cast<int>(rank)).second)
+                r.fail(rat, "rank " + std::to_string(rank) + " is on two hosts");
             h.ranks.push_back(static_cast<int>(rank));
         }
         h.cpu_model = r.string(hosts[i], "cpu_model", hat, true);
@@ -70,12 +72,14 @@ std::optional<LoadedMpiJob> read_mpi_job(const FieldReader& r, const json& conte
     if (placed.size() != static_cast<std::size_t>(job.ranks)) {
         int missing = 0;
         while (placed.count(missing)) ++missing;
-        r.fail(at + ".hosts", "rank " + std::to_string(missing) + " of " + std::to_string(job.ranks) + " is on no host");
+        r.fail(at + ".hosts",
+               "rank " + std::to_string(missing) + " of " + std::to_string(job.ranks) + " is on no host");
     }
     return job;
 }
 
-RankOrigin read_rank_origin(const FieldReader& r, const json& rec, const std::string& where, const std::optional<LoadedMpiJob>& job) {
+RankOrigin read_rank_origin(const FieldReader& r, const json& rec, const std::string& where,
+                            const std::optional<LoadedMpiJob>& job) {
     RankOrigin o;
     const std::string at = where + ".mpi";
     auto it = rec.find("mpi");
@@ -89,17 +93,21 @@ RankOrigin read_rank_origin(const FieldReader& r, const json& rec, const std::st
     if (!job) r.fail(at, "a record of an MPI run, but the context has no mpi (the job's ranks and hosts)");
     const std::string scope = r.string(*it, "scope", at);
     o.ranks = r.small_count(*it, "ranks", at, 1);
-    if (o.ranks != job->ranks) r.fail(at + ".ranks", std::to_string(o.ranks) + ", but context.mpi.ranks is " + std::to_string(job->ranks));
+    if (o.ranks != job->ranks)
+        r.fail(at + ".ranks", std::to_string(o.ranks) + ", but context.mpi.ranks is " + std::to_string(job->ranks));
     auto rank_of = [&](const char* key) {
         const int rank = r.small_count(*it, key, at, 0);
-        if (rank >= o.ranks) r.fail(at + "." + key, "rank " + std::to_string(rank) + " of a run of " + std::to_string(o.ranks));
+        if (rank >= o.ranks)
+            r.fail(at + "." + key, "rank " + std::to_string(rank) + " of a run of " + std::to_string(o.ranks));
         return rank;
     };
     // The host a record names must be the one context.mpi puts that rank on.
     auto host_of = [&](const char* key, int rank) {
         std::string host = r.string(*it, key, at);
         const LoadedHost* h = job->host_of(rank);
-        if (h->host != host) r.fail(at + "." + key, "'" + host + "', but context.mpi.hosts puts rank " + std::to_string(rank) + " on '" + h->host + "'");
+        if (h->host != host)
+            r.fail(at + "." + key,
+                   "'" + host + "', but context.mpi.hosts puts rank " + std::to_string(rank) + " on '" + h->host + "'");
         return host;
     };
     if (scope == "rank") {
@@ -110,11 +118,13 @@ RankOrigin read_rank_origin(const FieldReader& r, const json& rec, const std::st
         o.scope = RankOrigin::Scope::aggregate;
         o.hosts = r.small_count(*it, "hosts", at, 1);
         if (o.hosts != static_cast<int>(job->hosts.size()))
-            r.fail(at + ".hosts", std::to_string(o.hosts) + ", but context.mpi lists " + std::to_string(job->hosts.size()));
+            r.fail(at + ".hosts",
+                   std::to_string(o.hosts) + ", but context.mpi lists " + std::to_string(job->hosts.size()));
         o.slowest_rank = rank_of("slowest_rank");
         o.slowest_host = host_of("slowest_host", o.slowest_rank);
         o.spread = r.number(*it, "spread", at);
-        if (o.spread < 1) r.fail(at + ".spread", "expected at least 1 (the slowest rank's best time over the fastest rank's)");
+        if (o.spread < 1)
+            r.fail(at + ".spread", "expected at least 1 (the slowest rank's best time over the fastest rank's)");
     } else {
         r.fail(at + ".scope", "expected 'rank' or 'aggregate'");
     }

@@ -45,14 +45,14 @@ struct PlacedPoint {
     int threads = 1;
     std::uint64_t footprint_bytes = 0;
     bool verified = true;
-    std::optional<double> gflops;                        // none: the kernel declares no flops
-    double gbps = 0, hardware_gbps = 0;                  // best repetition
+    std::optional<double> gflops;                         // none: the kernel declares no flops
+    double gbps = 0, hardware_gbps = 0;                   // best repetition
     std::optional<double> intensity, hardware_intensity;  // flop per byte
     std::optional<double> ceiling_gflops;                 // min(peak, intensity x level bandwidth)
     double ceiling_gbps = 0, ceiling_hardware_gbps = 0;
-    std::string bound;                                    // "bandwidth" or "compute"
-    double fraction = 0;                                  // of the ceiling, STREAM convention
-    std::optional<double> hardware_fraction;              // of the ceiling, hardware estimate
+    std::string bound;                        // "bandwidth" or "compute"
+    double fraction = 0;                      // of the ceiling, STREAM convention
+    std::optional<double> hardware_fraction;  // of the ceiling, hardware estimate
 };
 
 struct Placement {

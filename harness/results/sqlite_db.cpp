@@ -14,8 +14,10 @@ void SqlDatabase::fail(sqlite3* db, int code, const std::string& file, const std
     switch (code & 0xff) {
         case SQLITE_BUSY:
         case SQLITE_LOCKED:
-            throw InputError(file + ": locked by another process (another suite history add, or a reader) for longer than the wait; "
-                                    "nothing was changed: try again, or wait longer with --wait=SECONDS");
+            throw InputError(
+                file +
+                ": locked by another process (another suite history add, or a reader) for longer than the wait; "
+                "nothing was changed: try again, or wait longer with --wait=SECONDS");
         case SQLITE_NOTADB:
         case SQLITE_CORRUPT:
             throw InputError(file + ": is not a suite history database (SQLite: " + why + "); nothing was changed");
@@ -41,7 +43,8 @@ SqlStatement::~SqlStatement() {
 }
 
 SqlStatement& SqlStatement::bind(int index, std::int64_t value) {
-    if (const int rc = sqlite3_bind_int64(stmt_, index, value); rc != SQLITE_OK) SqlDatabase::fail(db_, rc, file_, "binding a value");
+    if (const int rc = sqlite3_bind_int64(stmt_, index, value); rc != SQLITE_OK)
+        SqlDatabase::fail(db_, rc, file_, "binding a value");
     return *this;
 }
 
@@ -79,7 +82,9 @@ double SqlStatement::real(int column) const { return is_null(column) ? NAN : sql
 
 std::string SqlStatement::text(int column) const {
     const auto* p = sqlite3_column_text(stmt_, column);
-    return p ? std::string(reinterpret_cast<const char*>(p), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, column))) : std::string();
+    return p ? std::string(reinterpret_cast<const char*>(p),
+                           static_cast<std::size_t>(sqlite3_column_bytes(stmt_, column)))
+             : std::string();
 }
 
 SqlDatabase SqlDatabase::open(const std::string& path, const SqlOpen& how) {

@@ -47,8 +47,8 @@ private:
 
 // How to open a database file.
 struct SqlOpen {
-    bool write = false;   // read-write; otherwise read-only (SQLite then refuses every change)
-    bool create = false;  // create the file when it is missing (with write)
+    bool write = false;           // read-write; otherwise read-only (SQLite then refuses every change)
+    bool create = false;          // create the file when it is missing (with write)
     int busy_timeout_ms = 10000;  // how long a statement waits for another connection's lock
 };
 

@@ -29,12 +29,14 @@ bool best_split(const StableEntries& s, std::size_t lo, std::size_t hi, const St
         if (*s.commits[at] != *s.commits[at - 1]) candidates.push_back(at);  // never inside one commit's runs
     bool found = false;
     for (std::size_t at : candidates) {
-        const std::vector<double> before(s.values.begin() + lo, s.values.begin() + at), after(s.values.begin() + at, s.values.begin() + hi);
+        const std::vector<double> before(s.values.begin() + lo, s.values.begin() + at),
+            after(s.values.begin() + at, s.values.begin() + hi);
         const double level = median_of(before);
         if (!(level > 0)) continue;
         const double change = median_of(after) / level - 1;
         const RankTest t = mann_whitney(before, after);
-        const double p = std::min(1.0, 2 * std::min(t.p_x_smaller, t.p_x_larger) * static_cast<double>(candidates.size()));
+        const double p =
+            std::min(1.0, 2 * std::min(t.p_x_smaller, t.p_x_larger) * static_cast<double>(candidates.size()));
         if (p > o.alpha || std::fabs(change) < o.min_effect) continue;
         const bool better = !found || p < best.p || (p == best.p && std::fabs(change) > std::fabs(best.change));
         if (better) best = {at, p, change};
@@ -48,12 +50,14 @@ bool best_split(const StableEntries& s, std::size_t lo, std::size_t hi, const St
 // moves neither side's median enough for one split to see it). Pairs are ranked by the rank sum
 // of the inside (O(1) a pair from prefix sums, so a long history stays cheap); the best pair is
 // then tested with the Mann–Whitney test, Bonferroni over every pair scanned.
-bool best_bump(const StableEntries& s, std::size_t lo, std::size_t hi, const StepRule& o, StepSplit& first, StepSplit& second) {
+bool best_bump(const StableEntries& s, std::size_t lo, std::size_t hi, const StepRule& o, StepSplit& first,
+               StepSplit& second) {
     const std::size_t n = hi - lo;
     if (n < 3 * o.min_side) return false;
     std::vector<std::size_t> order(n);
     for (std::size_t i = 0; i < n; ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return s.values[lo + a] < s.values[lo + b]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return s.values[lo + a] < s.values[lo + b]; });
     std::vector<double> rank(n);
     for (std::size_t i = 0; i < n;) {  // ties share their average rank
         std::size_t j = i;
@@ -73,7 +77,8 @@ bool best_bump(const StableEntries& s, std::size_t lo, std::size_t hi, const Ste
             if (!boundary(b)) continue;
             ++pairs;
             const double k = static_cast<double>(b - a);
-            const double z = (prefix[b - lo] - prefix[a - lo] - k * (nd + 1) / 2) / std::sqrt(k * (nd - k) * (nd + 1) / 12);
+            const double z =
+                (prefix[b - lo] - prefix[a - lo] - k * (nd + 1) / 2) / std::sqrt(k * (nd - k) * (nd + 1) / 12);
             if (std::fabs(z) > best_z) best_z = std::fabs(z), best_a = a, best_b = b;
         }
     }
@@ -92,7 +97,8 @@ bool best_bump(const StableEntries& s, std::size_t lo, std::size_t hi, const Ste
     return true;
 }
 
-void split_segment(const StableEntries& s, std::size_t lo, std::size_t hi, const StepRule& o, std::vector<StepSplit>& found) {
+void split_segment(const StableEntries& s, std::size_t lo, std::size_t hi, const StepRule& o,
+                   std::vector<StepSplit>& found) {
     StepSplit split, back;
     if (best_split(s, lo, hi, o, split)) {
         found.push_back(split);

@@ -12,9 +12,12 @@ bool is_right(const TextTable& t, std::size_t c) { return c < t.right.size() && 
 std::string md_cell(std::string s) {
     std::string out;
     for (char ch : s) {
-        if (ch == '|') out += "\\|";
-        else if (ch == '\n') out += ' ';
-        else out += ch;
+        if (ch == '|')
+            out += "\\|";
+        else if (ch == '\n')
+            out += ' ';
+        else
+            out += ch;
     }
     return out;
 }
@@ -51,7 +54,8 @@ std::string TextTable::render_markdown() const {
     out += "\n";
     for (const auto& row : rows) {
         out += "|";
-        for (std::size_t c = 0; c < header.size(); ++c) out.append(" ").append(md_cell(c < row.size() ? row[c] : "")).append(" |");
+        for (std::size_t c = 0; c < header.size(); ++c)
+            out.append(" ").append(md_cell(c < row.size() ? row[c] : "")).append(" |");
         out += "\n";
     }
     return out;

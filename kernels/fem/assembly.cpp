@@ -70,10 +70,14 @@ Strategy parse_strategy(const std::string& name) {
 
 const char* strategy_name(Strategy s) {
     switch (s) {
-        case Strategy::serial: return "serial";
-        case Strategy::colour: return "colour";
-        case Strategy::partition: return "partition";
-        case Strategy::atomic: return "atomic";
+        case Strategy::serial:
+            return "serial";
+        case Strategy::colour:
+            return "colour";
+        case Strategy::partition:
+            return "partition";
+        case Strategy::atomic:
+            return "atomic";
     }
     return "?";
 }
@@ -94,7 +98,9 @@ StrategyPlan plan_strategy(const MeshArrays& m, Strategy s, int threads) {
         for (std::int64_t e = 0; e < ne; ++e) {
             const std::uint32_t* c = m.conn + 3 * e;
             const std::uint64_t taken = used[c[0]] | used[c[1]] | used[c[2]];
-            if (~taken == 0) throw UsageError("the colouring of this mesh needs more than 64 colours (a vertex with more than 64 triangles)");
+            if (~taken == 0)
+                throw UsageError(
+                    "the colouring of this mesh needs more than 64 colours (a vertex with more than 64 triangles)");
             const int k = __builtin_ctzll(~taken);
             colour[static_cast<std::size_t>(e)] = static_cast<std::uint32_t>(k);
             for (int j = 0; j < 3; ++j) used[c[j]] |= 1ULL << k;
@@ -131,7 +137,9 @@ StrategyPlan plan_strategy(const MeshArrays& m, Strategy s, int threads) {
         for (std::int64_t e = 0; e < ne; ++e)
             for (int j = 0; j < 3; ++j) {
                 const std::uint32_t v = m.conn[3 * e + j];
-                if (p.shared[v]) items[static_cast<std::size_t>(first[v])].push_back(static_cast<std::uint32_t>(e) << 2 | static_cast<std::uint32_t>(j));
+                if (p.shared[v])
+                    items[static_cast<std::size_t>(first[v])].push_back(static_cast<std::uint32_t>(e) << 2 |
+                                                                        static_cast<std::uint32_t>(j));
             }
         p.owned_ptr.push_back(0);
         for (const auto& list : items) {
@@ -157,9 +165,11 @@ void assemble(const MeshArrays& m, const Matrices& out, double delta, const Stra
             for (std::int64_t e = b.lo; e < b.hi; ++e) add_element<true>(m, out, delta, e);
         } else if (s == Strategy::colour) {
             for (int c = 0; c < plan.colours; ++c) {
-                const std::int64_t lo = plan.colour_ptr[static_cast<std::size_t>(c)], hi = plan.colour_ptr[static_cast<std::size_t>(c) + 1];
+                const std::int64_t lo = plan.colour_ptr[static_cast<std::size_t>(c)],
+                                   hi = plan.colour_ptr[static_cast<std::size_t>(c) + 1];
                 const Block b = my_block(hi - lo);
-                for (std::int64_t i = lo + b.lo; i < lo + b.hi; ++i) add_element<false>(m, out, delta, plan.colour_elements[static_cast<std::size_t>(i)]);
+                for (std::int64_t i = lo + b.lo; i < lo + b.hi; ++i)
+                    add_element<false>(m, out, delta, plan.colour_elements[static_cast<std::size_t>(i)]);
 #pragma omp barrier
             }
         } else {
@@ -175,7 +185,8 @@ void assemble(const MeshArrays& m, const Matrices& out, double delta, const Stra
                     if (!shared[c.v[i]]) add_row<false>(out, c, em, i);
             }
             const int t = omp_get_thread_num();
-            for (std::uint32_t k = plan.owned_ptr[static_cast<std::size_t>(t)]; k < plan.owned_ptr[static_cast<std::size_t>(t) + 1]; ++k) {
+            for (std::uint32_t k = plan.owned_ptr[static_cast<std::size_t>(t)];
+                 k < plan.owned_ptr[static_cast<std::size_t>(t) + 1]; ++k) {
                 const std::uint32_t item = plan.owned_items[k];
                 const Corners c = corners(m, item >> 2);
                 ElementMatrices em;
@@ -189,7 +200,8 @@ void assemble(const MeshArrays& m, const Matrices& out, double delta, const Stra
 AssembledCsr assemble_reference(const MeshArrays& m, double delta) {
     AssembledCsr r;
     r.row_ptr.resize(static_cast<std::size_t>(m.nv) + 1);
-    std::vector<std::uint32_t> v2e_ptr(static_cast<std::size_t>(m.nv) + 1), v2e(3 * static_cast<std::size_t>(m.ne)), fill(static_cast<std::size_t>(m.nv));
+    std::vector<std::uint32_t> v2e_ptr(static_cast<std::size_t>(m.nv) + 1), v2e(3 * static_cast<std::size_t>(m.ne)),
+        fill(static_cast<std::size_t>(m.nv));
     std::vector<std::uint64_t> partial(2);
     Pattern p{m.nv, r.row_ptr.data(), nullptr};
     const PatternScratch scratch{v2e_ptr.data(), v2e.data(), fill.data(), partial.data()};

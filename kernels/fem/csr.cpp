@@ -64,14 +64,16 @@ void build_pattern(const MeshArrays& m, Pattern& p, const PatternScratch& s) {
         for (std::int64_t v = vb.lo; v < vb.hi; ++v) s.v2e_ptr[v] = 0;
 #pragma omp barrier
         for (std::int64_t e = eb.lo; e < eb.hi; ++e)
-            for (int j = 0; j < 3; ++j) std::atomic_ref<std::uint32_t>(s.v2e_ptr[m.conn[3 * e + j]]).fetch_add(1, std::memory_order_relaxed);
+            for (int j = 0; j < 3; ++j)
+                std::atomic_ref<std::uint32_t>(s.v2e_ptr[m.conn[3 * e + j]]).fetch_add(1, std::memory_order_relaxed);
 #pragma omp barrier
         team_exclusive_scan(s.v2e_ptr, m.nv, s.partial);
         for (std::int64_t v = vb.lo; v < vb.hi; ++v) s.fill[v] = s.v2e_ptr[v];
 #pragma omp barrier
         for (std::int64_t e = eb.lo; e < eb.hi; ++e)
             for (int j = 0; j < 3; ++j) {
-                const std::uint32_t slot = std::atomic_ref<std::uint32_t>(s.fill[m.conn[3 * e + j]]).fetch_add(1, std::memory_order_relaxed);
+                const std::uint32_t slot =
+                    std::atomic_ref<std::uint32_t>(s.fill[m.conn[3 * e + j]]).fetch_add(1, std::memory_order_relaxed);
                 s.v2e[slot] = static_cast<std::uint32_t>(e);
             }
 #pragma omp barrier

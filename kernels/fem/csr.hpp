@@ -46,7 +46,8 @@ inline std::int64_t find_entry(const Pattern& p, std::uint32_t i, std::uint32_t 
 }
 
 // y[i] = Σ_k val[k] x[col[k]] for rows [lo, hi): one thread's share of y = A x.
-inline void spmv_rows(const Pattern& p, const double* val, const double* x, double* y, std::int64_t lo, std::int64_t hi) {
+inline void spmv_rows(const Pattern& p, const double* val, const double* x, double* y, std::int64_t lo,
+                      std::int64_t hi) {
     const std::uint32_t* const rp = p.row_ptr;
     const std::uint32_t* const col = p.col;
     for (std::int64_t i = lo; i < hi; ++i) {

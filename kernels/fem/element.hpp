@@ -9,7 +9,9 @@
 
 namespace suite::fem {
 
-inline double k_squared(double x, double y, double delta) { return (100.0 + delta) * std::exp(-50.0 * (x * x + y * y)) - 100.0; }
+inline double k_squared(double x, double y, double delta) {
+    return (100.0 + delta) * std::exp(-50.0 * (x * x + y * y)) - 100.0;
+}
 
 // The Gauss points of the rule, in barycentric coordinates: point q has weight 2/3 on corner q
 // and 1/6 on the others. Exact for polynomials of degree 2, so for the mass term of a constant k².
@@ -47,7 +49,8 @@ inline void element_matrices(const double x[3], const double y[3], double delta,
             // Σ_q w_q k² φi φj with φi(x_q) = 2/3 if i == q else 1/6.
             double kterm = 0;
             // (φi φj) first, so that A_e(i, j) and A_e(j, i) round alike: the matrix is exactly symmetric.
-            for (int q = 0; q < 3; ++q) kterm += kw[q] * ((i == q ? gauss_major : gauss_minor) * (j == q ? gauss_major : gauss_minor));
+            for (int q = 0; q < 3; ++q)
+                kterm += kw[q] * ((i == q ? gauss_major : gauss_minor) * (j == q ? gauss_major : gauss_minor));
             out.a[3 * i + j] = stiff * (gx[i] * gx[j] + gy[i] * gy[j]) - kterm;
             out.m[3 * i + j] = i == j ? 2 * mass : mass;
         }

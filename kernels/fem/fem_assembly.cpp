@@ -43,7 +43,8 @@ public:
         Verification v;
         v.passed = failed.empty();
         v.detail = d_.describe(cfg_) + std::string(strategy_name(strategy_)) + ": " +
-                   (failed.empty() ? "A and M equal the serial assembly entry by entry (1e-12 of the row), symmetric, ΣM = area, A 1 = -∫k²φ"
+                   (failed.empty() ? "A and M equal the serial assembly entry by entry (1e-12 of the row), symmetric, "
+                                     "ΣM = area, A 1 = -∫k²φ"
                                    : "FAILED: " + failed);
         return v;
     }
@@ -51,7 +52,8 @@ public:
     std::vector<Fact> facts() const override {
         std::vector<Fact> f{{"synchronised", static_cast<double>(plan_.synchronised), "element rows"}};
         if (strategy_ == Strategy::colour) f.push_back({"colours", static_cast<double>(plan_.colours), "barriers"});
-        if (strategy_ == Strategy::partition) f.push_back({"shared-vertices", static_cast<double>(plan_.shared_vertices), "vertices"});
+        if (strategy_ == Strategy::partition)
+            f.push_back({"shared-vertices", static_cast<double>(plan_.shared_vertices), "vertices"});
         return f;
     }
 
@@ -60,7 +62,8 @@ public:
     // estimate adds the write-allocate of the zeroing and, per element row, its row's columns
     // searched (one 64 B line) and the corners' coordinates gathered (3 x 16 B).
     Work work() const override {
-        const double ne = static_cast<double>(d_.mesh.ne), nv = static_cast<double>(d_.mesh.nv), nz = static_cast<double>(d_.nnz());
+        const double ne = static_cast<double>(d_.mesh.ne), nv = static_cast<double>(d_.mesh.nv),
+                     nz = static_cast<double>(d_.nnz());
         Work w;
         w.units = ne;
         w.flops = element_flops * ne + 18 * ne;  // and 18 additions into A and M
@@ -91,7 +94,9 @@ const bool registered = [] {
     e.info.read_bytes_per_unit = 12 + 8 + 2 + 14 + 56;  // per triangle: corners, coordinates, rows, columns, values
     e.info.write_bytes_per_unit = 56;
     e.info.flops_per_unit = element_flops + 18;
-    e.info.notes = "P1 Helmholtz assembly of A and M; --strategy=serial,colour,partition,atomic (default all; serial on one thread)";
+    e.info.notes =
+        "P1 Helmholtz assembly of A and M; --strategy=serial,colour,partition,atomic (default all; serial on one "
+        "thread)";
     set_mesh_sizing(e);
     e.make = [](const KernelConfig& cfg) { return std::make_unique<FemAssembly>(cfg); };
     e.validate = [](const KernelConfig& cfg) {

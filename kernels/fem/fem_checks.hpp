@@ -43,8 +43,8 @@ std::string judge_cg_residuals(double rel, double recursive, double tol, double 
 // The solution x of a CG solve of A x = f that claimed `result` at tolerance `tol`: its recursive
 // residual within tol, and its true one, recomputed, within tol plus the rounding margin. "" when it
 // holds, else what failed; `detail` gets the recomputed figures either way.
-std::string check_cg_solution(const Pattern& p, const double* a, const double* f, const double* x, const CgResult& result, double tol,
-                              std::string& detail);
+std::string check_cg_solution(const Pattern& p, const double* a, const double* f, const double* x,
+                              const CgResult& result, double tol, std::string& detail);
 
 // What verify() says of a CG solve (cg) or an inverse iteration, whoever ran it: that it ran after
 // setup, that it converged (else `solver_failed`, and which limit stopped it), and that it took
@@ -58,14 +58,15 @@ struct SolveOutcome {
     int max_cg = 0;
     long cg_iterations() const { return cg ? cg_result.iterations : eigen.cg_iterations; }
 };
-void check_solve_outcome(const SolveOutcome& o, bool& solver_failed, const std::function<void(const std::string&)>& fail);
+void check_solve_outcome(const SolveOutcome& o, bool& solver_failed,
+                         const std::function<void(const std::string&)>& fail);
 
 // y, the symmetric product (symmetric.hpp) of x: equal to the last bit to a serial replay of the
 // team's schedule (a race would differ) and, entry by entry, to the full CSR product to 1e-12 of
 // the row's Σ_j |a_ij x_j| (the storage and the window are right). "" when both hold, else the
 // first difference; `detail` gets the largest relative difference either way.
-std::string check_symmetric_product(const Pattern& p, const double* a, const SymmetricPattern& s, SymmetricValues v, const double* x,
-                                    const double* y, std::string& detail);
+std::string check_symmetric_product(const Pattern& p, const double* a, const SymmetricPattern& s, SymmetricValues v,
+                                    const double* x, const double* y, std::string& detail);
 
 std::string check_same_lambda(const std::string& key, const std::string& who, double lambda);
 

@@ -97,7 +97,8 @@ void FemDist::setup(Arena& arena) {
     const mesh::Mesh mesh = load_fem_mesh(spec_, cfg_.access.name, cfg_.seed);
     nv_ = static_cast<std::int64_t>(mesh.vertices());
     ne_ = static_cast<std::int64_t>(mesh.elements());
-    AssembledCsr global = assemble_reference({nv_, ne_, mesh.x.data(), mesh.y.data(), mesh.conn.data()}, param(cfg_, "delta"));
+    AssembledCsr global =
+        assemble_reference({nv_, ne_, mesh.x.data(), mesh.y.data(), mesh.conn.data()}, param(cfg_, "delta"));
     const Pattern gp = global.pattern();
     const Partition part = make_partition(scheme_, gp, comm_.size(), cfg_.seed);
     quality_ = partition_quality(gp, part);
@@ -123,7 +124,8 @@ void FemDist::setup(Arena& arena) {
         const Block rb = my_block(n);
         for (std::int64_t i = rb.lo; i < rb.hi; ++i) row_ptr[i] = lm.row_ptr[static_cast<std::size_t>(i)];
         if (omp_get_thread_num() == omp_get_num_threads() - 1) row_ptr[n] = lm.row_ptr[static_cast<std::size_t>(n)];
-        for (std::uint32_t k = lm.row_ptr[static_cast<std::size_t>(rb.lo)]; k < lm.row_ptr[static_cast<std::size_t>(rb.hi)]; ++k) {
+        for (std::uint32_t k = lm.row_ptr[static_cast<std::size_t>(rb.lo)];
+             k < lm.row_ptr[static_cast<std::size_t>(rb.hi)]; ++k) {
             col[k] = lm.col[k];
             a[k] = lm.a[k];
             if (m) m[k] = lm.m[k];
@@ -186,9 +188,10 @@ void FemDist::run(int calls) {
 }
 
 std::string FemDist::describe() const {
-    return "mesh " + spec_ + " (" + std::to_string(ne_) + " triangles, " + std::to_string(nv_) + " vertices), " + cfg_.access.name + ", " +
-           partition_scheme_name(scheme_) + " partition, rank " + std::to_string(comm_.rank()) + " of " + std::to_string(comm_.size()) + " (" +
-           std::to_string(n_) + " rows, halo " + std::to_string(halo_) + "): ";
+    return "mesh " + spec_ + " (" + std::to_string(ne_) + " triangles, " + std::to_string(nv_) + " vertices), " +
+           cfg_.access.name + ", " + partition_scheme_name(scheme_) + " partition, rank " +
+           std::to_string(comm_.rank()) + " of " + std::to_string(comm_.size()) + " (" + std::to_string(n_) +
+           " rows, halo " + std::to_string(halo_) + "): ";
 }
 
 Verification FemDist::verify() {
@@ -210,7 +213,8 @@ Verification FemDist::verify() {
             spmv_rows(gp, serial_.a.data(), serial_x_.data(), ref.data(), g, g + 1);
             if (ref[static_cast<std::size_t>(g)] == y_[i]) continue;
             if (bad++ == 0)
-                fail("y of global row " + std::to_string(g) + " = " + format_number(y_[i]) + ", serial " + format_number(ref[static_cast<std::size_t>(g)]));
+                fail("y of global row " + std::to_string(g) + " = " + format_number(y_[i]) + ", serial " +
+                     format_number(ref[static_cast<std::size_t>(g)]));
         }
         if (comm_.max(bad) > 0 && bad == 0) fail("another rank's rows differ from the serial product");
         if (v.passed) what = "y = A x on every rank's rows equals the serial product of the global matrix exactly";
@@ -226,7 +230,9 @@ Verification FemDist::verify() {
     const long its = outcome.cg_iterations();
     const std::int64_t most = comm_.max(its), least = -comm_.max(-its);
     check_solve_outcome(outcome, v.solver_failed, fail);
-    if (most != least) fail("the ranks took from " + std::to_string(least) + " to " + std::to_string(most) + " CG iterations; they must agree");
+    if (most != least)
+        fail("the ranks took from " + std::to_string(least) + " to " + std::to_string(most) +
+             " CG iterations; they must agree");
     if (cg) {
         // ||f - A x||², ||f||², || |A| |x| ||² (the halo of x is there: the product exchanged it).
         std::array<double, 3> s{0, 0, 0};
@@ -241,11 +247,13 @@ Verification FemDist::verify() {
             longest = std::max<std::int64_t>(longest, row_ptr_[i + 1] - row_ptr_[i]);
         }
         comm_.sum(s);
-        const double rel = std::sqrt(s[0] / s[1]), margin = cg_rounding_margin(its, comm_.max(longest), std::sqrt(s[2]), std::sqrt(s[1]));
+        const double rel = std::sqrt(s[0] / s[1]),
+                     margin = cg_rounding_margin(its, comm_.max(longest), std::sqrt(s[2]), std::sqrt(s[1]));
         const std::string wrong = judge_cg_residuals(rel, cg_result_.relative_residual, cg_tol_, margin);
         if (!wrong.empty()) fail(wrong);
         if (v.passed)
-            what = "||f - A x|| / ||f|| = " + format_number(rel) + " recomputed by a distributed product, within --cg-tol=" + format_number(cg_tol_) + " + " +
+            what = "||f - A x|| / ||f|| = " + format_number(rel) +
+                   " recomputed by a distributed product, within --cg-tol=" + format_number(cg_tol_) + " + " +
                    format_number(margin) + " (rounding), " + std::to_string(its) + " iterations on every rank";
     } else {
         const double lambda = eigen_.lambda;
@@ -259,15 +267,21 @@ Verification FemDist::verify() {
         }
         comm_.sum(s);
         const double rq = s[2] / s[3], rel = std::sqrt(s[0] / s[1]);
-        if (!(std::fabs(rq - lambda) <= 1e-9 * std::fabs(rq))) fail("λ = " + format_number(lambda) + ", the Rayleigh quotient of u is " + format_number(rq));
-        if (s[4] > 0) fail(format_number(s[4]) + " entries of the eigenvector are not positive (it should have one sign)");
+        if (!(std::fabs(rq - lambda) <= 1e-9 * std::fabs(rq)))
+            fail("λ = " + format_number(lambda) + ", the Rayleigh quotient of u is " + format_number(rq));
+        if (s[4] > 0)
+            fail(format_number(s[4]) + " entries of the eigenvector are not positive (it should have one sign)");
         if (!(rel <= 1e-3)) fail("||A u - λ M u|| / ||λ M u|| = " + format_number(rel));
         const std::string key = spec_ + " delta=" + format_number(param(cfg_, "delta")) + " tol=" + format_number(tol_);
-        const std::string agree = !v.passed ? "" : check_same_lambda(key, cfg_.access.name + "/" + partition_scheme_name(scheme_), lambda);
+        const std::string agree =
+            !v.passed ? "" : check_same_lambda(key, cfg_.access.name + "/" + partition_scheme_name(scheme_), lambda);
         if (!agree.empty()) fail(agree);
         if (v.passed)
-            what = "λ = " + format_number(lambda) + " is the Rayleigh quotient of u (distributed), u > 0, ||A u - λ M u|| / ||λ M u|| = " + format_number(rel) +
-                   ", the same CG count on every rank, λ the same as every other ordering's and partition's of this run (1e-7)";
+            what = "λ = " + format_number(lambda) +
+                   " is the Rayleigh quotient of u (distributed), u > 0, ||A u - λ M u|| / ||λ M u|| = " +
+                   format_number(rel) +
+                   ", the same CG count on every rank, λ the same as every other ordering's and partition's of this "
+                   "run (1e-7)";
     }
     v.detail = describe() + what;
     return v;
@@ -315,12 +329,17 @@ Work FemDist::work() const {
         const double exchanges = solve_ == DistSolve::cg ? its + 1 : its + 3 * outer + 2;
         w.units = its;
         w.flops = its * (2 * nz + 10 * nd) + outer * (3 * 2 * nz + 8 * nd);
-        w.stream_bytes = its * (csr_bytes(nnz_, n_) + 88 * nd) + matrix_pass + outer * (3 * matrix_pass + 48 * nd) + exchanges * halo;
+        w.stream_bytes = its * (csr_bytes(nnz_, n_) + 88 * nd) + matrix_pass + outer * (3 * matrix_pass + 48 * nd) +
+                         exchanges * halo;
         w.hardware_bytes = w.stream_bytes + its * 32 * nd + exchanges * gather;
     }
-    const int with_halo = solve_ == DistSolve::spmv ? 2 : 3, owned_only = solve_ == DistSolve::spmv ? 0 : solve_ == DistSolve::cg ? 3 : 4;
+    const int with_halo = solve_ == DistSolve::spmv ? 2 : 3, owned_only = solve_ == DistSolve::spmv ? 0
+                                                                          : solve_ == DistSolve::cg ? 3
+                                                                                                    : 4;
     const double matrices = solve_ == DistSolve::spmv ? 1 : 2;
-    w.footprint_bytes = static_cast<std::uint64_t>(csr_bytes(nnz_, n_) + 8 * (matrices - 1) * nz + 8 * with_halo * (nd + static_cast<double>(halo_)) + 8 * owned_only * nd);
+    w.footprint_bytes =
+        static_cast<std::uint64_t>(csr_bytes(nnz_, n_) + 8 * (matrices - 1) * nz +
+                                   8 * with_halo * (nd + static_cast<double>(halo_)) + 8 * owned_only * nd);
     return w;
 }
 
@@ -329,9 +348,11 @@ void dist_validate(const KernelConfig& cfg, const std::string& name, DistSolve s
     validate_solver_params(cfg, name, s != DistSolve::spmv, s == DistSolve::eigen);
     validate_fem(cfg, name, true);
     const std::string spec = mesh_spec_of(cfg);
-    const std::uint64_t vertices = mesh::mesh_counts(mesh::parse_mesh_spec(spec)).vertices, ranks = static_cast<std::uint64_t>(cfg.communicator().size());
+    const std::uint64_t vertices = mesh::mesh_counts(mesh::parse_mesh_spec(spec)).vertices,
+                        ranks = static_cast<std::uint64_t>(cfg.communicator().size());
     if (vertices < ranks)
-        throw UsageError(name + " on --mesh=" + spec + ": " + std::to_string(vertices) + " vertices cannot give each of " + std::to_string(ranks) +
+        throw UsageError(name + " on --mesh=" + spec + ": " + std::to_string(vertices) +
+                         " vertices cannot give each of " + std::to_string(ranks) +
                          " ranks a row; use a larger mesh or fewer ranks");
 }
 
@@ -345,12 +366,15 @@ bool dist_register(const char* name, DistSolve s, const char* formula, const cha
     e.info.variant_option = "strategy";
     e.info.default_variants = {"curve"};
     e.info.params = {delta_param()};
-    for (ParamInfo& p : solver_params(s != DistSolve::spmv, s == DistSolve::eigen)) e.info.params.push_back(std::move(p));
+    for (ParamInfo& p : solver_params(s != DistSolve::spmv, s == DistSolve::eigen))
+        e.info.params.push_back(std::move(p));
     e.info.read_bytes_per_unit = s == DistSolve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == DistSolve::spmv ? 2 : 0;
     e.info.notes = notes +
-                   "; --strategy=curve (the ordering's rows in ranges balanced by nonzeros, default) or metis (METIS k-way); set-up replicated: every "
-                   "rank builds the whole mesh and matrices, partitions them and keeps its own rows; facts: ranks, rows, halo, neighbours, "
+                   "; --strategy=curve (the ordering's rows in ranges balanced by nonzeros, default) or metis (METIS "
+                   "k-way); set-up replicated: every "
+                   "rank builds the whole mesh and matrices, partitions them and keeps its own rows; facts: ranks, "
+                   "rows, halo, neighbours, "
                    "edge-cut, imbalance-rows, imbalance-nnz";
     set_mesh_sizing(e);
     e.make = [s](const KernelConfig& cfg) { return std::make_unique<FemDist>(cfg, s); };
@@ -358,12 +382,14 @@ bool dist_register(const char* name, DistSolve s, const char* formula, const cha
     return register_kernel(std::move(e));
 }
 
-const bool dist_registered = dist_register("fem-spmv-dist", DistSolve::spmv, "y[i] = Σ_k A[k] x[col[k]], i the rank's rows", "nonzero",
-                                           "fem-spmv on the rank's rows after a halo exchange") &&
-                             dist_register("fem-cg-dist", DistSolve::cg, "CG on A x = M 1 over the ranks", "iteration",
-                                           "fem-cg over the ranks: a halo exchange a product, dots summed over the ranks (facts: iterations, residual)") &&
-                             dist_register("fem-eigen-dist", DistSolve::eigen, "inverse iteration: A u = λ M u over the ranks", "iteration",
-                                           "fem-eigen over the ranks, rated per CG iteration (facts: λ, iterations, CG iterations, residual)");
+const bool dist_registered =
+    dist_register("fem-spmv-dist", DistSolve::spmv, "y[i] = Σ_k A[k] x[col[k]], i the rank's rows", "nonzero",
+                  "fem-spmv on the rank's rows after a halo exchange") &&
+    dist_register(
+        "fem-cg-dist", DistSolve::cg, "CG on A x = M 1 over the ranks", "iteration",
+        "fem-cg over the ranks: a halo exchange a product, dots summed over the ranks (facts: iterations, residual)") &&
+    dist_register("fem-eigen-dist", DistSolve::eigen, "inverse iteration: A u = λ M u over the ranks", "iteration",
+                  "fem-eigen over the ranks, rated per CG iteration (facts: λ, iterations, CG iterations, residual)");
 
 }  // namespace
 

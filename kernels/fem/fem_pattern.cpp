@@ -33,8 +33,10 @@ public:
         const std::string failed = check_pattern(d_.mesh, d_.pattern);
         Verification v;
         v.passed = failed.empty();
-        v.detail = d_.describe(cfg_) + (failed.empty() ? "rows ascending, symmetric, every triangle's pairs present, vertices + 2 x edges entries"
-                                                       : "FAILED: " + failed);
+        v.detail =
+            d_.describe(cfg_) +
+            (failed.empty() ? "rows ascending, symmetric, every triangle's pairs present, vertices + 2 x edges entries"
+                            : "FAILED: " + failed);
         return v;
     }
 
@@ -43,7 +45,8 @@ public:
     // and read twice (count and fill), the corners gathered twice through them, and the columns'
     // write-allocate.
     Work work() const override {
-        const double ne = static_cast<double>(d_.mesh.ne), nv = static_cast<double>(d_.mesh.nv), nz = static_cast<double>(d_.nnz());
+        const double ne = static_cast<double>(d_.mesh.ne), nv = static_cast<double>(d_.mesh.nv),
+                     nz = static_cast<double>(d_.nnz());
         Work w;
         w.units = ne;
         w.stream_bytes = 12 * ne + 4 * (nv + 1) + 4 * nz;

@@ -12,11 +12,14 @@
 
 namespace suite::fem {
 
-std::string mesh_spec_of(const KernelConfig& cfg) { return cfg.mesh.empty() ? mesh::disk_spec_for(cfg.size) : cfg.mesh; }
+std::string mesh_spec_of(const KernelConfig& cfg) {
+    return cfg.mesh.empty() ? mesh::disk_spec_for(cfg.size) : cfg.mesh;
+}
 
 double param(const KernelConfig& cfg, const std::string& name) {
     const auto it = cfg.params.find(name);
-    if (it == cfg.params.end()) throw std::logic_error("finite element kernel: parameter '" + name + "' was not filled in");
+    if (it == cfg.params.end())
+        throw std::logic_error("finite element kernel: parameter '" + name + "' was not filled in");
     return it->second;
 }
 
@@ -49,7 +52,8 @@ void FemPoint::setup(Arena& arena, const KernelConfig& cfg, Build build) {
             s.v2e_ptr[v] = s.fill[v] = p.row_ptr[v] = 0;
         }
         for (std::int64_t e = eb.lo; e < eb.hi; ++e)
-            for (int j = 0; j < 3; ++j) conn[3 * e + j] = m.conn[static_cast<std::size_t>(3 * e + j)], s.v2e[3 * e + j] = 0;
+            for (int j = 0; j < 3; ++j)
+                conn[3 * e + j] = m.conn[static_cast<std::size_t>(3 * e + j)], s.v2e[3 * e + j] = 0;
 #pragma omp single
         s.v2e_ptr[nv] = p.row_ptr[nv] = 0;
     }
@@ -80,8 +84,8 @@ void FemPoint::setup(Arena& arena, const KernelConfig& cfg, Build build) {
 }
 
 std::string FemPoint::describe(const KernelConfig& cfg) const {
-    return "mesh " + spec + " (" + std::to_string(mesh.ne) + " triangles, " + std::to_string(mesh.nv) + " vertices, " + std::to_string(nnz()) +
-           " nonzeros), " + cfg.access.name + ": ";
+    return "mesh " + spec + " (" + std::to_string(mesh.ne) + " triangles, " + std::to_string(mesh.nv) + " vertices, " +
+           std::to_string(nnz()) + " nonzeros), " + cfg.access.name + ": ";
 }
 
 double* FemPoint::vector(Arena& arena, const std::string& name) const {
@@ -99,7 +103,8 @@ void validate_fem(const KernelConfig& cfg, const std::string& kernel, bool takes
     if (takes_delta) {
         const double d = param(cfg, "delta");
         if (!std::isfinite(d) || d < 0)
-            throw UsageError("--delta=" + format_number(d) + " for " + kernel + ": δ must be a finite number >= 0 (default 0.05)");
+            throw UsageError("--delta=" + format_number(d) + " for " + kernel +
+                             ": δ must be a finite number >= 0 (default 0.05)");
     }
     const std::string spec = mesh_spec_of(cfg);
     // The kernel's arrays, the mesh while it is loaded and ordered (three copies at most), and
@@ -110,32 +115,47 @@ void validate_fem(const KernelConfig& cfg, const std::string& kernel, bool takes
     const std::uint64_t need = nv * (16 + 16 + 8 * 8) + ne * 24 + nz * 20 + 3 * (ne * 12 + nv * 16) + nz * 20 + ne * 24;
     const std::uint64_t have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
-        throw UsageError(kernel + " on --mesh=" + spec + " (" + std::to_string(ne) + " triangles) needs about " + format_bytes(need) + ", more than the " +
-                         format_bytes(have) + " of memory available; use a smaller mesh");
+        throw UsageError(kernel + " on --mesh=" + spec + " (" + std::to_string(ne) + " triangles) needs about " +
+                         format_bytes(need) + ", more than the " + format_bytes(have) +
+                         " of memory available; use a smaller mesh");
     check_fem_spec(spec);
 }
 
-ParamInfo delta_param() { return {"delta", 0.05, "δ of the waveguide, k² = (100 + δ) exp(-50 (x² + y²)) - 100; finite, >= 0 (fem kernels)"}; }
+ParamInfo delta_param() {
+    return {"delta", 0.05, "δ of the waveguide, k² = (100 + δ) exp(-50 (x² + y²)) - 100; finite, >= 0 (fem kernels)"};
+}
 
 std::vector<ParamInfo> solver_params(bool cg, bool eigen) {
     std::vector<ParamInfo> out;
     if (cg) {
-        out.push_back({"cg-tol", 1e-10, "CG stops when ||r|| <= cg-tol ||f||; in (0, 1) (fem-cg, fem-eigen and their -dist twins)"});
-        out.push_back({"cg-max", 100000, "most CG iterations of one solve, a whole number >= 1 (fem-cg, fem-eigen and their -dist twins)"});
+        out.push_back({"cg-tol", 1e-10,
+                       "CG stops when ||r|| <= cg-tol ||f||; in (0, 1) (fem-cg, fem-eigen and their -dist twins)"});
+        out.push_back(
+            {"cg-max", 100000,
+             "most CG iterations of one solve, a whole number >= 1 (fem-cg, fem-eigen and their -dist twins)"});
     }
-    if (eigen) out.push_back({"tol", 1e-8, "the inverse iteration stops when |λ - λ_old| <= tol |λ_old|; in (0, 1) (fem-eigen, fem-eigen-dist)"});
+    if (eigen)
+        out.push_back(
+            {"tol", 1e-8,
+             "the inverse iteration stops when |λ - λ_old| <= tol |λ_old|; in (0, 1) (fem-eigen, fem-eigen-dist)"});
     return out;
 }
 
 void validate_solver_params(const KernelConfig& cfg, const std::string& name, bool cg, bool eigen) {
     if (cg) {
         const double t = param(cfg, "cg-tol"), m = param(cfg, "cg-max");
-        if (!(t > 0 && t < 1)) throw UsageError("--cg-tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
-        if (!(m >= 1 && m <= 2e9 && m == std::floor(m))) throw UsageError("--cg-max=" + format_number(m) + " for " + name + ": accepted: a whole number from 1 to 2000000000");
+        if (!(t > 0 && t < 1))
+            throw UsageError("--cg-tol=" + format_number(t) + " for " + name +
+                             ": the tolerance must lie strictly between 0 and 1");
+        if (!(m >= 1 && m <= 2e9 && m == std::floor(m)))
+            throw UsageError("--cg-max=" + format_number(m) + " for " + name +
+                             ": accepted: a whole number from 1 to 2000000000");
     }
     if (eigen) {
         const double t = param(cfg, "tol");
-        if (!(t > 0 && t < 1)) throw UsageError("--tol=" + format_number(t) + " for " + name + ": the tolerance must lie strictly between 0 and 1");
+        if (!(t > 0 && t < 1))
+            throw UsageError("--tol=" + format_number(t) + " for " + name +
+                             ": the tolerance must lie strictly between 0 and 1");
     }
 }
 

@@ -43,7 +43,9 @@ public:
 };
 
 // Bytes of the CSR structure, by the STREAM convention: values, column indices, row pointers.
-inline double csr_bytes(std::uint64_t nnz, std::int64_t n) { return 12.0 * static_cast<double>(nnz) + 4.0 * static_cast<double>(n + 1); }
+inline double csr_bytes(std::uint64_t nnz, std::int64_t n) {
+    return 12.0 * static_cast<double>(nnz) + 4.0 * static_cast<double>(n + 1);
+}
 
 // The checks of validate() common to the kernels: the mesh (fem_mesh.hpp), the memory it needs,
 // and δ >= 0 (finite) when the kernel takes it.

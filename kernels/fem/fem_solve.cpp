@@ -37,7 +37,9 @@ enum class Solve { spmv, cg, eigen };
 // fused passes (q = A p with pᵀq: p, q; x, r updates with rᵀr: x, p, r, q read, x, r written;
 // p = r + βp: r, p read, p written). Flops: 2 a nonzero, 10 a row.
 double cg_bytes(double matrix_bytes, std::int64_t n) { return matrix_bytes + 88.0 * static_cast<double>(n); }
-double cg_flops(std::uint64_t nnz, std::int64_t n) { return 2.0 * static_cast<double>(nnz) + 10.0 * static_cast<double>(n); }
+double cg_flops(std::uint64_t nnz, std::int64_t n) {
+    return 2.0 * static_cast<double>(nnz) + 10.0 * static_cast<double>(n);
+}
 
 class FemSolve final : public Kernel {
 public:
@@ -108,7 +110,8 @@ public:
 #pragma omp master
                     cg_result_ = r;
                 } else {
-                    const EigenResult r = inverse_iteration_team(a, mv, {y_, f_, au_, x_, cg_}, tol_, cg_tol_, max_cg_, sum, rb);
+                    const EigenResult r =
+                        inverse_iteration_team(a, mv, {y_, f_, au_, x_, cg_}, tol_, cg_tol_, max_cg_, sum, rb);
 #pragma omp master
                     eigen_ = r;
                 }
@@ -196,7 +199,8 @@ Verification FemSolve::verify() {
         spmv_rows(p, a, x_, ref.data(), 0, n);
         for (std::int64_t i = 0; i < n && v.passed; ++i)
             if (ref[static_cast<std::size_t>(i)] != y_[i])
-                fail("y[" + std::to_string(i) + "] = " + format_number(y_[i]) + ", serial " + format_number(ref[static_cast<std::size_t>(i)]));
+                fail("y[" + std::to_string(i) + "] = " + format_number(y_[i]) + ", serial " +
+                     format_number(ref[static_cast<std::size_t>(i)]));
         if (v.passed) what = "y = A x equals a serial replay exactly";
     } else {
         // The true residual of what the solver returns, by its own SpMV.
@@ -204,7 +208,8 @@ Verification FemSolve::verify() {
         std::vector<double> t(static_cast<std::size_t>(n)), t2(static_cast<std::size_t>(n));
         spmv_rows(p, a, sol, t.data(), 0, n);
         const bool cg = solve_ == Solve::cg;
-        check_solve_outcome({ran_, cg, cg_result_, eigen_, setup_cg_iterations_, cg_tol_, tol_, max_cg_}, v.solver_failed, fail);
+        check_solve_outcome({ran_, cg, cg_result_, eigen_, setup_cg_iterations_, cg_tol_, tol_, max_cg_},
+                            v.solver_failed, fail);
         if (cg) {
             std::string figures;
             const std::string wrong = check_cg_solution(p, a, f_, sol, cg_result_, cg_tol_, figures);
@@ -223,13 +228,21 @@ Verification FemSolve::verify() {
                 if (!(sol[i] > 0)) ++negative;
             }
             const double rq = num / den, rel = std::sqrt(res / ref);
-            if (!(std::fabs(rq - eigen_.lambda) <= 1e-9 * std::fabs(rq))) fail("λ = " + format_number(eigen_.lambda) + ", the Rayleigh quotient of u is " + format_number(rq));
-            if (negative) fail(std::to_string(negative) + " entries of the eigenvector are not positive (it should have one sign)");
+            if (!(std::fabs(rq - eigen_.lambda) <= 1e-9 * std::fabs(rq)))
+                fail("λ = " + format_number(eigen_.lambda) + ", the Rayleigh quotient of u is " + format_number(rq));
+            if (negative)
+                fail(std::to_string(negative) +
+                     " entries of the eigenvector are not positive (it should have one sign)");
             if (!(rel <= 1e-3)) fail("||A u - λ M u|| / ||λ M u|| = " + format_number(rel));
-            const std::string agree = !v.passed ? "" : check_same_lambda(d_.spec + " delta=" + format_number(d_.delta) + " tol=" + format_number(tol_), cfg_.access.name, eigen_.lambda);
+            const std::string agree =
+                !v.passed
+                    ? ""
+                    : check_same_lambda(d_.spec + " delta=" + format_number(d_.delta) + " tol=" + format_number(tol_),
+                                        cfg_.access.name, eigen_.lambda);
             if (!agree.empty()) fail(agree);
             if (v.passed)
-                what = "λ = " + format_number(eigen_.lambda) + " is the Rayleigh quotient of u, u > 0, ||A u - λ M u|| / ||λ M u|| = " + format_number(rel) +
+                what = "λ = " + format_number(eigen_.lambda) +
+                       " is the Rayleigh quotient of u, u > 0, ||A u - λ M u|| / ||λ M u|| = " + format_number(rel) +
                        ", λ the same as every other ordering's of this run (1e-7)";
         }
     }
@@ -243,7 +256,8 @@ Verification FemSolve::verify() {
 std::vector<Fact> FemSolve::facts() const {
     std::vector<Fact> out;
     if (solve_ == Solve::cg)
-        out = {{"iterations", static_cast<double>(cg_result_.iterations), "CG iterations"}, {"residual", cg_result_.relative_residual, "||r||/||f||"}};
+        out = {{"iterations", static_cast<double>(cg_result_.iterations), "CG iterations"},
+               {"residual", cg_result_.relative_residual, "||r||/||f||"}};
     if (solve_ == Solve::eigen)
         out = {{"lambda", eigen_.lambda, ""},
                {"iterations", static_cast<double>(eigen_.iterations), "inverse iterations"},
@@ -258,7 +272,8 @@ std::vector<Fact> FemSolve::facts() const {
         out.push_back({"slots", static_cast<double>(c.slots), "near entries a row"});
         out.push_back({"far-entries", static_cast<double>(c.far_nnz) / nz, "of the nonzeros"});
         out.push_back({"phases", c.threads > 1 ? 2.0 : 1.0, "a product"});
-        out.push_back({"synchronised-updates", static_cast<double>(c.threads - 1) * static_cast<double>(c.window - 1), "a product"});
+        out.push_back({"synchronised-updates", static_cast<double>(c.threads - 1) * static_cast<double>(c.window - 1),
+                       "a product"});
     }
     return out;
 }
@@ -288,8 +303,14 @@ Work FemSolve::work() const {
     }
     const int vectors = solve_ == Solve::spmv ? 2 : solve_ == Solve::cg ? 6 : 7;
     double symmetric = 0;  // the symmetric arrays, beside the CSR ones the kernel keeps
-    if (symmetric_) symmetric = sym_.counts.matrix_bytes() + (solve_ == Solve::eigen ? 8.0 * static_cast<double>((sym_.counts.slots + 1) * sym_.counts.n + static_cast<std::int64_t>(sym_.counts.far_nnz)) : 0.0);
-    w.footprint_bytes = static_cast<std::uint64_t>(csr_bytes(nz, n) + 8.0 * static_cast<double>(nz) + 8.0 * vectors * nd + 16 * nd + 12.0 * static_cast<double>(d_.mesh.ne) + symmetric);
+    if (symmetric_)
+        symmetric = sym_.counts.matrix_bytes() +
+                    (solve_ == Solve::eigen ? 8.0 * static_cast<double>((sym_.counts.slots + 1) * sym_.counts.n +
+                                                                        static_cast<std::int64_t>(sym_.counts.far_nnz))
+                                            : 0.0);
+    w.footprint_bytes =
+        static_cast<std::uint64_t>(csr_bytes(nz, n) + 8.0 * static_cast<double>(nz) + 8.0 * vectors * nd + 16 * nd +
+                                   12.0 * static_cast<double>(d_.mesh.ne) + symmetric);
     return w;
 }
 
@@ -315,7 +336,8 @@ bool register_solve(const char* name, Solve s, const char* formula, const char* 
     e.info.read_bytes_per_unit = s == Solve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == Solve::spmv ? 2 : 0;
     e.info.notes = std::string(notes) +
-                   "; --strategy=csr (every entry, default) or symmetric (one triangle, the transposed half through a ring of 4096 rows a thread: "
+                   "; --strategy=csr (every entry, default) or symmetric (one triangle, the transposed half through a "
+                   "ring of 4096 rows a thread: "
                    "about 60 % of the matrix bytes; facts: window, slots, far-entries, phases, synchronised-updates)";
     set_mesh_sizing(e);
     e.make = [s](const KernelConfig& cfg) { return std::make_unique<FemSolve>(cfg, s); };
@@ -323,11 +345,14 @@ bool register_solve(const char* name, Solve s, const char* formula, const char* 
     return register_kernel(std::move(e));
 }
 
-const bool registered = register_solve("fem-spmv", Solve::spmv, "y[i] = Σ_k A[k] x[col[k]]", "nonzero", "SpMV of the P1 Helmholtz matrix A") &&
-                        register_solve("fem-cg", Solve::cg, "CG on A x = M 1", "iteration",
-                                       "unpreconditioned CG from x = 0; rated per iteration (facts: iterations, residual)") &&
-                        register_solve("fem-eigen", Solve::eigen, "inverse iteration: A u = λ M u", "iteration",
-                                       "the whole inverse power iteration, rated per CG iteration (facts: λ, iterations, CG iterations, residual)");
+const bool registered =
+    register_solve("fem-spmv", Solve::spmv, "y[i] = Σ_k A[k] x[col[k]]", "nonzero",
+                   "SpMV of the P1 Helmholtz matrix A") &&
+    register_solve("fem-cg", Solve::cg, "CG on A x = M 1", "iteration",
+                   "unpreconditioned CG from x = 0; rated per iteration (facts: iterations, residual)") &&
+    register_solve(
+        "fem-eigen", Solve::eigen, "inverse iteration: A u = λ M u", "iteration",
+        "the whole inverse power iteration, rated per CG iteration (facts: λ, iterations, CG iterations, residual)");
 
 }  // namespace
 

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <cstdio>
 #include <numeric>
+#include <stdexcept>
 
 #include "harness/common/units.hpp"
 #include "kernels/sfc/encode.hpp"
@@ -33,13 +33,15 @@ Csr permute_symmetric(const Csr& a, const std::vector<std::uint32_t>& perm) {
     Csr b;
     b.n = a.n;
     b.row_ptr.assign(static_cast<std::size_t>(a.n) + 1, 0);
-    for (std::int64_t i = 0; i < a.n; ++i) b.row_ptr[i + 1] = b.row_ptr[i] + (a.row_ptr[perm[i] + 1] - a.row_ptr[perm[i]]);
+    for (std::int64_t i = 0; i < a.n; ++i)
+        b.row_ptr[i + 1] = b.row_ptr[i] + (a.row_ptr[perm[i] + 1] - a.row_ptr[perm[i]]);
     b.col.resize(a.nnz());
     b.val.resize(a.nnz());
     std::vector<std::pair<std::uint32_t, double>> row;
     for (std::int64_t i = 0; i < a.n; ++i) {
         row.clear();
-        for (std::uint32_t k = a.row_ptr[perm[i]]; k < a.row_ptr[perm[i] + 1]; ++k) row.emplace_back(inv[a.col[k]], a.val[k]);
+        for (std::uint32_t k = a.row_ptr[perm[i]]; k < a.row_ptr[perm[i] + 1]; ++k)
+            row.emplace_back(inv[a.col[k]], a.val[k]);
         std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
         for (std::size_t t = 0; t < row.size(); ++t) {
             b.col[b.row_ptr[i] + t] = row[t].first;
@@ -83,7 +85,8 @@ std::vector<std::uint64_t> spy_grid(const Csr& a, int max_bins, int* bins) {
     // Row i falls in bin floor(i b / n): every bin covers n/b rows, give or take one.
     for (std::int64_t i = 0; i < a.n; ++i) {
         const std::int64_t r = i * b / a.n;
-        for (std::uint32_t k = a.row_ptr[i]; k < a.row_ptr[i + 1]; ++k) ++grid[static_cast<std::size_t>(r * b + static_cast<std::int64_t>(a.col[k]) * b / a.n)];
+        for (std::uint32_t k = a.row_ptr[i]; k < a.row_ptr[i + 1]; ++k)
+            ++grid[static_cast<std::size_t>(r * b + static_cast<std::int64_t>(a.col[k]) * b / a.n)];
     }
     return grid;
 }
@@ -100,7 +103,8 @@ std::string matrix_market(const Csr& a, const std::vector<std::string>& comments
     for (std::int64_t i = 0; i < a.n; ++i)
         for (std::uint32_t k = a.row_ptr[i]; k < a.row_ptr[i + 1] && a.col[k] <= i; ++k) {
             // %.17g: every double read back exactly.
-            const int len = std::snprintf(line, sizeof line, "%lld %u %.17g\n", static_cast<long long>(i + 1), a.col[k] + 1, a.val[k]);
+            const int len = std::snprintf(line, sizeof line, "%lld %u %.17g\n", static_cast<long long>(i + 1),
+                                          a.col[k] + 1, a.val[k]);
             s.append(line, static_cast<std::size_t>(len));
         }
     return s;
@@ -115,7 +119,8 @@ std::vector<std::uint32_t> mesh_vertex_order(const mesh::Mesh& m, const std::str
     if (name == "random") return inverse_permutation(sfc::shuffled(m, seed).new_id);
     if (name == "morton" || name == "hilbert" || name == "rcm")
         return inverse_permutation(sfc::reorder(m, sfc::parse_method(name), sfc::max_depth(m.dim)).new_id);
-    throw UsageError("unknown mesh ordering '" + name + "'; the mesh toolkit's are natural, random, morton, hilbert, rcm");
+    throw UsageError("unknown mesh ordering '" + name +
+                     "'; the mesh toolkit's are natural, random, morton, hilbert, rcm");
 }
 
 }  // namespace suite::fem

@@ -43,13 +43,15 @@ void spmv(const Csr& b, const double* x, double* y, int threads) {
 }
 
 std::uint64_t study_bytes(const mesh::MeshCounts& c) {
-    const std::uint64_t nv = c.vertices, ne = c.elements, nz = 2 * nv + 3 * ne;  // P1 triangles: nonzeros <= 2 nv + 3 ne
+    const std::uint64_t nv = c.vertices, ne = c.elements,
+                        nz = 2 * nv + 3 * ne;  // P1 triangles: nonzeros <= 2 nv + 3 ne
     const std::uint64_t mesh = 16 * nv + 12 * ne, matrix = 12 * nz + 4 * nv;
     return 3 * mesh + 6 * matrix + 32 * nv;
 }
 
 MatrixUnderStudy prepare_matrix(const mesh::Mesh& m, double delta) {
-    const MeshArrays arrays{static_cast<std::int64_t>(m.vertices()), static_cast<std::int64_t>(m.elements()), m.x.data(), m.y.data(), m.conn.data()};
+    const MeshArrays arrays{static_cast<std::int64_t>(m.vertices()), static_cast<std::int64_t>(m.elements()),
+                            m.x.data(), m.y.data(), m.conn.data()};
     AssembledCsr assembled = assemble_reference(arrays, delta);
     MatrixUnderStudy s;
     Csr& a = s.a;
@@ -58,24 +60,31 @@ MatrixUnderStudy prepare_matrix(const mesh::Mesh& m, double delta) {
     a.col = std::move(assembled.col);
     a.val = std::move(assembled.a);
     s.asymmetry = symmetrize_from_lower(a);
-    if (!(s.asymmetry <= 1e-12)) throw std::runtime_error("the assembled A is not symmetric: entries differ from their twins by " + fmt("%.3g", s.asymmetry));
+    if (!(s.asymmetry <= 1e-12))
+        throw std::runtime_error("the assembled A is not symmetric: entries differ from their twins by " +
+                                 fmt("%.3g", s.asymmetry));
     check_definite(a);
     s.x.resize(static_cast<std::size_t>(a.n));
     s.y_ref.resize(s.x.size());
-    for (std::int64_t i = 0; i < a.n; ++i) s.x[static_cast<std::size_t>(i)] = 1.0 + 0.5 * std::sin(0.37 * static_cast<double>(i));
+    for (std::int64_t i = 0; i < a.n; ++i)
+        s.x[static_cast<std::size_t>(i)] = 1.0 + 0.5 * std::sin(0.37 * static_cast<double>(i));
     spmv(a, s.x.data(), s.y_ref.data(), 1);
     return s;
 }
 
-OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, const std::string& name, const StudySettings& set) {
+OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, const std::string& name,
+                             const StudySettings& set) {
     const Csr& a = mat.a;
     OrderingStudy r;
     r.name = name;
     r.source = source_of(name);
     const auto t0 = Clock::now();
-    const std::vector<std::uint32_t> perm = name == "amd" ? amd_order(a) : name == "nd" ? nested_dissection_order(a) : mesh_vertex_order(m, name, set.seed);
+    const std::vector<std::uint32_t> perm = name == "amd"  ? amd_order(a)
+                                            : name == "nd" ? nested_dissection_order(a)
+                                                           : mesh_vertex_order(m, name, set.seed);
     r.order_s = since(t0);
-    if (!is_permutation(perm, static_cast<std::size_t>(a.n))) throw std::runtime_error(name + ": the ordering is not a permutation of the rows");
+    if (!is_permutation(perm, static_cast<std::size_t>(a.n)))
+        throw std::runtime_error(name + ": the ordering is not a permutation of the rows");
     r.permuted = permute_symmetric(a, perm);
     const Csr& b = r.permuted;
     r.structure = structure(b);
@@ -89,8 +98,9 @@ OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, c
     if (r.factor_bytes <= set.max_factor_bytes && !r.factor_over_memory) {
         r.factor = factorise(b, set.reps);
         if (!(r.factor.residual < 1e-8 && r.factor.max_error < 1e-6))
-            throw std::runtime_error(name + ": the Cholesky solve did not reproduce x = 1 (residual " + fmt("%.3g", r.factor.residual) + ", max error " +
-                                     fmt("%.3g", r.factor.max_error) + ")");
+            throw std::runtime_error(name + ": the Cholesky solve did not reproduce x = 1 (residual " +
+                                     fmt("%.3g", r.factor.residual) + ", max error " + fmt("%.3g", r.factor.max_error) +
+                                     ")");
         r.factorised = true;
         r.factor_median_s = summarise(r.factor.factor_seconds).median;
         r.solve_median_s = summarise(r.factor.solve_seconds).median;
@@ -108,13 +118,18 @@ OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, c
     double worst = 0;
     for (std::int64_t i = 0; i < a.n; ++i) {
         double scale = 0;
-        for (std::uint32_t k = a.row_ptr[perm[i]]; k < a.row_ptr[perm[i] + 1]; ++k) scale += std::fabs(a.val[k] * mat.x[a.col[k]]);
-        worst = std::max(worst, std::fabs(yb[static_cast<std::size_t>(i)] - mat.y_ref[perm[i]]) / (scale > 0 ? scale : 1));
+        for (std::uint32_t k = a.row_ptr[perm[i]]; k < a.row_ptr[perm[i] + 1]; ++k)
+            scale += std::fabs(a.val[k] * mat.x[a.col[k]]);
+        worst =
+            std::max(worst, std::fabs(yb[static_cast<std::size_t>(i)] - mat.y_ref[perm[i]]) / (scale > 0 ? scale : 1));
     }
-    if (!(worst <= 1e-12)) throw std::runtime_error(name + ": the SpMV of the permuted matrix differs from the unpermuted one by " + fmt("%.3g", worst));
+    if (!(worst <= 1e-12))
+        throw std::runtime_error(name + ": the SpMV of the permuted matrix differs from the unpermuted one by " +
+                                 fmt("%.3g", worst));
     r.spmv_max_error = worst;
     r.spmv_median_s = summarise(r.spmv_seconds).median;
-    r.spmv_bytes = 12.0 * static_cast<double>(a.nnz()) + 4.0 * static_cast<double>(a.n + 1) + 16.0 * static_cast<double>(a.n);
+    r.spmv_bytes =
+        12.0 * static_cast<double>(a.nnz()) + 4.0 * static_cast<double>(a.n + 1) + 16.0 * static_cast<double>(a.n);
     r.spy = spy_grid(b, set.spy_bins, &r.spy_bins);
     return r;
 }

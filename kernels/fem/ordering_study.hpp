@@ -19,8 +19,8 @@ namespace suite::fem {
 // A, and the product every ordering's SpMV must reproduce.
 struct MatrixUnderStudy {
     Csr a;
-    double asymmetry = 0;           // what symmetrize_from_lower removed
-    std::vector<double> x, y_ref;   // y_ref = A x
+    double asymmetry = 0;          // what symmetrize_from_lower removed
+    std::vector<double> x, y_ref;  // y_ref = A x
 };
 
 // The memory the study takes at its peak, from the mesh's counts alone (before anything is
@@ -34,36 +34,37 @@ std::uint64_t study_bytes(const mesh::MeshCounts& c);
 MatrixUnderStudy prepare_matrix(const mesh::Mesh& m, double delta);
 
 struct StudySettings {
-    int reps = 5;                   // factorisations, solves and SpMVs timed
-    int threads = 1;                // of the SpMV
-    double max_factor_bytes = 0;    // a factor larger than this is analysed, not computed
-    std::uint64_t seed = 1;         // of the random ordering
+    int reps = 5;                 // factorisations, solves and SpMVs timed
+    int threads = 1;              // of the SpMV
+    double max_factor_bytes = 0;  // a factor larger than this is analysed, not computed
+    std::uint64_t seed = 1;       // of the random ordering
     int spy_bins = 256;
 };
 
 struct OrderingStudy {
-    std::string name;               // natural, random, morton, hilbert, rcm, amd, nd
-    std::string source;             // who computed it: the mesh toolkit, SuiteSparse AMD, METIS_NodeND
-    double order_s = 0;             // computing the ordering
+    std::string name;    // natural, random, morton, hilbert, rcm, amd, nd
+    std::string source;  // who computed it: the mesh toolkit, SuiteSparse AMD, METIS_NodeND
+    double order_s = 0;  // computing the ordering
     Structure structure;
     Symbolic symbolic;
-    double factor_bytes = 0;        // a value and a row index per nonzero of L
-    bool factorised = false;        // false: over max_factor_bytes, or over the memory available
+    double factor_bytes = 0;          // a value and a row index per nonzero of L
+    bool factorised = false;          // false: over max_factor_bytes, or over the memory available
     bool factor_over_memory = false;  // not factorised for want of memory (within max_factor_bytes)
-    double memory_available = 0;    // bytes, when it was checked
-    Factorisation factor;           // when factorised
+    double memory_available = 0;      // bytes, when it was checked
+    Factorisation factor;             // when factorised
     double factor_median_s = 0, solve_median_s = 0;
     std::vector<double> spmv_seconds;
     double spmv_median_s = 0;
-    double spmv_max_error = 0;      // of each row, relative to its Σ|a x|
-    double spmv_bytes = 0;          // values, column indices, row pointers, x and y once each
+    double spmv_max_error = 0;  // of each row, relative to its Σ|a x|
+    double spmv_bytes = 0;      // values, column indices, row pointers, x and y once each
     int spy_bins = 0;
     std::vector<std::uint64_t> spy;
-    Csr permuted;                   // P A Pᵀ, for an export
+    Csr permuted;  // P A Pᵀ, for an export
 };
 
 // One ordering of the matrix of `m` (the one prepare_matrix was given).
-OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, const std::string& name, const StudySettings& settings);
+OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, const std::string& name,
+                             const StudySettings& settings);
 
 // y = B x with the fem-spmv loop, `threads` threads in static row blocks.
 void spmv(const Csr& b, const double* x, double* y, int threads);

@@ -47,9 +47,11 @@ Partition partition_from_offsets(std::int64_t n, std::vector<std::int64_t> offse
 Partition partition_from_parts(std::int64_t n, int parts, std::vector<std::int32_t> part_of) {
     partition_check_parts(parts);
     if (static_cast<std::int64_t>(part_of.size()) != n)
-        throw std::invalid_argument("a part for each of " + std::to_string(n) + " rows, not " + std::to_string(part_of.size()));
+        throw std::invalid_argument("a part for each of " + std::to_string(n) + " rows, not " +
+                                    std::to_string(part_of.size()));
     for (const std::int32_t q : part_of)
-        if (q < 0 || q >= parts) throw std::invalid_argument("part " + std::to_string(q) + " of a partition into " + std::to_string(parts));
+        if (q < 0 || q >= parts)
+            throw std::invalid_argument("part " + std::to_string(q) + " of a partition into " + std::to_string(parts));
     Partition out;
     out.parts = parts;
     out.offsets.assign(static_cast<std::size_t>(parts) + 1, 0);
@@ -84,7 +86,9 @@ Partition curve_partition(const Pattern& p, int parts) {
 
 void require_metis() {
 #if !defined(SUITE_HAVE_SPARSE)
-    throw UsageError("--strategy=metis: this build has no METIS (Debian: libmetis-dev; install it and rebuild), or use --strategy=curve");
+    throw UsageError(
+        "--strategy=metis: this build has no METIS (Debian: libmetis-dev; install it and rebuild), or use "
+        "--strategy=curve");
 #endif
 }
 
@@ -116,9 +120,10 @@ Partition metis_partition(const Pattern& p, int parts, std::uint64_t seed) {
         // at once (ranks made of threads, in the tests) would each get a partition of neither seed.
         static std::mutex metis_lock;
         const std::lock_guard<std::mutex> hold(metis_lock);
-        const int status = METIS_PartGraphKway(&n, &constraints, xadj.data(), adj.data(), weight.data(), nullptr, nullptr, &np, nullptr, nullptr,
-                                               options, &cut, got.data());
-        if (status != METIS_OK) throw std::runtime_error("METIS_PartGraphKway failed (status " + std::to_string(status) + ")");
+        const int status = METIS_PartGraphKway(&n, &constraints, xadj.data(), adj.data(), weight.data(), nullptr,
+                                               nullptr, &np, nullptr, nullptr, options, &cut, got.data());
+        if (status != METIS_OK)
+            throw std::runtime_error("METIS_PartGraphKway failed (status " + std::to_string(status) + ")");
         for (std::size_t i = 0; i < got.size(); ++i) part_of[i] = static_cast<std::int32_t>(got[i]);
     }
     return partition_from_parts(p.n, parts, std::move(part_of));
@@ -150,7 +155,8 @@ PartitionQuality partition_quality(const Pattern& p, const Partition& part) {
                 if (owner == r) continue;
                 if (i < c) ++q.edge_cut;  // each edge once, from its lower row: the pattern is symmetric
                 if (col_seen[c] != r) col_seen[c] = r, ++q.halo[rs];
-                if (part_seen[static_cast<std::size_t>(owner)] != r) part_seen[static_cast<std::size_t>(owner)] = r, ++q.neighbours[rs];
+                if (part_seen[static_cast<std::size_t>(owner)] != r)
+                    part_seen[static_cast<std::size_t>(owner)] = r, ++q.neighbours[rs];
             }
         }
     }
@@ -165,9 +171,12 @@ PartitionQuality partition_quality(const Pattern& p, const Partition& part) {
 }
 
 LocalMatrix local_matrix(const Pattern& p, const double* a, const double* m, const Partition& part, int rank) {
-    if (rank < 0 || rank >= part.parts) throw std::invalid_argument("part " + std::to_string(rank) + " of a partition into " + std::to_string(part.parts));
+    if (rank < 0 || rank >= part.parts)
+        throw std::invalid_argument("part " + std::to_string(rank) + " of a partition into " +
+                                    std::to_string(part.parts));
     const std::size_t n = static_cast<std::size_t>(p.n);
-    const std::int64_t lo = part.offsets[static_cast<std::size_t>(rank)], hi = part.offsets[static_cast<std::size_t>(rank) + 1];
+    const std::int64_t lo = part.offsets[static_cast<std::size_t>(rank)],
+                       hi = part.offsets[static_cast<std::size_t>(rank) + 1];
     LocalMatrix lm;
     lm.rank = rank;
     lm.parts = part.parts;
@@ -210,7 +219,8 @@ LocalMatrix local_matrix(const Pattern& p, const double* a, const double* m, con
     for (int q = 0; q < part.parts; ++q) {
         if (q == rank) continue;
         auto& s = send[static_cast<std::size_t>(q)];
-        for (std::int64_t at = part.offsets[static_cast<std::size_t>(q)]; at < part.offsets[static_cast<std::size_t>(q) + 1]; ++at) {
+        for (std::int64_t at = part.offsets[static_cast<std::size_t>(q)];
+             at < part.offsets[static_cast<std::size_t>(q) + 1]; ++at) {
             const std::uint32_t i = part.order[static_cast<std::size_t>(at)];
             for (std::uint32_t k = p.row_ptr[i]; k < p.row_ptr[i + 1]; ++k)
                 if (part.part_of[p.col[k]] == rank) s.push_back(static_cast<std::uint32_t>(local[p.col[k]]));
@@ -218,7 +228,8 @@ LocalMatrix local_matrix(const Pattern& p, const double* a, const double* m, con
         std::sort(s.begin(), s.end());
         s.erase(std::unique(s.begin(), s.end()), s.end());
     }
-    std::vector<std::int64_t> recv_lo(static_cast<std::size_t>(part.parts), 0), recv_count(static_cast<std::size_t>(part.parts), 0);
+    std::vector<std::int64_t> recv_lo(static_cast<std::size_t>(part.parts), 0),
+        recv_count(static_cast<std::size_t>(part.parts), 0);
     for (std::size_t h = halo.size(); h-- > 0;) {
         const std::size_t owner = static_cast<std::size_t>(part.part_of[part.order[halo[h]]]);
         recv_lo[owner] = static_cast<std::int64_t>(h);

@@ -26,10 +26,12 @@ const char* partition_scheme_name(PartitionScheme s);
 // Which rows each part owns. The parts own consecutive ranges of a renumbering of the rows.
 struct Partition {
     int parts = 1;
-    std::vector<std::uint32_t> order;  // order[new] = old: the global row that takes place `new`
+    std::vector<std::uint32_t> order;   // order[new] = old: the global row that takes place `new`
     std::vector<std::int64_t> offsets;  // parts + 1: part q owns new places [offsets[q], offsets[q+1])
     std::vector<std::int32_t> part_of;  // per global row: its part
-    std::int64_t rows_of(int q) const { return offsets[static_cast<std::size_t>(q) + 1] - offsets[static_cast<std::size_t>(q)]; }
+    std::int64_t rows_of(int q) const {
+        return offsets[static_cast<std::size_t>(q) + 1] - offsets[static_cast<std::size_t>(q)];
+    }
 };
 
 // The rows renumbered part after part, each part's rows in their order (part_of: per row, in
@@ -79,7 +81,7 @@ struct LocalMatrix {
     int rank = 0, parts = 1;
     std::int64_t owned = 0, halo = 0;
     std::vector<std::uint32_t> row_ptr{0}, col;
-    std::vector<double> a, m;          // empty when the caller gave no values
+    std::vector<double> a, m;           // empty when the caller gave no values
     std::vector<std::uint32_t> global;  // owned + halo: the global row of each local index
     std::vector<HaloLink> links;        // ascending rank; a link may only send or only receive
     Pattern pattern() { return {owned, row_ptr.data(), col.data()}; }

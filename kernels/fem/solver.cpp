@@ -18,17 +18,19 @@ double TeamSum::operator()(double mine) {
     return total;
 }
 
-CgResult cg_team(const Pattern& pat, const double* a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
-                 TeamSum& sum, Block rows) {
+CgResult cg_team(const Pattern& pat, const double* a, const double* f, double* x, const CgVectors& v, double tol,
+                 int max_iterations, TeamSum& sum, Block rows) {
     return cg_team(Operator::of_csr(pat, a), f, x, v, tol, max_iterations, sum, rows);
 }
 
-EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
-                                   int max_cg, TeamSum& sum, Block rows) {
-    return inverse_iteration_team(Operator::of_csr(pat, a), Operator::of_csr(pat, m), v, tol, cg_tol, max_cg, sum, rows);
+EigenResult inverse_iteration_team(const Pattern& pat, const double* a, const double* m, const EigenVectors& v,
+                                   double tol, double cg_tol, int max_cg, TeamSum& sum, Block rows) {
+    return inverse_iteration_team(Operator::of_csr(pat, a), Operator::of_csr(pat, m), v, tol, cg_tol, max_cg, sum,
+                                  rows);
 }
 
-CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations, TeamSum& sum, Block rows) {
+CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
+                 TeamSum& sum, Block rows) {
     double* const r = v.r;
     double* const p = v.p;
     double* const q = v.q;
@@ -74,8 +76,8 @@ CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors&
     return out;
 }
 
-EigenResult inverse_iteration_team(const Operator& a, const Operator& m, const EigenVectors& v, double tol, double cg_tol, int max_cg,
-                                   TeamSum& sum, Block rows) {
+EigenResult inverse_iteration_team(const Operator& a, const Operator& m, const EigenVectors& v, double tol,
+                                   double cg_tol, int max_cg, TeamSum& sum, Block rows) {
     double* const u = v.u;
     EigenResult out;
     // The Rayleigh quotient of u, and u scaled to uᵀMu = 1 with Σu > 0 (the eigenvector's sign).

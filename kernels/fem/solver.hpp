@@ -77,9 +77,10 @@ struct CgResult {
 
 // Called by every thread of the team; rows [rows.lo, rows.hi) are this thread's (blocks.hpp).
 // x holds the starting guess and, on return, the solution. Ends with a barrier.
-CgResult cg_team(const Pattern& p, const double* a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
+CgResult cg_team(const Pattern& p, const double* a, const double* f, double* x, const CgVectors& v, double tol,
+                 int max_iterations, TeamSum& sum, Block rows);
+CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations,
                  TeamSum& sum, Block rows);
-CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors& v, double tol, int max_iterations, TeamSum& sum, Block rows);
 
 struct EigenVectors {
     double* u = nullptr;
@@ -103,9 +104,9 @@ struct EigenResult {
 constexpr int max_outer_iterations = 1000;
 
 // Called by every thread of the team. Ends with a barrier; every thread returns the same result.
-EigenResult inverse_iteration_team(const Pattern& p, const double* a, const double* m, const EigenVectors& v, double tol, double cg_tol,
-                                   int max_cg, TeamSum& sum, Block rows);
-EigenResult inverse_iteration_team(const Operator& a, const Operator& m, const EigenVectors& v, double tol, double cg_tol, int max_cg,
-                                   TeamSum& sum, Block rows);
+EigenResult inverse_iteration_team(const Pattern& p, const double* a, const double* m, const EigenVectors& v,
+                                   double tol, double cg_tol, int max_cg, TeamSum& sum, Block rows);
+EigenResult inverse_iteration_team(const Operator& a, const Operator& m, const EigenVectors& v, double tol,
+                                   double cg_tol, int max_cg, TeamSum& sum, Block rows);
 
 }  // namespace suite::fem

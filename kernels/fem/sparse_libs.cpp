@@ -74,7 +74,9 @@ struct Cholmod {
     Cholmod(const Cholmod&) = delete;
     Cholmod& operator=(const Cholmod&) = delete;
     void ok(const char* what) const {
-        if (c.status < 0) throw std::runtime_error(std::string("CHOLMOD ") + what + " failed (status " + std::to_string(c.status) + ")");
+        if (c.status < 0)
+            throw std::runtime_error(std::string("CHOLMOD ") + what + " failed (status " + std::to_string(c.status) +
+                                     ")");
     }
 };
 
@@ -83,7 +85,8 @@ cholmod_sparse* upper(const Csr& a, cholmod_common* c) {
     std::size_t count = 0;
     for (std::int64_t i = 0; i < a.n; ++i)
         for (std::uint32_t k = a.row_ptr[i]; k < a.row_ptr[i + 1]; ++k) count += a.col[k] <= i;
-    cholmod_sparse* s = cholmod_l_allocate_sparse(static_cast<std::size_t>(a.n), static_cast<std::size_t>(a.n), count, 1, 1, 1, CHOLMOD_REAL, c);
+    cholmod_sparse* s = cholmod_l_allocate_sparse(static_cast<std::size_t>(a.n), static_cast<std::size_t>(a.n), count,
+                                                  1, 1, 1, CHOLMOD_REAL, c);
     if (!s) throw std::runtime_error("CHOLMOD could not allocate the matrix");
     auto* p = static_cast<SuiteSparse_long*>(s->p);
     auto* r = static_cast<SuiteSparse_long*>(s->i);
@@ -103,11 +106,13 @@ cholmod_sparse* upper(const Csr& a, cholmod_common* c) {
 }  // namespace
 
 std::vector<std::uint32_t> amd_order(const Csr& a) {
-    std::vector<int> ap(a.row_ptr.begin(), a.row_ptr.end()), ai(a.col.begin(), a.col.end()), p(static_cast<std::size_t>(a.n));
+    std::vector<int> ap(a.row_ptr.begin(), a.row_ptr.end()), ai(a.col.begin(), a.col.end()),
+        p(static_cast<std::size_t>(a.n));
     double control[AMD_CONTROL], info[AMD_INFO];
     amd_defaults(control);
     const int status = ::amd_order(static_cast<int>(a.n), ap.data(), ai.data(), p.data(), control, info);
-    if (status != AMD_OK && status != AMD_OK_BUT_JUMBLED) throw std::runtime_error("AMD failed (status " + std::to_string(status) + ")");
+    if (status != AMD_OK && status != AMD_OK_BUT_JUMBLED)
+        throw std::runtime_error("AMD failed (status " + std::to_string(status) + ")");
     return from_int(p.data(), a.n);
 }
 
@@ -173,7 +178,8 @@ Factorisation factorise(const Csr& a, int reps) {
             cholmod_l_free_dense(&b, &ch.c);
             cholmod_l_free_factor(&l, &ch.c);
             cholmod_l_free_sparse(&s, &ch.c);
-            throw NotDefinite(minor, "the matrix is not positive definite: CHOLMOD stopped at column " + std::to_string(minor) + " of " + std::to_string(a.n));
+            throw NotDefinite(minor, "the matrix is not positive definite: CHOLMOD stopped at column " +
+                                         std::to_string(minor) + " of " + std::to_string(a.n));
         }
         ch.ok("factorize");
         if (x) cholmod_l_free_dense(&x, &ch.c);
@@ -240,7 +246,9 @@ void check_definite(const Csr& a) {
     const std::int64_t minor = static_cast<std::int64_t>(l->minor);
     cholmod_l_free_factor(&l, &ch.c);
     cholmod_l_free_sparse(&s, &ch.c);
-    if (bad) throw NotDefinite(minor, "the matrix is not positive definite (CHOLMOD, in its own ordering, met a non-positive pivot)");
+    if (bad)
+        throw NotDefinite(
+            minor, "the matrix is not positive definite (CHOLMOD, in its own ordering, met a non-positive pivot)");
     ch.ok("factorize");
 }
 

@@ -36,7 +36,7 @@ struct Factorisation {
     double factor_nnz = 0, flops = 0;
     double analyse_seconds = 0;
     std::vector<double> factor_seconds, solve_seconds;
-    double residual = 0;  // ||b - A x|| / ||b|| of the last solve
+    double residual = 0;   // ||b - A x|| / ||b|| of the last solve
     double max_error = 0;  // max |x_i - 1|
 };
 // Throws NotDefinite when a is not positive definite (CHOLMOD stops at a leading minor).

@@ -15,12 +15,14 @@ namespace {
 // Which entries of the full pattern are near (in row i's K slots) and which far, for a window W.
 class Split {
 public:
-    Split(const Pattern& full, std::int64_t w, int k) : p_(full), w_(w), k_(k), upper_(static_cast<std::size_t>(full.n)) {
+    Split(const Pattern& full, std::int64_t w, int k)
+        : p_(full), w_(w), k_(k), upper_(static_cast<std::size_t>(full.n)) {
         for (std::int64_t i = 0; i < full.n; ++i) {
             std::uint32_t q = full.row_ptr[i];
             while (q < full.row_ptr[i + 1] && full.col[q] < i) ++q;
             if (q == full.row_ptr[i + 1] || full.col[q] != i)
-                throw std::invalid_argument("row " + std::to_string(i) + " has no diagonal entry; --strategy=symmetric needs one in every row");
+                throw std::invalid_argument("row " + std::to_string(i) +
+                                            " has no diagonal entry; --strategy=symmetric needs one in every row");
             upper_[static_cast<std::size_t>(i)] = q + 1;
         }
     }
@@ -48,7 +50,8 @@ private:
 
 double SymmetricCounts::matrix_bytes() const {
     const double nd = static_cast<double>(n), k = slots;
-    return 8.0 * (k + 1) * nd + 4.0 * k * nd + 12.0 * static_cast<double>(far_nnz) + 8.0 * static_cast<double>(far_rows) + 4.0;
+    return 8.0 * (k + 1) * nd + 4.0 * k * nd + 12.0 * static_cast<double>(far_nnz) +
+           8.0 * static_cast<double>(far_rows) + 4.0;
 }
 
 SymmetricCounts count_symmetric(const Pattern& full, int threads, std::int64_t window_wanted, int slots_wanted) {
@@ -69,12 +72,15 @@ SymmetricCounts count_symmetric(const Pattern& full, int threads, std::int64_t w
         std::vector<std::int64_t> rows_with(64, 0);
         for (std::int64_t i = 0; i < full.n; ++i) {
             std::int64_t u = 0;
-            for (std::uint32_t q = full.row_ptr[i]; q < full.row_ptr[i + 1]; ++q) u += full.col[q] > i && full.col[q] - i < c.window;
+            for (std::uint32_t q = full.row_ptr[i]; q < full.row_ptr[i + 1]; ++q)
+                u += full.col[q] > i && full.col[q] - i < c.window;
             ++rows_with[static_cast<std::size_t>(std::min<std::int64_t>(u, 63))];
         }
         std::int64_t covered = 0;
         c.slots = 0;
-        while (c.slots < 63 && static_cast<double>(covered += rows_with[static_cast<std::size_t>(c.slots)]) < 0.95 * static_cast<double>(full.n)) ++c.slots;
+        while (c.slots < 63 && static_cast<double>(covered += rows_with[static_cast<std::size_t>(c.slots)]) <
+                                   0.95 * static_cast<double>(full.n))
+            ++c.slots;
     }
     const Split split(full, c.window, c.slots);
     for (std::int64_t i = 0; i < full.n; ++i) {
@@ -112,7 +118,8 @@ void fill_symmetric(const Pattern& full, SymmetricPattern& s) {
     }
     while (owner < c.threads) s.far_first[static_cast<std::size_t>(++owner)] = fr;
     far_start[static_cast<std::size_t>(fr)] = static_cast<std::uint32_t>(far);
-    if (far != c.far_nnz || fr != c.far_rows) throw std::logic_error("fill_symmetric: the counts are not this pattern's");
+    if (far != c.far_nnz || fr != c.far_rows)
+        throw std::logic_error("fill_symmetric: the counts are not this pattern's");
     const SymmetricPattern& o = s;
     // One iteration a thread's rows: each team member fills (and first touches) its own.
 #pragma omp parallel for num_threads(c.threads) schedule(static, 1)
@@ -129,14 +136,16 @@ void fill_symmetric(const Pattern& full, SymmetricPattern& s) {
                 if (j > i && split.near_upper(i, q)) ci[used++] = j;
                 if (split.far(i, q)) o.far_col[kf++] = j;
             }
-            for (; used < k; ++used) ci[used] = static_cast<std::uint32_t>(i);  // padding: a zero value at the row's own column
+            for (; used < k; ++used)
+                ci[used] = static_cast<std::uint32_t>(i);  // padding: a zero value at the row's own column
         }
         std::fill(o.ring + t * o.ring_stride, o.ring + (t + 1) * o.ring_stride, 0.0);
     }
     s.far_ptr[fr] = static_cast<std::uint32_t>(far);
 }
 
-std::string fill_symmetric_values(const Pattern& full, const double* values, const SymmetricPattern& s, double* near, double* far) {
+std::string fill_symmetric_values(const Pattern& full, const double* values, const SymmetricPattern& s, double* near,
+                                  double* far) {
     const Split split(full, s.counts.window, s.counts.slots);
     const std::int64_t k = s.counts.slots;
     std::uint64_t kf = 0;
@@ -152,8 +161,9 @@ std::string fill_symmetric_values(const Pattern& full, const double* values, con
             const std::int64_t kt = find_entry(full, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(i));
             const double aij = values[q], aji = kt < 0 ? 0.0 : values[kt];
             if (!(std::fabs(aij - aji) <= 1e-14 * std::max(std::fabs(aij), std::fabs(aji))))
-                return "the matrix is not symmetric: A[" + std::to_string(i) + "][" + std::to_string(j) + "] = " + format_number(aij) + " but A[" +
-                       std::to_string(j) + "][" + std::to_string(i) + "] = " + (kt < 0 ? std::string("not stored") : format_number(aji)) +
+                return "the matrix is not symmetric: A[" + std::to_string(i) + "][" + std::to_string(j) +
+                       "] = " + format_number(aij) + " but A[" + std::to_string(j) + "][" + std::to_string(i) +
+                       "] = " + (kt < 0 ? std::string("not stored") : format_number(aji)) +
                        "; --strategy=symmetric stores one triangle and needs a_ij = a_ji (use --strategy=csr)";
         }
         for (; used < k; ++used) ai[1 + used] = 0.0;
@@ -168,7 +178,8 @@ void symmetric_product_replay(const SymmetricPattern& s, SymmetricValues v, cons
     for (int t = 0; t < nt; ++t) symmetric_spill(s, y, t, static_block(s.counts.n, t, nt), none);
 }
 
-SymmetricMatrix make_symmetric(const Pattern& full, const double* values, int threads, std::int64_t window_wanted, int slots_wanted) {
+SymmetricMatrix make_symmetric(const Pattern& full, const double* values, int threads, std::int64_t window_wanted,
+                               int slots_wanted) {
     SymmetricMatrix m;
     SymmetricPattern& s = m.pattern;
     s.counts = count_symmetric(full, threads, window_wanted, slots_wanted);

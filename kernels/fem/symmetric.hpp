@@ -60,12 +60,12 @@ SymmetricCounts count_symmetric(const Pattern& full, int threads, std::int64_t w
 // The structure, on arrays the caller allocates from the counts.
 struct SymmetricPattern {
     SymmetricCounts counts;
-    std::uint32_t* col = nullptr;      // n * K: row i's near columns at K i (padding: i itself)
-    std::uint32_t* far_row = nullptr;  // far_rows, ascending
-    std::uint32_t* far_ptr = nullptr;  // far_rows + 1
-    std::uint32_t* far_col = nullptr;  // far_nnz
-    double* ring = nullptr;            // threads * ring_stride, all zero between products
-    std::int64_t ring_stride = 0;      // ring_stride_for(W)
+    std::uint32_t* col = nullptr;         // n * K: row i's near columns at K i (padding: i itself)
+    std::uint32_t* far_row = nullptr;     // far_rows, ascending
+    std::uint32_t* far_ptr = nullptr;     // far_rows + 1
+    std::uint32_t* far_col = nullptr;     // far_nnz
+    double* ring = nullptr;               // threads * ring_stride, all zero between products
+    std::int64_t ring_stride = 0;         // ring_stride_for(W)
     std::vector<std::int64_t> far_first;  // threads + 1: thread t's far rows [far_first[t], far_first[t + 1])
     double* ring_of(int t) const { return ring + t * ring_stride + ring_skew; }
     // A thread's ring starts half a page and a line past a page boundary: slot j and x[j], y[j]
@@ -87,13 +87,15 @@ void fill_symmetric(const Pattern& full, SymmetricPattern& s);
 // The values of one matrix in the structure. Returns "" or, when the matrix is not symmetric to
 // within 1e-14 of the larger of a_ij and a_ji, what is wrong (the symmetric product would use
 // a_ij for a_ji): the first such pair. Serial.
-std::string fill_symmetric_values(const Pattern& full, const double* values, const SymmetricPattern& s, double* near, double* far);
+std::string fill_symmetric_values(const Pattern& full, const double* values, const SymmetricPattern& s, double* near,
+                                  double* far);
 
 // Rows [lo, hi) of thread t, whose far rows start at far row f: y_i, and on_row(i, y_i). Slots
 // is K, a constant where the caller knows it (the loop unrolled whole), else 0 and K read.
 template <int Slots, class OnRow>
-inline std::int64_t symmetric_row_range(const SymmetricPattern& s, SymmetricValues v, const double* __restrict x, double* __restrict y,
-                                        int t, std::int64_t lo, std::int64_t hi, std::int64_t f, OnRow&& on_row) {
+inline std::int64_t symmetric_row_range(const SymmetricPattern& s, SymmetricValues v, const double* __restrict x,
+                                        double* __restrict y, int t, std::int64_t lo, std::int64_t hi, std::int64_t f,
+                                        OnRow&& on_row) {
     const std::uint32_t* __restrict col = s.col;
     const double* __restrict a = v.near;
     const std::int64_t slots = Slots > 0 ? Slots : s.counts.slots;
@@ -113,7 +115,8 @@ inline std::int64_t symmetric_row_range(const SymmetricPattern& s, SymmetricValu
             ring[j & mask] += aij * xi;
         }
         if (i == next_far) {
-            for (std::uint32_t q = s.far_ptr[f], q_end = s.far_ptr[f + 1]; q < q_end; ++q) sum += v.far[q] * x[s.far_col[q]];
+            for (std::uint32_t q = s.far_ptr[f], q_end = s.far_ptr[f + 1]; q < q_end; ++q)
+                sum += v.far[q] * x[s.far_col[q]];
             ++f;
             next_far = f < f_end ? s.far_row[f] : -1;
         }
@@ -129,7 +132,8 @@ inline std::int64_t symmetric_row_range(const SymmetricPattern& s, SymmetricValu
 // Thread t's rows [b.lo, b.hi): y_i for every row, on_row(i, y_i) for those already final (all but
 // the first W - 1 of a thread after the first, which the previous thread's spill completes).
 template <class OnRow>
-inline void symmetric_rows(const SymmetricPattern& s, SymmetricValues v, const double* x, double* y, int t, Block b, OnRow&& on_row) {
+inline void symmetric_rows(const SymmetricPattern& s, SymmetricValues v, const double* x, double* y, int t, Block b,
+                           OnRow&& on_row) {
     const std::int64_t deferred_end = t > 0 ? std::min(b.lo + s.counts.window - 1, b.hi) : b.lo;
     std::int64_t f = s.far_first[static_cast<std::size_t>(t)];
     auto both = [&]<int Slots>() {
@@ -138,9 +142,15 @@ inline void symmetric_rows(const SymmetricPattern& s, SymmetricValues v, const d
     };
     // The K of curve-ordered P1 meshes (3 or 4), unrolled; any other through the general loop.
     switch (s.counts.slots) {
-        case 3: both.template operator()<3>(); break;
-        case 4: both.template operator()<4>(); break;
-        default: both.template operator()<0>(); break;
+        case 3:
+            both.template operator()<3>();
+            break;
+        case 4:
+            both.template operator()<4>();
+            break;
+        default:
+            both.template operator()<0>();
+            break;
     }
 }
 
@@ -163,7 +173,8 @@ inline void symmetric_spill(const SymmetricPattern& s, double* y, int t, Block b
 // y = A x by the whole team (of counts.threads threads); x must be whole (a barrier before). Ends
 // with a barrier when the team has more than one thread: y is whole after it.
 template <class OnRow>
-inline void symmetric_product_team(const SymmetricPattern& s, SymmetricValues v, const double* x, double* y, OnRow&& on_row) {
+inline void symmetric_product_team(const SymmetricPattern& s, SymmetricValues v, const double* x, double* y,
+                                   OnRow&& on_row) {
     const int t = omp_get_thread_num();
     const Block b = static_block(s.counts.n, t, s.counts.threads);
     symmetric_rows(s, v, x, y, t, b, on_row);
@@ -187,6 +198,7 @@ struct SymmetricMatrix {
 };
 // Builds the structure and one matrix's values; throws std::invalid_argument with
 // fill_symmetric_values's reason when the matrix is not symmetric.
-SymmetricMatrix make_symmetric(const Pattern& full, const double* values, int threads, std::int64_t window_wanted, int slots_wanted = -1);
+SymmetricMatrix make_symmetric(const Pattern& full, const double* values, int threads, std::int64_t window_wanted,
+                               int slots_wanted = -1);
 
 }  // namespace suite::fem

@@ -15,7 +15,9 @@ EdgeTable build_edges(const MeshView& m) {
 #pragma omp parallel for schedule(static)
     for (std::int64_t e = 0; e < ne; ++e) {
         const std::uint32_t* c = m.conn + e * k;
-        for (int j = 0; j < ec; ++j) std::atomic_ref<std::uint64_t>(start[std::min(c[pairs[j][0]], c[pairs[j][1]])]).fetch_add(1, std::memory_order_relaxed);
+        for (int j = 0; j < ec; ++j)
+            std::atomic_ref<std::uint64_t>(start[std::min(c[pairs[j][0]], c[pairs[j][1]])])
+                .fetch_add(1, std::memory_order_relaxed);
     }
     std::uint64_t sum = 0;
     for (std::size_t v = 0; v <= nv; ++v) {
@@ -31,7 +33,8 @@ EdgeTable build_edges(const MeshView& m) {
             const std::uint32_t* c = m.conn + e * k;
             for (int j = 0; j < ec; ++j) {
                 const std::uint32_t a = c[pairs[j][0]], b = c[pairs[j][1]];
-                all[std::atomic_ref<std::uint64_t>(cursor[std::min(a, b)]).fetch_add(1, std::memory_order_relaxed)] = std::max(a, b);
+                all[std::atomic_ref<std::uint64_t>(cursor[std::min(a, b)]).fetch_add(1, std::memory_order_relaxed)] =
+                    std::max(a, b);
             }
         }
     }
@@ -49,7 +52,8 @@ EdgeTable build_edges(const MeshView& m) {
     for (std::size_t v = 0; v < nv; ++v) t.row[v + 1] += t.row[v];
     t.upper.resize(t.row[nv]);
 #pragma omp parallel for schedule(static)
-    for (std::int64_t v = 0; v < nvi; ++v) std::copy_n(all.data() + start[v], t.row[v + 1] - t.row[v], t.upper.data() + t.row[v]);
+    for (std::int64_t v = 0; v < nvi; ++v)
+        std::copy_n(all.data() + start[v], t.row[v + 1] - t.row[v], t.upper.data() + t.row[v]);
     return t;
 }
 

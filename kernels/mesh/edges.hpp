@@ -11,8 +11,8 @@
 namespace suite::mesh {
 
 struct EdgeTable {
-    std::vector<std::uint64_t> row;     // vertices + 1 entries
-    std::vector<std::uint32_t> upper;   // one per edge
+    std::vector<std::uint64_t> row;    // vertices + 1 entries
+    std::vector<std::uint32_t> upper;  // one per edge
 
     std::size_t count() const { return upper.size(); }
     // The id of edge {a, b}; the edge must exist.

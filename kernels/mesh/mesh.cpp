@@ -29,7 +29,8 @@ bool degenerate(const MeshView& m, std::size_t e) {
     for (int i = 0; i < k; ++i)
         for (int j = i + 1; j < k; ++j) {
             if (c[i] == c[j]) return true;
-            double d2 = (m.x[c[i]] - m.x[c[j]]) * (m.x[c[i]] - m.x[c[j]]) + (m.y[c[i]] - m.y[c[j]]) * (m.y[c[i]] - m.y[c[j]]);
+            double d2 =
+                (m.x[c[i]] - m.x[c[j]]) * (m.x[c[i]] - m.x[c[j]]) + (m.y[c[i]] - m.y[c[j]]) * (m.y[c[i]] - m.y[c[j]]);
             if (m.dim == 3) d2 += (m.z[c[i]] - m.z[c[j]]) * (m.z[c[i]] - m.z[c[j]]);
             longest = std::max(longest, d2);
         }

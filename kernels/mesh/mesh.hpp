@@ -19,7 +19,9 @@ struct Mesh {
     int corners() const { return dim + 1; }
     std::size_t vertices() const { return x.size(); }
     std::size_t elements() const { return conn.size() / static_cast<std::size_t>(corners()); }
-    MeshView view() const { return {dim, vertices(), elements(), x.data(), y.data(), dim == 3 ? z.data() : nullptr, conn.data()}; }
+    MeshView view() const {
+        return {dim, vertices(), elements(), x.data(), y.data(), dim == 3 ? z.data() : nullptr, conn.data()};
+    }
 };
 
 // Twice the signed area of triangle e (2D) or six times the signed volume of tetrahedron e (3D).

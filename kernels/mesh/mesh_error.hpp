@@ -8,7 +8,8 @@
 namespace suite::mesh {
 
 struct MeshError : UsageError {
-    MeshError(const std::string& file, std::size_t line, const std::string& what) : UsageError(message(file, line, what)) {}
+    MeshError(const std::string& file, std::size_t line, const std::string& what)
+        : UsageError(message(file, line, what)) {}
 
 private:
     static std::string message(const std::string& file, std::size_t line, const std::string& what) {

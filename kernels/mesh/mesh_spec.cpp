@@ -16,13 +16,16 @@ namespace {
 
 const char* const accepted = "accepted: disk:refine=K, box:NX,NY,NZ[:refine=K], file:PATH[:refine=K]";
 
-std::uint64_t parse_count(std::string_view text, std::string_view spec, const char* what, std::uint64_t min, std::uint64_t max) {
+std::uint64_t parse_count(std::string_view text, std::string_view spec, const char* what, std::uint64_t min,
+                          std::uint64_t max) {
     std::uint64_t v = 0;
-    const bool digits = !text.empty() && text.size() <= 10 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    const bool digits = !text.empty() && text.size() <= 10 &&
+                        std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
     if (digits) v = std::stoull(std::string(text));
     if (!digits || v < min || v > max)
-        throw UsageError("--mesh=" + std::string(spec) + ": " + what + " must be an integer from " + std::to_string(min) + " to " +
-                         std::to_string(max) + ", found '" + std::string(text) + "'; " + accepted);
+        throw UsageError("--mesh=" + std::string(spec) + ": " + what + " must be an integer from " +
+                         std::to_string(min) + " to " + std::to_string(max) + ", found '" + std::string(text) + "'; " +
+                         accepted);
     return v;
 }
 
@@ -66,7 +69,8 @@ Base file_base(const std::string& path) {
 
 Base base_of(const MeshSpec& s) {
     switch (s.kind) {
-        case MeshSpec::Kind::disk: return {2, 7, 12, 6, 6};
+        case MeshSpec::Kind::disk:
+            return {2, 7, 12, 6, 6};
         case MeshSpec::Kind::box: {
             const std::uint64_t nx = s.nx, ny = s.ny, nz = s.nz;
             const std::uint64_t v = (nx + 1) * (ny + 1) * (nz + 1), t = 6 * nx * ny * nz;
@@ -74,7 +78,8 @@ Base base_of(const MeshSpec& s) {
             const std::uint64_t f = (4 * t + boundary) / 2;
             return {3, v, v + f - t - 1, f, t};  // Euler: V - E + F - T = 1 for a ball
         }
-        case MeshSpec::Kind::file: return file_base(s.path);
+        case MeshSpec::Kind::file:
+            return file_base(s.path);
     }
     return {};
 }
@@ -95,14 +100,18 @@ MeshSpec parse_mesh_spec(std::string_view text) {
     } else if (rest.rfind("box:", 0) == 0) {
         s.kind = MeshSpec::Kind::box;
         const auto parts = split(rest.substr(4), ',');
-        if (parts.size() != 3) throw UsageError("--mesh=" + s.text + ": box needs three cube counts NX,NY,NZ, e.g. box:64,64,64; " + accepted);
+        if (parts.size() != 3)
+            throw UsageError("--mesh=" + s.text + ": box needs three cube counts NX,NY,NZ, e.g. box:64,64,64; " +
+                             accepted);
         s.nx = static_cast<std::uint32_t>(parse_count(parts[0], text, "NX", 1, 4096));
         s.ny = static_cast<std::uint32_t>(parse_count(parts[1], text, "NY", 1, 4096));
         s.nz = static_cast<std::uint32_t>(parse_count(parts[2], text, "NZ", 1, 4096));
     } else if (rest.rfind("file:", 0) == 0) {
         s.kind = MeshSpec::Kind::file;
         s.path = std::string(rest.substr(5));
-        if (s.path.empty()) throw UsageError("--mesh=" + s.text + ": file: needs a path, e.g. file:../shared/meshes/unit_circle.txt; " + accepted);
+        if (s.path.empty())
+            throw UsageError("--mesh=" + s.text + ": file: needs a path, e.g. file:../shared/meshes/unit_circle.txt; " +
+                             accepted);
     } else {
         throw UsageError("unknown mesh '" + s.text + "'; " + accepted);
     }
@@ -117,7 +126,8 @@ MeshCounts mesh_counts(const MeshSpec& spec) {
         const std::uint64_t factor = b.dim == 2 ? 4 : 8;
         if (b.t > max_elements / factor)
             throw UsageError("--mesh=" + spec.text + " would have more than " + std::to_string(max_elements) +
-                             " elements, the most the suite handles (32-bit positions); refine " + std::to_string(r) + " times at most");
+                             " elements, the most the suite handles (32-bit positions); refine " + std::to_string(r) +
+                             " times at most");
         Base n = b;
         n.v = b.v + b.e;
         if (b.dim == 2) {
@@ -131,8 +141,8 @@ MeshCounts mesh_counts(const MeshSpec& spec) {
         b = n;
     }
     if (b.t > max_elements)
-        throw UsageError("--mesh=" + spec.text + " has " + std::to_string(b.t) + " elements, more than the " + std::to_string(max_elements) +
-                         " the suite handles (32-bit positions)");
+        throw UsageError("--mesh=" + spec.text + " has " + std::to_string(b.t) + " elements, more than the " +
+                         std::to_string(max_elements) + " the suite handles (32-bit positions)");
     return {b.dim, b.v, b.t};
 }
 

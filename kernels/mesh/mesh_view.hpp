@@ -8,12 +8,12 @@
 namespace suite::mesh {
 
 struct MeshView {
-    int dim = 2;               // 2: triangles, 3: tetrahedra
+    int dim = 2;  // 2: triangles, 3: tetrahedra
     std::size_t vertices = 0;
     std::size_t elements = 0;
     const double* x = nullptr;
     const double* y = nullptr;
-    const double* z = nullptr;  // null in 2D
+    const double* z = nullptr;            // null in 2D
     const std::uint32_t* conn = nullptr;  // dim + 1 corners per element, element after element
 };
 

@@ -14,14 +14,16 @@
 
 namespace suite::mesh {
 
-void check_read_mesh(const Mesh& m, const std::vector<std::uint32_t>& element_lines, const std::string& name, std::size_t last_line) {
+void check_read_mesh(const Mesh& m, const std::vector<std::uint32_t>& element_lines, const std::string& name,
+                     std::size_t last_line) {
     if (m.elements() == 0) throw MeshError(name, last_line, "the mesh has no elements (an empty mesh)");
     const MeshView v = m.view();
     for (std::size_t e = 0; e < m.elements(); ++e)
         if (degenerate(v, e))
-            throw MeshError(name, element_lines[e], "a degenerate " + element_word(m.dim) + " (zero " + (m.dim == 2 ? "area" : "volume") +
-                                                        " or a repeated vertex); every element must have a positive " +
-                                                        (m.dim == 2 ? "area" : "volume"));
+            throw MeshError(name, element_lines[e],
+                            "a degenerate " + element_word(m.dim) + " (zero " + (m.dim == 2 ? "area" : "volume") +
+                                " or a repeated vertex); every element must have a positive " +
+                                (m.dim == 2 ? "area" : "volume"));
     // An element listed twice: its corners, in any order, are another element's. (Sorted by
     // corner set, ties by position, so the message names the later line and the earlier one.)
     const std::size_t k = static_cast<std::size_t>(m.corners());
@@ -42,15 +44,18 @@ void check_read_mesh(const Mesh& m, const std::vector<std::uint32_t>& element_li
                 if (c) corners += ' ';
                 corners += std::to_string(m.conn[later * k + c]);
             }
-            throw MeshError(name, element_lines[later], "the " + element_word(m.dim) + " " + corners + " again: line " + std::to_string(element_lines[earlier]) +
-                                                            " has the same corners; every element once");
+            throw MeshError(name, element_lines[later],
+                            "the " + element_word(m.dim) + " " + corners + " again: line " +
+                                std::to_string(element_lines[earlier]) + " has the same corners; every element once");
         }
 }
 
 Mesh read_mesh_file(const std::string& path) {
-    struct stat st{};
-    if (stat(path.c_str(), &st) != 0) throw MeshError(path, 0, std::string("cannot open the mesh file: ") + std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) throw MeshError(path, 0, "not a regular file; give a mesh file (.msh or the thesis's .txt format)");
+    struct stat st {};
+    if (stat(path.c_str(), &st) != 0)
+        throw MeshError(path, 0, std::string("cannot open the mesh file: ") + std::strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        throw MeshError(path, 0, "not a regular file; give a mesh file (.msh or the thesis's .txt format)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw MeshError(path, 0, std::string("cannot open the mesh file: ") + std::strerror(errno));
     std::ostringstream buf;

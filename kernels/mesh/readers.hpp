@@ -27,6 +27,7 @@ Mesh read_mesh_file(const std::string& path);
 
 // The checks every reader ends with: at least one element, no degenerate element (reported
 // at `element_lines[e]`, the line the element came from).
-void check_read_mesh(const Mesh& m, const std::vector<std::uint32_t>& element_lines, const std::string& name, std::size_t last_line);
+void check_read_mesh(const Mesh& m, const std::vector<std::uint32_t>& element_lines, const std::string& name,
+                     std::size_t last_line);
 
 }  // namespace suite::mesh

@@ -50,7 +50,8 @@ Mesh refine_uniform(const Mesh& m) {
         const std::uint32_t* c = m.conn.data() + e * k;
         std::uint32_t p[10];  // corners at 0..k-1, midpoints at 4..
         for (int i = 0; i < k; ++i) p[i] = c[i];
-        for (int j = 0; j < ec; ++j) p[4 + j] = static_cast<std::uint32_t>(nv + edges.find(c[pairs[j][0]], c[pairs[j][1]]));
+        for (int j = 0; j < ec; ++j)
+            p[4 + j] = static_cast<std::uint32_t>(nv + edges.find(c[pairs[j][0]], c[pairs[j][1]]));
         std::uint32_t* out = r.conn.data() + e * k * nchild;
         for (int ch = 0; ch < nchild; ++ch)
             for (int i = 0; i < k; ++i) out[ch * k + i] = p[m.dim == 2 ? tri_children[ch][i] : tet_children[ch][i]];

@@ -46,8 +46,8 @@ public:
     // Exactly `n` fields, or an error naming `what` a line of this kind holds.
     void expect_fields(std::size_t n, const std::string& what) const {
         if (size() != n)
-            fail("expected " + std::to_string(n) + " field" + (n == 1 ? "" : "s") + " (" + what + "), found " + std::to_string(size()) + ": '" +
-                 shown() + "'");
+            fail("expected " + std::to_string(n) + " field" + (n == 1 ? "" : "s") + " (" + what + "), found " +
+                 std::to_string(size()) + ": '" + shown() + "'");
     }
 
     std::uint64_t uint(std::size_t i, const char* what) const {
@@ -62,7 +62,8 @@ public:
         std::int64_t v = 0;
         const auto f = field(i);
         auto [p, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
-        if (ec != std::errc() || p != f.data() + f.size()) fail(std::string(what) + " must be an integer, found '" + std::string(f) + "'");
+        if (ec != std::errc() || p != f.data() + f.size())
+            fail(std::string(what) + " must be an integer, found '" + std::string(f) + "'");
         return v;
     }
     // A finite number: NaN and infinities are refused here, where the line is known.
@@ -74,7 +75,8 @@ public:
         if ((ec != std::errc() && ec != std::errc::result_out_of_range) || p != f.data() + f.size())
             fail(std::string(what) + " must be a number, found '" + std::string(field(i)) + "'");
         if (ec == std::errc::result_out_of_range || !std::isfinite(v))
-            fail(std::string(what) + " is not a finite number: '" + std::string(field(i)) + "'; coordinates must be finite");
+            fail(std::string(what) + " is not a finite number: '" + std::string(field(i)) +
+                 "'; coordinates must be finite");
         return v;
     }
 

@@ -57,7 +57,8 @@ std::string msh_text(const Mesh& m, const std::string& version) {
         return out + "$EndElements\n";
     }
     // 4.1: one entity (the domain, of the mesh's dimension) holds every node and element.
-    out += "1 " + std::to_string(nv) + " 1 " + std::to_string(nv) + "\n" + std::to_string(m.dim) + " 1 0 " + std::to_string(nv) + "\n";
+    out += "1 " + std::to_string(nv) + " 1 " + std::to_string(nv) + "\n" + std::to_string(m.dim) + " 1 0 " +
+           std::to_string(nv) + "\n";
     for (std::size_t v = 0; v < nv; ++v) {
         put(out, std::uint64_t{v + 1});
         out += '\n';
@@ -66,8 +67,8 @@ std::string msh_text(const Mesh& m, const std::string& version) {
         put_point(out, m, v);
         out += '\n';
     }
-    out += "$EndNodes\n$Elements\n1 " + std::to_string(ne) + " 1 " + std::to_string(ne) + "\n" + std::to_string(m.dim) + " 1 " +
-           std::to_string(type) + " " + std::to_string(ne) + "\n";
+    out += "$EndNodes\n$Elements\n1 " + std::to_string(ne) + " 1 " + std::to_string(ne) + "\n" + std::to_string(m.dim) +
+           " 1 " + std::to_string(type) + " " + std::to_string(ne) + "\n";
     for (std::size_t e = 0; e < ne; ++e) {
         put(out, std::uint64_t{e + 1});
         for (int i = 0; i < k; ++i) {
@@ -82,8 +83,10 @@ std::string msh_text(const Mesh& m, const std::string& version) {
 std::string vtu_text(const Mesh& m, const std::vector<CellField>& fields) {
     const std::size_t nv = m.vertices(), ne = m.elements();
     const int k = m.corners();
-    std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-                      "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" + std::to_string(nv) + "\" NumberOfCells=\"" + std::to_string(ne) + "\">\n";
+    std::string out =
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" +
+        std::to_string(nv) + "\" NumberOfCells=\"" + std::to_string(ne) + "\">\n";
     out += "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (std::size_t v = 0; v < nv; ++v) {
         put_point(out, m, v);
@@ -109,7 +112,8 @@ std::string vtu_text(const Mesh& m, const std::vector<CellField>& fields) {
     if (!fields.empty()) {
         out += "<CellData>\n";
         for (const auto& f : fields) {
-            if (f.values.size() != ne) throw std::invalid_argument("cell field " + f.name + " must have one value per element");
+            if (f.values.size() != ne)
+                throw std::invalid_argument("cell field " + f.name + " must have one value per element");
             out += "<DataArray type=\"Int64\" Name=\"" + f.name + "\" format=\"ascii\">\n";
             for (auto v : f.values) out += std::to_string(v) + '\n';
             out += "</DataArray>\n";

@@ -43,7 +43,9 @@ public:
     }
 
     Array(const Array& o) : own_(o.begin(), o.end()) { adopt(); }
-    Array(Array&& o) noexcept : own_(std::move(o.own_)), data_(o.data_), size_(o.size_), placed_(o.placed_) { o.forget(); }
+    Array(Array&& o) noexcept : own_(std::move(o.own_)), data_(o.data_), size_(o.size_), placed_(o.placed_) {
+        o.forget();
+    }
     Array& operator=(const Array& o) {
         if (this == &o) return *this;
         if (placed_ && size_ == o.size_)
@@ -94,8 +96,12 @@ public:
     }
 
     operator std::vector<T>() const { return std::vector<T>(begin(), end()); }
-    friend bool operator==(const Array& a, const Array& b) { return std::equal(a.begin(), a.end(), b.begin(), b.end()); }
-    friend bool operator==(const Array& a, const std::vector<T>& b) { return std::equal(a.begin(), a.end(), b.begin(), b.end()); }
+    friend bool operator==(const Array& a, const Array& b) {
+        return std::equal(a.begin(), a.end(), b.begin(), b.end());
+    }
+    friend bool operator==(const Array& a, const std::vector<T>& b) {
+        return std::equal(a.begin(), a.end(), b.begin(), b.end());
+    }
 
 private:
     void adopt() {

@@ -27,7 +27,9 @@ double viscous_step(const Grid& g, const Material& m) {
 
 }  // namespace
 
-double critical_step(const Grid& g, const Material& m) { return std::min(g.min_length / m.wave_speed(), viscous_step(g, m)); }
+double critical_step(const Grid& g, const Material& m) {
+    return std::min(g.min_length / m.wave_speed(), viscous_step(g, m));
+}
 
 double next_step(const State& st) {
     const Settings& s = st.settings;
@@ -55,7 +57,8 @@ bool shape_of(const mesh::Mesh& m, std::size_t e, double* s) {
         j[1][k] = m.y[c[k + 1]] - m.y[c[0]];
         j[2][k] = m.z[c[k + 1]] - m.z[c[0]];
     }
-    const double det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0]) +
+    const double det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) -
+                       j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0]) +
                        j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
     if (mesh::degenerate(m.view(), e)) return false;
     // Rows of the inverse: the gradients of λ1, λ2, λ3.
@@ -100,7 +103,8 @@ std::vector<std::int32_t> neighbours(const mesh::Mesh& m) {
             std::sort(k.begin(), k.end());
             faces[4 * e + i] = {k, static_cast<std::uint32_t>(4 * e + i)};
         }
-    std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key || (a.key == b.key && a.slot < b.slot); });
+    std::sort(faces.begin(), faces.end(),
+              [](const Face& a, const Face& b) { return a.key < b.key || (a.key == b.key && a.slot < b.slot); });
     std::vector<std::int32_t> out(4 * ne, -1);
     for (std::size_t f = 0; f + 1 < faces.size(); ++f)
         if (faces[f].key == faces[f + 1].key) {
@@ -116,11 +120,14 @@ std::vector<std::int32_t> neighbours(const mesh::Mesh& m) {
 }  // namespace
 
 Grid make_grid(mesh::Mesh m) {
-    if (m.dim != 3) throw UsageError("the MPM background grid must be tetrahedral (a 3D mesh, e.g. box:NX,NY,NZ); this mesh has triangles");
+    if (m.dim != 3)
+        throw UsageError(
+            "the MPM background grid must be tetrahedral (a 3D mesh, e.g. box:NX,NY,NZ); this mesh has triangles");
     Grid g;
     const std::size_t ne = m.elements(), nv = m.vertices();
     g.shape.resize(16 * ne);
-    double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                    std::numeric_limits<double>::infinity()};
     double hi[3] = {-lo[0], -lo[1], -lo[2]};
     const std::vector<double>* axes[3] = {&m.x, &m.y, &m.z};
     for (int a = 0; a < 3; ++a)
@@ -138,9 +145,12 @@ Grid make_grid(mesh::Mesh m) {
             continue;
         }
         // |∇λ_i| = 1 / (the altitude from corner i).
-        for (int i = 0; i < 4; ++i) min_length = std::min(min_length, 1 / std::sqrt(s[4 * i + 1] * s[4 * i + 1] + s[4 * i + 2] * s[4 * i + 2] + s[4 * i + 3] * s[4 * i + 3]));
+        for (int i = 0; i < 4; ++i)
+            min_length = std::min(min_length, 1 / std::sqrt(s[4 * i + 1] * s[4 * i + 1] + s[4 * i + 2] * s[4 * i + 2] +
+                                                            s[4 * i + 3] * s[4 * i + 3]));
     }
-    if (flat) throw UsageError("the MPM background grid has a flat or degenerate tetrahedron; give a valid tetrahedral mesh");
+    if (flat)
+        throw UsageError("the MPM background grid has a flat or degenerate tetrahedron; give a valid tetrahedral mesh");
     g.min_length = min_length;
     g.neighbour = neighbours(m);
     g.wall.assign(nv, 0);
@@ -149,7 +159,8 @@ Grid make_grid(mesh::Mesh m) {
         g.hi[a] = hi[a];
         const double eps = 1e-12 * (hi[a] - lo[a]);
         for (std::size_t v = 0; v < nv; ++v)
-            if ((*axes[a])[v] <= lo[a] + eps || (*axes[a])[v] >= hi[a] - eps) g.wall[v] |= static_cast<std::uint8_t>(1u << a);
+            if ((*axes[a])[v] <= lo[a] + eps || (*axes[a])[v] >= hi[a] - eps)
+                g.wall[v] |= static_cast<std::uint8_t>(1u << a);
     }
     // Each element's rank along the Hilbert curve of its centroid (particle sorting and the
     // active renumbering follow it, whatever the grid's own order).
@@ -158,7 +169,8 @@ Grid make_grid(mesh::Mesh m) {
     sfc::compute_keys(m.view(), frame, sfc::Curve::hilbert, keys.data());
     std::vector<std::uint32_t> by_key(ne);
     std::iota(by_key.begin(), by_key.end(), 0u);
-    std::sort(by_key.begin(), by_key.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
+    std::sort(by_key.begin(), by_key.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
     g.curve.resize(ne);
     for (std::size_t r = 0; r < ne; ++r) g.curve[by_key[r]] = static_cast<std::uint32_t>(r);
     g.mesh = std::move(m);

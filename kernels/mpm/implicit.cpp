@@ -20,9 +20,12 @@ Integrator parse_integrator(const std::string& name) {
 
 const char* integrator_name(Integrator i) {
     switch (i) {
-        case Integrator::explicit_step: return "explicit";
-        case Integrator::implicit: return "implicit";
-        case Integrator::quasi_static: return "static";
+        case Integrator::explicit_step:
+            return "explicit";
+        case Integrator::implicit:
+            return "implicit";
+        case Integrator::quasi_static:
+            return "static";
     }
     return "?";
 }
@@ -39,24 +42,35 @@ void check_implicit(const Settings& s) {
     if (s.integrator == Integrator::explicit_step) return;
     if (s.material.model != Material::Model::elastic)
         throw UsageError(std::string("--integrator=") + integrator_name(s.integrator) +
-                         ": the implicit integrators have the elastic material only (--case=dam-collapse or column); the fluid runs --integrator=explicit");
+                         ": the implicit integrators have the elastic material only (--case=dam-collapse or column); "
+                         "the fluid runs --integrator=explicit");
     if (s.damping != 0)
-        throw UsageError("--damping applies to --integrator=explicit; --integrator=static gives the quasi-static answer without it");
+        throw UsageError(
+            "--damping applies to --integrator=explicit; --integrator=static gives the quasi-static answer without it");
     const ImplicitSettings& im = s.implicit;
     if (!(im.gamma >= 0.5 && 2 * im.beta >= im.gamma && 2 * im.beta <= 1))
         throw UsageError("--newmark=" + format_number(im.beta) + "," + format_number(im.gamma) +
-                         ": Newmark's β, γ must satisfy 1/2 <= γ <= 2β <= 1 (unconditionally stable; 0.25,0.5 is average acceleration)");
+                         ": Newmark's β, γ must satisfy 1/2 <= γ <= 2β <= 1 (unconditionally stable; 0.25,0.5 is "
+                         "average acceleration)");
     // Settings the command line does not set (a caller's), each named as the field it is.
     if (!(im.residual_tol > 0 && im.residual_tol < 1))
-        throw UsageError("ImplicitSettings::residual_tol=" + format_number(im.residual_tol) + ": Newton's relative residual tolerance must lie in (0, 1)");
+        throw UsageError("ImplicitSettings::residual_tol=" + format_number(im.residual_tol) +
+                         ": Newton's relative residual tolerance must lie in (0, 1)");
     if (!(im.increment_tol > 0 && im.increment_tol < 1))
-        throw UsageError("ImplicitSettings::increment_tol=" + format_number(im.increment_tol) + ": Newton's relative increment tolerance must lie in (0, 1)");
+        throw UsageError("ImplicitSettings::increment_tol=" + format_number(im.increment_tol) +
+                         ": Newton's relative increment tolerance must lie in (0, 1)");
     if (im.newton_max < 1 || im.newton_max > 1000)
-        throw UsageError("--newton-max=" + std::to_string(im.newton_max) + ": Newton's iteration limit is a whole number from 1 to 1000");
-    if (im.cg_max < 1) throw UsageError("ImplicitSettings::cg_max=" + std::to_string(im.cg_max) + ": CG's iteration limit must be >= 1");
-    if (!(im.cg_tol > 0 && im.cg_tol < 1)) throw UsageError("ImplicitSettings::cg_tol=" + format_number(im.cg_tol) + ": CG's relative tolerance must lie in (0, 1)");
+        throw UsageError("--newton-max=" + std::to_string(im.newton_max) +
+                         ": Newton's iteration limit is a whole number from 1 to 1000");
+    if (im.cg_max < 1)
+        throw UsageError("ImplicitSettings::cg_max=" + std::to_string(im.cg_max) +
+                         ": CG's iteration limit must be >= 1");
+    if (!(im.cg_tol > 0 && im.cg_tol < 1))
+        throw UsageError("ImplicitSettings::cg_tol=" + format_number(im.cg_tol) +
+                         ": CG's relative tolerance must lie in (0, 1)");
     if (im.solver == LinearSolver::cholmod && !fem::sparse_libs_missing().empty())
-        throw UsageError("--solver=cholmod: this suite was built without " + fem::sparse_libs_missing() + "; give --solver=cg");
+        throw UsageError("--solver=cholmod: this suite was built without " + fem::sparse_libs_missing() +
+                         "; give --solver=cg");
 }
 
 namespace {
@@ -100,7 +114,8 @@ void build_system(State& st) {
     std::vector<std::uint64_t> first(n + 1, 0);  // node row r's pairs: [first[r], first[r + 1])
     for (std::uint64_t q : pairs) ++first[(q >> 32) + 1];
     for (std::size_t r = 0; r < n; ++r) first[r + 1] += first[r];
-    if (9 * pairs.size() >= (1ULL << 32)) throw UsageError("MPM implicit: the active system has 2^32 nonzeros or more; give a coarser grid");
+    if (9 * pairs.size() >= (1ULL << 32))
+        throw UsageError("MPM implicit: the active system has 2^32 nonzeros or more; give a coarser grid");
     sys.row_ptr.assign(3 * n + 1, 0);
     sys.col.resize(9 * pairs.size());
     std::uint32_t at = 0;
@@ -108,7 +123,9 @@ void build_system(State& st) {
         for (int a = 0; a < 3; ++a) {
             sys.row_ptr[3 * r + a] = at;
             for (std::uint64_t q = first[r]; q < first[r + 1]; ++q)
-                for (int b = 0; b < 3; ++b) sys.col[at++] = 3 * static_cast<std::uint32_t>(pairs[q] & 0xffffffffu) + static_cast<std::uint32_t>(b);
+                for (int b = 0; b < 3; ++b)
+                    sys.col[at++] =
+                        3 * static_cast<std::uint32_t>(pairs[q] & 0xffffffffu) + static_cast<std::uint32_t>(b);
         }
     sys.row_ptr[3 * n] = at;
     sys.val.assign(at, 0);
@@ -117,9 +134,12 @@ void build_system(State& st) {
         for (int i = 0; i < 4; ++i) {
             const std::uint64_t r = static_cast<std::uint64_t>(sys.index[conn[4 * static_cast<std::size_t>(e) + i]]);
             for (int j = 0; j < 4; ++j) {
-                const std::uint64_t key = r << 32 | static_cast<std::uint32_t>(sys.index[conn[4 * static_cast<std::size_t>(e) + j]]);
-                const auto it = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(first[r]), pairs.begin() + static_cast<std::ptrdiff_t>(first[r + 1]), key);
-                sys.block[16 * static_cast<std::size_t>(e) + 4 * i + j] = 3 * static_cast<std::uint32_t>(it - (pairs.begin() + static_cast<std::ptrdiff_t>(first[r])));
+                const std::uint64_t key =
+                    r << 32 | static_cast<std::uint32_t>(sys.index[conn[4 * static_cast<std::size_t>(e) + j]]);
+                const auto it = std::lower_bound(pairs.begin() + static_cast<std::ptrdiff_t>(first[r]),
+                                                 pairs.begin() + static_cast<std::ptrdiff_t>(first[r + 1]), key);
+                sys.block[16 * static_cast<std::size_t>(e) + 4 * i + j] =
+                    3 * static_cast<std::uint32_t>(it - (pairs.begin() + static_cast<std::ptrdiff_t>(first[r])));
             }
         }
     ++sys.patterns;
@@ -214,8 +234,10 @@ void implicit_finish_tangent(State& st) {
     for (std::int64_t i = 0; i < rows; ++i)
         for (std::uint32_t k = sys.row_ptr[i]; k < sys.row_ptr[i + 1]; ++k) {
             const std::uint32_t j = sys.col[k];
-            if (sys.fixed[i] || sys.fixed[j]) sys.val[k] = i == j ? 1 : 0;
-            else if (i == j) sys.val[k] += sys.mass[i / 3] * inertia;
+            if (sys.fixed[i] || sys.fixed[j])
+                sys.val[k] = i == j ? 1 : 0;
+            else if (i == j)
+                sys.val[k] += sys.mass[i / 3] * inertia;
         }
 }
 
@@ -229,7 +251,8 @@ void implicit_update(State& st) {
     const double dt = st.dt, beta = st.settings.implicit.beta, gamma = st.settings.implicit.gamma;
     const std::uint32_t* const conn = st.grid.mesh.conn.data();
     const double* const shape = st.grid.shape.data();
-    const double lo[3] = {st.grid.lo[0], st.grid.lo[1], st.grid.lo[2]}, hi[3] = {st.grid.hi[0], st.grid.hi[1], st.grid.hi[2]};
+    const double lo[3] = {st.grid.lo[0], st.grid.lo[1], st.grid.lo[2]},
+                 hi[3] = {st.grid.hi[0], st.grid.hi[1], st.grid.hi[2]};
     double* const pos[3] = {pt.x.data(), pt.y.data(), pt.z.data()};
     double* const vel[3] = {pt.vx.data(), pt.vy.data(), pt.vz.data()};
     double* const acc[3] = {pt.accel[0].data(), pt.accel[1].data(), pt.accel[2].data()};
@@ -250,7 +273,8 @@ void implicit_update(State& st) {
                 dx[a] += w[i] * du;
                 if (quiet) continue;
                 const double v = sys.v[row + a], acc0 = sys.a[row + a];
-                const double a_new = sys.fixed[row + a] ? 0 : (du - dt * v - dt * dt * (0.5 - beta) * acc0) / (beta * dt * dt);
+                const double a_new =
+                    sys.fixed[row + a] ? 0 : (du - dt * v - dt * dt * (0.5 - beta) * acc0) / (beta * dt * dt);
                 dv[a] += w[i] * dt * ((1 - gamma) * acc0 + gamma * a_new);
                 an[a] += w[i] * a_new;
             }
@@ -277,7 +301,8 @@ void implicit_update(State& st) {
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b) fs[a][b] = f[a][0] * S[0][b] + f[a][1] * S[1][b] + f[a][2] * S[2][b];
             for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < 3; ++b) out[a][b] = (fs[a][0] * f[b][0] + fs[a][1] * f[b][1] + fs[a][2] * f[b][2]) / j;
+                for (int b = 0; b < 3; ++b)
+                    out[a][b] = (fs[a][0] * f[b][0] + fs[a][1] * f[b][1] + fs[a][2] * f[b][2]) / j;
         } else {
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b) out[a][b] = S[a][b];
@@ -358,8 +383,9 @@ void implicit_step(State& st) {
         residuals.push_back(reference > 0 ? rn / reference : 0);
         if (rn <= im.residual_tol * reference || (k > 0 && delta_norm <= im.increment_tol * du_norm)) break;
         if (k == im.newton_max || !std::isfinite(rn))
-            return fail("Newton did not converge in " + std::to_string(im.newton_max) + " iterations (||r|| / max(||r0||, ||m g||) = " +
-                        format_number(rn / reference) + ", tolerance " + format_number(im.residual_tol) + "); give a smaller --dt");
+            return fail("Newton did not converge in " + std::to_string(im.newton_max) +
+                        " iterations (||r|| / max(||r0||, ||m g||) = " + format_number(rn / reference) +
+                        ", tolerance " + format_number(im.residual_tol) + "); give a smaller --dt");
         implicit_finish_tangent(st);
         std::string why;
         const long its = implicit_solve(st, why);

@@ -62,7 +62,8 @@ inline void particle_terms(const Inputs& in, std::size_t p, double* f, double* k
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) S[a][b] = sg[a][b] + 2 * in.mu * E[a][b] + (a == b ? in.lambda * tr : 0);
     for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) P[a][b] = in.large ? F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b] : S[a][b];
+        for (int b = 0; b < 3; ++b)
+            P[a][b] = in.large ? F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b] : S[a][b];
     double vol = pt.volume[p];
     if (in.evol) vol *= volume_scale(static_cast<std::uint32_t>(e), in.shape, in.nb, in.evol);
     for (int i = 0; i < 4; ++i)
@@ -85,8 +86,10 @@ inline void particle_terms(const Inputs& in, std::size_t p, double* f, double* k
             }
             for (int a = 0; a < 3; ++a)
                 for (int b = 0; b < 3; ++b) {
-                    const double kab = in.large ? (a == b ? gsg : 0) + in.lambda * G[i][a] * G[j][b] + in.mu * gg * FF[a][b] + in.mu * G[j][a] * G[i][b]
-                                                : in.lambda * g[i][a] * g[j][b] + in.mu * (a == b ? gg : 0) + in.mu * g[j][a] * g[i][b];
+                    const double kab = in.large ? (a == b ? gsg : 0) + in.lambda * G[i][a] * G[j][b] +
+                                                      in.mu * gg * FF[a][b] + in.mu * G[j][a] * G[i][b]
+                                                : in.lambda * g[i][a] * g[j][b] + in.mu * (a == b ? gg : 0) +
+                                                      in.mu * g[j][a] * g[i][b];
                     k[(3 * i + a) * 12 + 3 * j + b] = vol * kab;
                 }
         }
@@ -105,15 +108,19 @@ inline void add_particle(const Inputs& in, std::size_t p, double* fint, double* 
         const std::size_t row0 = 3 * static_cast<std::size_t>(in.index[node]);
         for (int a = 0; a < 3; ++a) {
             double* fr = fint + row0 + a;
-            if (sync) std::atomic_ref<double>(*fr).fetch_add(f[3 * i + a], std::memory_order_relaxed);
-            else *fr += f[3 * i + a];
+            if (sync)
+                std::atomic_ref<double>(*fr).fetch_add(f[3 * i + a], std::memory_order_relaxed);
+            else
+                *fr += f[3 * i + a];
             if (!in.tangent) continue;
             for (int j = 0; j < 4; ++j) {
                 double* v = val + in.row_ptr[row0 + a] + in.block[16 * e + 4 * i + j];
                 const double* kk = k + (3 * i + a) * 12 + 3 * j;
                 for (int b = 0; b < 3; ++b) {
-                    if (sync) std::atomic_ref<double>(v[b]).fetch_add(kk[b], std::memory_order_relaxed);
-                    else v[b] += kk[b];
+                    if (sync)
+                        std::atomic_ref<double>(v[b]).fetch_add(kk[b], std::memory_order_relaxed);
+                    else
+                        v[b] += kk[b];
                 }
             }
         }
@@ -157,11 +164,13 @@ void implicit_assemble(State& st, bool tangent) {
         switch (plan.strategy) {
             case Strategy::serial:
 #pragma omp single
-                for (std::int64_t p = 0; p < np; ++p) add_particle<false>(in, static_cast<std::size_t>(p), fint, val, nullptr);
+                for (std::int64_t p = 0; p < np; ++p)
+                    add_particle<false>(in, static_cast<std::size_t>(p), fint, val, nullptr);
                 break;
             case Strategy::atomic: {
                 const Block b = my_block(np);
-                for (std::int64_t p = b.lo; p < b.hi; ++p) add_particle<true>(in, static_cast<std::size_t>(p), fint, val, nullptr);
+                for (std::int64_t p = b.lo; p < b.hi; ++p)
+                    add_particle<true>(in, static_cast<std::size_t>(p), fint, val, nullptr);
                 break;
             }
             case Strategy::colour:
@@ -170,7 +179,8 @@ void implicit_assemble(State& st, bool tangent) {
                     const Block b = my_block(n);
                     for (std::int64_t j = lo + b.lo; j < lo + b.hi; ++j) {
                         const std::uint32_t e = plan.colour_elems[j];
-                        for (std::uint32_t q = bins.start[e]; q < bins.start[e + 1]; ++q) add_particle<false>(in, bins.order[q], fint, val, nullptr);
+                        for (std::uint32_t q = bins.start[e]; q < bins.start[e + 1]; ++q)
+                            add_particle<false>(in, bins.order[q], fint, val, nullptr);
                     }
 #pragma omp barrier
                 }
@@ -180,7 +190,8 @@ void implicit_assemble(State& st, bool tangent) {
                 // particles and elements these are.
                 const int t = omp_get_thread_num();
                 for (std::uint32_t e = plan.run_start[t]; e < plan.run_start[t + 1]; ++e)
-                    for (std::uint32_t q = bins.start[e]; q < bins.start[e + 1]; ++q) add_particle<true>(in, bins.order[q], fint, val, plan.touched.data());
+                    for (std::uint32_t q = bins.start[e]; q < bins.start[e + 1]; ++q)
+                        add_particle<true>(in, bins.order[q], fint, val, plan.touched.data());
                 break;
             }
         }

@@ -47,7 +47,8 @@ constexpr double assembly_flops = 395 + 16 * 123;
 // A step's passes over the particle arrays besides the assemblies: the projection (w, elem, m,
 // v, a), the update (elem, w, σ, V, x, v, a read; σ, V, x, v, a written), locate (x, elem read;
 // w, elem written).
-constexpr double step_particle_bytes = (32 + 4 + 8 + 24 + 24) + (4 + 32 + 48 + 8 + 24 + 24 + 24) + (48 + 8 + 24 + 24 + 24) + (24 + 4 + 32 + 4);
+constexpr double step_particle_bytes =
+    (32 + 4 + 8 + 24 + 24) + (4 + 32 + 48 + 8 + 24 + 24 + 24) + (48 + 8 + 24 + 24 + 24) + (24 + 4 + 32 + 4);
 // One CG iteration: the product (values, columns, p gathered, q written) and the vector updates
 // (x, r, z, p read and written, q and the diagonal read).
 double cg_bytes(double nnz, double rows) { return 12 * nnz + rows * 8 * (2 + 8 + 2); }
@@ -66,7 +67,8 @@ public:
         setup_.particles = phase == Phase::assembly ? "sorted" : cfg.variant;
         setup_.sort_every = phase == Phase::step ? static_cast<int>(cfg.param("sort-every")) : 0;
         setup_.settings.per_element = static_cast<int>(cfg.param("ppe"));
-        setup_.strategy = phase == Phase::assembly ? parse_strategy(cfg.variant) : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
+        setup_.strategy = phase == Phase::assembly ? parse_strategy(cfg.variant)
+                                                   : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
         setup_.threads = cfg.threads;
         setup_.seed = cfg.seed;
     }
@@ -82,7 +84,8 @@ public:
         // The warm steps also count the iterations a step takes, which a step's work is declared
         // from (work() is asked before the timed steps): at least one is run for that.
         for (long k = 0; k < std::max(warm_steps_, 1L); ++k) advance(*st_, setup_);
-        if (st_->implicit.failed_steps > 0) throw std::runtime_error(name_ + ": an untimed step failed: " + st_->implicit.failure);
+        if (st_->implicit.failed_steps > 0)
+            throw std::runtime_error(name_ + ": an untimed step failed: " + st_->implicit.failure);
         const double warm = static_cast<double>(st_->steps);
         warm_newton_ = static_cast<double>(st_->implicit.newton) / warm;
         warm_cg_ = static_cast<double>(st_->implicit.solver_iterations) / warm;
@@ -114,8 +117,12 @@ public:
         State& st = *st_;
         for (int c = 0; c < calls; ++c) {
             switch (phase_) {
-                case Phase::assembly: implicit_assemble(st, true); break;
-                case Phase::solve: last_iterations_ = jacobi_cg(cg_, st.settings.implicit.cg_tol, st.settings.implicit.cg_max, why_); break;
+                case Phase::assembly:
+                    implicit_assemble(st, true);
+                    break;
+                case Phase::solve:
+                    last_iterations_ = jacobi_cg(cg_, st.settings.implicit.cg_tol, st.settings.implicit.cg_max, why_);
+                    break;
                 case Phase::step:
                     for (int k = 0; k < steps_per_call(); ++k) advance(st, setup_);
                     break;
@@ -127,34 +134,41 @@ public:
     Verification verify() override {
         std::string failed, what;
         Verification v;
-        if (calls_ == 0) failed = "no repetition ran";
-        else switch (phase_) {
-            case Phase::assembly:
-                what = "f_int and the tangent equal a serial assembly of the same particles (1e-12 of the largest)";
-                failed = against_serial();
-                break;
-            case Phase::solve:
-                what = "the recursive residual CG stopped on within " + format_number(st_->settings.implicit.cg_tol) +
-                       ", ||r - K δ|| / ||r|| recomputed within it plus the rounding margin, δ equal to CHOLMOD's solve (1e-8 of its largest)";
-                if (last_iterations_ < 0) {
-                    failed = why_;
-                    v.solver_failed = true;
-                } else {
-                    std::copy(cg_.x, cg_.x + cg_.n, st_->system.delta.begin());
-                    failed = against_cholmod();
-                }
-                break;
-            case Phase::step:
-                what = "the first " + std::to_string(equivalence_steps) + " steps equal natural order, serial, seeded (1e-10); every Newton converged; after " +
-                       std::to_string(st_->steps) + " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
-                if (st_->implicit.failed_steps > 0) {
-                    failed = std::to_string(st_->implicit.failed_steps) + " step(s) failed, the last: " + st_->implicit.failure;
-                    v.solver_failed = true;
-                }
-                if (failed.empty()) failed = equivalence_;
-                if (failed.empty()) failed = check_state(*st_, mass_);
-                break;
-        }
+        if (calls_ == 0)
+            failed = "no repetition ran";
+        else
+            switch (phase_) {
+                case Phase::assembly:
+                    what = "f_int and the tangent equal a serial assembly of the same particles (1e-12 of the largest)";
+                    failed = against_serial();
+                    break;
+                case Phase::solve:
+                    what = "the recursive residual CG stopped on within " +
+                           format_number(st_->settings.implicit.cg_tol) +
+                           ", ||r - K δ|| / ||r|| recomputed within it plus the rounding margin, δ equal to CHOLMOD's "
+                           "solve (1e-8 of its largest)";
+                    if (last_iterations_ < 0) {
+                        failed = why_;
+                        v.solver_failed = true;
+                    } else {
+                        std::copy(cg_.x, cg_.x + cg_.n, st_->system.delta.begin());
+                        failed = against_cholmod();
+                    }
+                    break;
+                case Phase::step:
+                    what = "the first " + std::to_string(equivalence_steps) +
+                           " steps equal natural order, serial, seeded (1e-10); every Newton converged; after " +
+                           std::to_string(st_->steps) +
+                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
+                    if (st_->implicit.failed_steps > 0) {
+                        failed = std::to_string(st_->implicit.failed_steps) +
+                                 " step(s) failed, the last: " + st_->implicit.failure;
+                        v.solver_failed = true;
+                    }
+                    if (failed.empty()) failed = equivalence_;
+                    if (failed.empty()) failed = check_state(*st_, mass_);
+                    break;
+            }
         v.passed = failed.empty();
         v.detail = describe() + (failed.empty() ? what : "FAILED: " + failed);
         return v;
@@ -177,12 +191,19 @@ public:
         }
         if (phase_ == Phase::step) {
             const double steps = static_cast<double>(st.steps);
-            f.push_back({"newton-per-step", static_cast<double>(st.implicit.newton - start_newton_) / std::max(1.0, static_cast<double>(calls_ * steps_per_call())), "iterations"});
-            f.push_back({"cg-per-newton", static_cast<double>(st.implicit.solver_iterations - start_cg_) / std::max<double>(1, static_cast<double>(st.implicit.newton - start_newton_)), "iterations"});
+            f.push_back({"newton-per-step",
+                         static_cast<double>(st.implicit.newton - start_newton_) /
+                             std::max(1.0, static_cast<double>(calls_ * steps_per_call())),
+                         "iterations"});
+            f.push_back({"cg-per-newton",
+                         static_cast<double>(st.implicit.solver_iterations - start_cg_) /
+                             std::max<double>(1, static_cast<double>(st.implicit.newton - start_newton_)),
+                         "iterations"});
             f.push_back({"simulated", st.time, "s"});
             (void)steps;
         }
-        if (phase_ == Phase::assembly && st.plan.strategy == Strategy::colour) f.push_back({"colours", static_cast<double>(st.plan.colours()), "barriers"});
+        if (phase_ == Phase::assembly && st.plan.strategy == Strategy::colour)
+            f.push_back({"colours", static_cast<double>(st.plan.colours()), "barriers"});
         return f;
     }
 
@@ -210,7 +231,8 @@ public:
                 const double newton = warm_newton_, cg = warm_cg_;
                 const double k = steps_per_call();
                 w.units = np * k;
-                w.stream_bytes = k * (np * (step_particle_bytes + (newton + 1) * assembly_particle_bytes) + (newton + 1) * 8 * (nnz + rows) + cg * cg_bytes(nnz, rows));
+                w.stream_bytes = k * (np * (step_particle_bytes + (newton + 1) * assembly_particle_bytes) +
+                                      (newton + 1) * 8 * (nnz + rows) + cg * cg_bytes(nnz, rows));
                 w.flops = k * (np * (newton + 1) * assembly_flops + cg * cg_flops(nnz, rows));
                 break;
             }
@@ -223,10 +245,11 @@ public:
 private:
     int steps_per_call() const { return std::max(setup_.sort_every, 1); }
     std::string describe() const {
-        return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " + std::to_string(st_->particles.size()) +
-               " particles, " + std::to_string(st_->system.rows()) + " rows, dt " + format_number(st_->dt) + " s = " + format_number(multiple_) +
-               "x the explicit step, after " + std::to_string(warm_steps_) + " untimed steps), " + setup_.ordering + ", particles " + setup_.particles + ", " +
-               strategy_name(st_->plan.strategy) + ": ";
+        return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " +
+               std::to_string(st_->particles.size()) + " particles, " + std::to_string(st_->system.rows()) +
+               " rows, dt " + format_number(st_->dt) + " s = " + format_number(multiple_) +
+               "x the explicit step, after " + std::to_string(warm_steps_) + " untimed steps), " + setup_.ordering +
+               ", particles " + setup_.particles + ", " + strategy_name(st_->plan.strategy) + ": ";
     }
 
     // The solve's whole working set in the point's arena, so that --placement applies to it: the
@@ -265,10 +288,13 @@ private:
         implicit_assemble(st, true);
         st.plan = plan;
         double fs = 0, ks = 0, fe = 0, ke = 0;
-        for (std::size_t i = 0; i < f.size(); ++i) fs = std::max(fs, std::fabs(st.system.fint[i])), fe = std::max(fe, std::fabs(f[i] - st.system.fint[i]));
-        for (std::size_t i = 0; i < k.size(); ++i) ks = std::max(ks, std::fabs(st.system.val[i])), ke = std::max(ke, std::fabs(k[i] - st.system.val[i]));
+        for (std::size_t i = 0; i < f.size(); ++i)
+            fs = std::max(fs, std::fabs(st.system.fint[i])), fe = std::max(fe, std::fabs(f[i] - st.system.fint[i]));
+        for (std::size_t i = 0; i < k.size(); ++i)
+            ks = std::max(ks, std::fabs(st.system.val[i])), ke = std::max(ke, std::fabs(k[i] - st.system.val[i]));
         if (!(fe <= 1e-12 * fs) || !(ke <= 1e-12 * ks))
-            return "the strategy's force or tangent differs from the serial one by " + format_number(fe / fs) + ", " + format_number(ke / ks) + " of the largest";
+            return "the strategy's force or tangent differs from the serial one by " + format_number(fe / fs) + ", " +
+                   format_number(ke / ks) + " of the largest";
         return "";
     }
 
@@ -291,12 +317,14 @@ private:
             aa += abs_y * abs_y;
             rec += cg_.r[i] * cg_.r[i];
         }
-        const double tol = st.settings.implicit.cg_tol, margin = fem::cg_rounding_margin(last_iterations_, longest, std::sqrt(aa), std::sqrt(bb));
+        const double tol = st.settings.implicit.cg_tol,
+                     margin = fem::cg_rounding_margin(last_iterations_, longest, std::sqrt(aa), std::sqrt(bb));
         if (bb > 0 && !(std::sqrt(rec) <= tol * std::sqrt(bb)))
-            return "CG stopped at a recursive residual of " + format_number(std::sqrt(rec / bb)) + ", above its tolerance " + format_number(tol);
+            return "CG stopped at a recursive residual of " + format_number(std::sqrt(rec / bb)) +
+                   ", above its tolerance " + format_number(tol);
         if (!(std::sqrt(rr) <= (tol + margin) * std::sqrt(bb)))
-            return "the recomputed residual ||r - K δ|| / ||r|| is " + format_number(std::sqrt(rr / bb)) + ", above the tolerance " + format_number(tol) + " + " +
-                   format_number(margin) + " (rounding)";
+            return "the recomputed residual ||r - K δ|| / ||r|| is " + format_number(std::sqrt(rr / bb)) +
+                   ", above the tolerance " + format_number(tol) + " + " + format_number(margin) + " (rounding)";
         if (!fem::sparse_libs_missing().empty()) return "";
         fem::Csr a;
         a.n = static_cast<std::int64_t>(s.rows());
@@ -310,8 +338,10 @@ private:
             return std::string("CHOLMOD's reference solve failed: ") + e.what();
         }
         double scale = 0, err = 0;
-        for (std::size_t i = 0; i < ref.size(); ++i) scale = std::max(scale, std::fabs(ref[i])), err = std::max(err, std::fabs(ref[i] - s.delta[i]));
-        if (!(err <= 1e-8 * scale)) return "CG's δ differs from CHOLMOD's by " + format_number(err / scale) + " of its largest";
+        for (std::size_t i = 0; i < ref.size(); ++i)
+            scale = std::max(scale, std::fabs(ref[i])), err = std::max(err, std::fabs(ref[i] - s.delta[i]));
+        if (!(err <= 1e-8 * scale))
+            return "CG's δ differs from CHOLMOD's by " + format_number(err / scale) + " of its largest";
         return "";
     }
 
@@ -331,11 +361,19 @@ private:
 };
 
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
-    KernelEntry e = mpm_entry(name, formula, phase == Phase::step ? "particle-step" : phase == Phase::solve ? "cg-iteration" : "particle",
+    KernelEntry e = mpm_entry(name, formula,
+                              phase == Phase::step    ? "particle-step"
+                              : phase == Phase::solve ? "cg-iteration"
+                                                      : "particle",
                               phase == Phase::assembly, phase == Phase::step);
-    e.info.params.push_back({"dt-multiple", 10, "the implicit MPM step as a multiple of the explicit stable step, > 0 (mpm-implicit kernels)"});
-    e.info.read_bytes_per_unit = phase == Phase::assembly ? assembly_particle_bytes : phase == Phase::step ? step_particle_bytes : 0;
-    // Per particle (assembly); a solve's and a step's depend on the system and the iterations: 0 here, counted in each record's work.
+    e.info.params.push_back(
+        {"dt-multiple", 10,
+         "the implicit MPM step as a multiple of the explicit stable step, > 0 (mpm-implicit kernels)"});
+    e.info.read_bytes_per_unit = phase == Phase::assembly ? assembly_particle_bytes
+                                 : phase == Phase::step   ? step_particle_bytes
+                                                          : 0;
+    // Per particle (assembly); a solve's and a step's depend on the system and the iterations: 0 here, counted in each
+    // record's work.
     e.info.flops_per_unit = phase == Phase::assembly ? assembly_flops : 0;
     e.info.notes = notes;
     e.default_meshes = {"box:16,16,16"};
@@ -343,20 +381,29 @@ void add(const std::string& name, Phase phase, const std::string& formula, const
     e.validate = [name](const KernelConfig& cfg) {
         validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh);
         if (cases[static_cast<std::size_t>(cfg.param("case"))] == std::string("dam-break"))
-            throw UsageError(name + " --case=dam-break: the implicit integrator has the elastic material only; give --case=dam-collapse or column");
+            throw UsageError(name +
+                             " --case=dam-break: the implicit integrator has the elastic material only; give "
+                             "--case=dam-collapse or column");
         const double m = cfg.param("dt-multiple");
-        if (!(m > 0) || m > 1e4) throw UsageError("--dt-multiple=" + format_number(m) + " for " + name + ": a number of explicit stable steps, > 0 and at most 10000");
+        if (!(m > 0) || m > 1e4)
+            throw UsageError("--dt-multiple=" + format_number(m) + " for " + name +
+                             ": a number of explicit stable steps, > 0 and at most 10000");
     };
     register_kernel(std::move(e));
 }
 
 const bool registered = [] {
-    add("mpm-implicit-assembly", Phase::assembly, "f_i += V_p P ∇N_i; K_ij += V_p (∇N_i·S∇N_j I + λ G_i⊗G_j + μ (∇N_i·∇N_j) F Fᵀ + μ G_j⊗G_i)",
-        "implicit MPM: internal force and consistent tangent on the active grid; --strategy=serial,atomic,colour,partition (default all; serial on one thread)");
+    add("mpm-implicit-assembly", Phase::assembly,
+        "f_i += V_p P ∇N_i; K_ij += V_p (∇N_i·S∇N_j I + λ G_i⊗G_j + μ (∇N_i·∇N_j) F Fᵀ + μ G_j⊗G_i)",
+        "implicit MPM: internal force and consistent tangent on the active grid; "
+        "--strategy=serial,atomic,colour,partition (default all; serial on one thread)");
     add("mpm-implicit-solve", Phase::solve, "K δ = r by Jacobi-preconditioned CG, from δ = 0",
-        "implicit MPM: one Newton system's linear solve; --particles=seeded,shuffled,sorted,dynamic (dynamic renumbers the grid and the system)");
-    add("mpm-implicit-step", Phase::step, "K whole implicit steps (projection, Newton: assembly and CG, update, locate), then the reordering due",
-        "implicit MPM (Newmark, Newton; --case: dam-collapse, column), --dt-multiple, --sort-every=K steps a repetition; --particles=seeded,shuffled,sorted,dynamic");
+        "implicit MPM: one Newton system's linear solve; --particles=seeded,shuffled,sorted,dynamic (dynamic renumbers "
+        "the grid and the system)");
+    add("mpm-implicit-step", Phase::step,
+        "K whole implicit steps (projection, Newton: assembly and CG, update, locate), then the reordering due",
+        "implicit MPM (Newmark, Newton; --case: dam-collapse, column), --dt-multiple, --sort-every=K steps a "
+        "repetition; --particles=seeded,shuffled,sorted,dynamic");
     return true;
 }();
 

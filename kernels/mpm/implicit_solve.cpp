@@ -20,8 +20,17 @@ namespace {
 long solve_cg(ActiveSystem& sys, const ImplicitSettings& im, std::string& why) {
     const std::size_t n = sys.rows();
     for (auto* v : {&sys.cg_z, &sys.cg_p, &sys.cg_q, &sys.cg_diag, &sys.cg_r}) v->resize(n);
-    const CgArrays a{static_cast<std::int64_t>(n), sys.row_ptr.data(), sys.col.data(), sys.val.data(), sys.r.data(), sys.delta.data(),
-                     sys.cg_r.data(), sys.cg_z.data(), sys.cg_p.data(), sys.cg_q.data(), sys.cg_diag.data()};
+    const CgArrays a{static_cast<std::int64_t>(n),
+                     sys.row_ptr.data(),
+                     sys.col.data(),
+                     sys.val.data(),
+                     sys.r.data(),
+                     sys.delta.data(),
+                     sys.cg_r.data(),
+                     sys.cg_z.data(),
+                     sys.cg_p.data(),
+                     sys.cg_q.data(),
+                     sys.cg_diag.data()};
     return jacobi_cg(a, im.cg_tol, im.cg_max, why);
 }
 
@@ -65,8 +74,8 @@ long jacobi_cg(const CgArrays& a, double tol, int max_iterations, std::string& w
             pq += p[i] * s;
         }
         if (!(pq > 0)) {
-            why = "the tangent is not positive definite (CG met pᵀKp = " + format_number(pq) +
-                  " at iteration " + std::to_string(it) + "): the system is singular or the step too large; give a smaller --dt";
+            why = "the tangent is not positive definite (CG met pᵀKp = " + format_number(pq) + " at iteration " +
+                  std::to_string(it) + "): the system is singular or the step too large; give a smaller --dt";
             return -1;
         }
         const double alpha = rz / pq;
@@ -106,8 +115,8 @@ long solve_cholmod(ActiveSystem& sys, std::string& why) {
     try {
         sys.delta = fem::cholesky_solve(a, sys.r);
     } catch (const fem::NotDefinite& e) {
-        why = "the tangent is not positive definite (CHOLMOD met a non-positive pivot at column " + std::to_string(e.minor) +
-              "): the system is singular or the step too large; give a smaller --dt";
+        why = "the tangent is not positive definite (CHOLMOD met a non-positive pivot at column " +
+              std::to_string(e.minor) + "): the system is singular or the step too large; give a smaller --dt";
         return -1;
     } catch (const std::exception& e) {
         why = std::string("CHOLMOD failed: ") + e.what();

@@ -31,7 +31,7 @@ struct ImplicitSettings {
     // increment and the material stiffness alone (false: the residual is then linear in the
     // increment and Newton ends after one solve). docs/mpm.md, "Implicit MPM", says when which.
     bool large_strain = true;
-    double residual_tol = 1e-8;    // Newton: converged when ||r_k|| <= residual_tol max(||r_0||, ||m_n g||) (free rows),
+    double residual_tol = 1e-8;  // Newton: converged when ||r_k|| <= residual_tol max(||r_0||, ||m_n g||) (free rows),
     double increment_tol = 1e-10;  // or when the last correction ||δ|| <= increment_tol ||Δu||
     int newton_max = 25;
     LinearSolver solver = LinearSolver::cg;
@@ -45,35 +45,35 @@ struct ImplicitSettings {
 // columns, three a neighbouring node, ascending. The pattern is rebuilt when the set of active
 // elements changes.
 struct ActiveSystem {
-    std::vector<std::uint32_t> elements;   // the active elements, ascending
-    std::vector<std::uint32_t> node;       // active index -> grid node
-    std::vector<std::int32_t> index;       // grid node -> active index, or -1
+    std::vector<std::uint32_t> elements;      // the active elements, ascending
+    std::vector<std::uint32_t> node;          // active index -> grid node
+    std::vector<std::int32_t> index;          // grid node -> active index, or -1
     std::vector<std::uint32_t> row_ptr, col;  // 3 rows per active node
     // 16 per grid element (meaningful for the active ones): entry 4 i + j is where corner j's
     // three columns start within each of corner i's rows (row_ptr[3 index(i) + a] + block + b).
     std::vector<std::uint32_t> block;
-    std::vector<std::uint8_t> fixed;       // per row: the displacement normal to a wall, held at 0
-    std::vector<double> val;               // the tangent
-    std::vector<double> mass;              // per active node: m_n (lumped)
+    std::vector<std::uint8_t> fixed;  // per row: the displacement normal to a wall, held at 0
+    std::vector<double> val;          // the tangent
+    std::vector<double> mass;         // per active node: m_n (lumped)
     // Per row: the nodal velocity and acceleration at the step's start, the load m_n g, the
     // internal force, the increment Δu, the residual, the Newton correction δ.
     std::vector<double> v, a, fext, fint, du, r, delta;
     std::vector<double> cg_r, cg_z, cg_p, cg_q, cg_diag;  // the solver's scratch
-    std::uint64_t patterns = 0;            // pattern builds so far
+    std::uint64_t patterns = 0;                           // pattern builds so far
     std::size_t rows() const { return 3 * node.size(); }
 };
 
 // What the implicit steps did, for the checks and the record's facts.
 struct ImplicitStats {
-    std::uint64_t newton = 0;         // Newton iterations (linear solves) over all steps
+    std::uint64_t newton = 0;             // Newton iterations (linear solves) over all steps
     std::uint64_t solver_iterations = 0;  // CG iterations over all solves (0 with CHOLMOD)
-    std::uint64_t backtracks = 0;     // corrections halved because they made the residual larger
-    std::uint64_t fallbacks = 0;      // CG solves that ran out of iterations and were handed to CHOLMOD
-    std::uint64_t failed_steps = 0;   // steps that failed (each left the state as it was)
+    std::uint64_t backtracks = 0;         // corrections halved because they made the residual larger
+    std::uint64_t fallbacks = 0;          // CG solves that ran out of iterations and were handed to CHOLMOD
+    std::uint64_t failed_steps = 0;       // steps that failed (each left the state as it was)
     int last_newton = 0, max_newton = 0;
     std::vector<double> last_residuals;  // ||r_k|| / max(||r_0||, ||m g||) in the last step, k = 0, 1, ...
-    double worst_residual = 0;        // the largest final one of any step
-    std::uint64_t active_rows = 0;    // the last step's system
+    double worst_residual = 0;           // the largest final one of any step
+    std::uint64_t active_rows = 0;       // the last step's system
     std::uint64_t nonzeros = 0;
     // Why the last step failed ("" when it did not): Newton beyond newton_max, a solve that did
     // not converge, a singular system. The step leaves the particles as they were.

@@ -23,7 +23,8 @@ std::uint64_t mesh_elements(const std::string& spec) {
     return c.elements;
 }
 
-KernelEntry mpm_entry(const std::string& name, const std::string& formula, const std::string& unit, bool strategies, bool sorted_steps) {
+KernelEntry mpm_entry(const std::string& name, const std::string& formula, const std::string& unit, bool strategies,
+                      bool sorted_steps) {
     KernelEntry e;
     e.info.name = name;
     e.info.group = "mpm";
@@ -40,13 +41,19 @@ KernelEntry mpm_entry(const std::string& name, const std::string& formula, const
         e.info.variant_option = "particles";
     }
     e.info.default_variants = e.info.variants;
-    e.info.params = {{"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
-                     {"case", 0, "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
-                      {"dam-collapse", "dam-break", "column"}},
-                     {"warm-steps", 5, "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
-                                       "(mpm kernels), 0 to 10000000"}};
+    e.info.params = {
+        {"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
+        {"case",
+         0,
+         "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
+         {"dam-collapse", "dam-break", "column"}},
+        {"warm-steps", 5,
+         "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
+         "(mpm kernels), 0 to 10000000"}};
     if (sorted_steps)
-        e.info.params.push_back({"sort-every", 5, "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
+        e.info.params.push_back(
+            {"sort-every", 5,
+             "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
     e.info.size_kind = SizeKind::count;
     e.mesh_elements = mesh_elements;
     e.test_size = 6 * 5 * 5 * 5;
@@ -58,25 +65,30 @@ void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std:
         if (!cfg.params.count(name)) continue;
         const double v = cfg.param(name);
         if (!(v >= 1) || v != std::floor(v) || v > 1e6)
-            throw UsageError("--" + std::string(name) + "=" + format_number(v) + " for " + kernel + ": a whole number from 1 to 1000000");
+            throw UsageError("--" + std::string(name) + "=" + format_number(v) + " for " + kernel +
+                             ": a whole number from 1 to 1000000");
     }
     if (cfg.params.count("warm-steps")) {
         const double v = cfg.param("warm-steps");
         if (!(v >= 0) || v != std::floor(v) || v > 1e7)
-            throw UsageError("--warm-steps=" + format_number(v) + " for " + kernel + ": a whole number of untimed steps from 0 to 10000000");
+            throw UsageError("--warm-steps=" + format_number(v) + " for " + kernel +
+                             ": a whole number of untimed steps from 0 to 10000000");
     }
     if (cfg.variant == "serial" && cfg.threads > 1)
-        throw UsageError(kernel + "'s serial strategy runs on one thread, not " + std::to_string(cfg.threads) + "; the parallel ones: atomic, colour, partition");
+        throw UsageError(kernel + "'s serial strategy runs on one thread, not " + std::to_string(cfg.threads) +
+                         "; the parallel ones: atomic, colour, partition");
     const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
-    if (c.dim != 3) throw UsageError("--mesh=" + spec + " for " + kernel + ": the MPM grid must be tetrahedral, e.g. box:24,24,24");
+    if (c.dim != 3)
+        throw UsageError("--mesh=" + spec + " for " + kernel + ": the MPM grid must be tetrahedral, e.g. box:24,24,24");
     // The grid (shape, neighbours, keys while built), the particles at most per_element per
     // element, twice over (verify's copies), and the mesh while it is loaded and ordered.
     const std::uint64_t np = c.elements * static_cast<std::uint64_t>(cfg.param("ppe"));
-    const std::uint64_t need = state_bytes(c, np, 2, cfg.params.count("dt-multiple") > 0);  // the implicit kernels have dt-multiple
+    const std::uint64_t need =
+        state_bytes(c, np, 2, cfg.params.count("dt-multiple") > 0);  // the implicit kernels have dt-multiple
     const std::uint64_t have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
-        throw UsageError(kernel + " on --mesh=" + spec + " needs about " + format_bytes(need) + ", more than the " + format_bytes(have) +
-                         " of memory available; use a smaller grid");
+        throw UsageError(kernel + " on --mesh=" + spec + " needs about " + format_bytes(need) + ", more than the " +
+                         format_bytes(have) + " of memory available; use a smaller grid");
 }
 
 namespace {
@@ -104,7 +116,8 @@ std::string position_mismatch(const Particles& a, const Particles& b, double tol
         if (!(d <= worst)) worst = d, who = a.id[p];
     }
     if (worst <= tol) return "";
-    return "particle " + std::to_string(who) + " is " + format_number(worst) + " away from its reference position (more than " + format_number(tol) + ")";
+    return "particle " + std::to_string(who) + " is " + format_number(worst) +
+           " away from its reference position (more than " + format_number(tol) + ")";
 }
 
 }  // namespace
@@ -122,7 +135,9 @@ std::string check_equivalence(const Setup& point) {
     }
     // An implicit step that failed moved nothing: two runs that both failed would agree.
     for (const State* st : {&a, &b})
-        if (st->implicit.failed_steps > 0) return "a step of the " + std::string(st == &a ? "point's" : "reference") + " run failed: " + st->implicit.failure;
+        if (st->implicit.failed_steps > 0)
+            return "a step of the " + std::string(st == &a ? "point's" : "reference") +
+                   " run failed: " + st->implicit.failure;
     const std::string m = position_mismatch(a.particles, b.particles, 1e-10);
     return m.empty() ? "" : "after " + std::to_string(equivalence_steps) + " steps, " + m;
 }
@@ -152,7 +167,8 @@ std::string check_p2g_against_serial(State& st) {
     const char* names[3] = {"mass", "momentum", "force"};
     for (int g = 0; g < 3; ++g)
         if (worst[g] > 1e-12 * scale[g])
-            return std::string("nodal ") + names[g] + " differs from the serial P2G by " + format_number(worst[g]) + " (largest " + format_number(scale[g]) + ")";
+            return std::string("nodal ") + names[g] + " differs from the serial P2G by " + format_number(worst[g]) +
+                   " (largest " + format_number(scale[g]) + ")";
     const double m = mass_by_id(st.particles);
     if (std::fabs(sum_m - m) > 1e-12 * m) return "Σ m_n = " + format_number(sum_m) + " but Σ m_p = " + format_number(m);
     return "";
@@ -164,7 +180,8 @@ std::string check_g2p_replay(const State& start, const State& now, long calls) {
     const Particles& a = r.particles;
     const Particles& b = now.particles;
     for (std::size_t p = 0; p < a.size(); ++p)
-        if (a.x[p] != b.x[p] || a.y[p] != b.y[p] || a.z[p] != b.z[p] || a.vx[p] != b.vx[p] || a.vy[p] != b.vy[p] || a.vz[p] != b.vz[p])
+        if (a.x[p] != b.x[p] || a.y[p] != b.y[p] || a.z[p] != b.z[p] || a.vx[p] != b.vx[p] || a.vy[p] != b.vy[p] ||
+            a.vz[p] != b.vz[p])
             return "particle " + std::to_string(p) + " differs from the serial replay";
     return "";
 }
@@ -187,22 +204,29 @@ std::string check_state(State& st, double mass) {
     for (std::size_t i = 0; i < p.size(); ++i) {
         const double pos[3] = {p.x[i], p.y[i], p.z[i]};
         for (int a = 0; a < 3; ++a)
-            if (!(pos[a] >= g.lo[a] && pos[a] <= g.hi[a])) return "particle " + std::to_string(p.id[i]) + " is outside the box (or not finite)";
-        if (!std::isfinite(p.vx[i] + p.vy[i] + p.vz[i])) return "particle " + std::to_string(p.id[i]) + " has a velocity that is not finite";
+            if (!(pos[a] >= g.lo[a] && pos[a] <= g.hi[a]))
+                return "particle " + std::to_string(p.id[i]) + " is outside the box (or not finite)";
+        if (!std::isfinite(p.vx[i] + p.vy[i] + p.vz[i]))
+            return "particle " + std::to_string(p.id[i]) + " has a velocity that is not finite";
         double ws = 0;
         for (int k = 0; k < 4; ++k) {
-            if (!(p.w[4 * i + k] >= 0)) return "particle " + std::to_string(p.id[i]) + " has a negative shape function value";
+            if (!(p.w[4 * i + k] >= 0))
+                return "particle " + std::to_string(p.id[i]) + " has a negative shape function value";
             ws += p.w[4 * i + k];
         }
-        if (std::fabs(ws - 1) > 1e-12) return "particle " + std::to_string(p.id[i]) + "'s shape functions sum to " + format_number(ws);
+        if (std::fabs(ws - 1) > 1e-12)
+            return "particle " + std::to_string(p.id[i]) + "'s shape functions sum to " + format_number(ws);
     }
     const double now = mass_by_id(p);
-    if (now != mass) return "the particles' mass is " + format_number(now) + ", not the " + format_number(mass) + " they started with";
+    if (now != mass)
+        return "the particles' mass is " + format_number(now) + ", not the " + format_number(mass) +
+               " they started with";
     p2g(st);
     ExactSum nodal;
     for (std::uint32_t n = 0; n < st.node_hi; ++n) nodal.add(st.nodes[n].m);
     const double sum_m = nodal.value();
-    if (std::fabs(sum_m - mass) > 1e-12 * mass) return "Σ m_n = " + format_number(sum_m) + " but Σ m_p = " + format_number(mass);
+    if (std::fabs(sum_m - mass) > 1e-12 * mass)
+        return "Σ m_n = " + format_number(sum_m) + " but Σ m_p = " + format_number(mass);
     return "";
 }
 
@@ -210,7 +234,9 @@ std::uint64_t atomic_conflicts(const State& st) {
     const int nt = st.plan.threads;
     const std::int64_t np = static_cast<std::int64_t>(st.particles.size());
     std::vector<std::uint64_t> mask(st.grid.nodes(), 0);
-    auto corners = [&](std::int64_t p) { return &st.grid.mesh.conn[4 * static_cast<std::size_t>(st.particles.elem[p])]; };
+    auto corners = [&](std::int64_t p) {
+        return &st.grid.mesh.conn[4 * static_cast<std::size_t>(st.particles.elem[p])];
+    };
     for (int t = 0; t < nt; ++t) {
         const Block b = static_block(np, t, nt);
         for (std::int64_t p = b.lo; p < b.hi; ++p)

@@ -19,7 +19,8 @@ std::uint64_t mesh_elements(const std::string& spec);
 // (the scatter strategies with `strategies`, else the particle orders), the parameters ppe, case
 // and warm-steps (and sort-every with `sorted_steps`), counted sizes, the grid's element count,
 // the test size. The caller adds its bytes, notes, default meshes, make and validate.
-KernelEntry mpm_entry(const std::string& name, const std::string& formula, const std::string& unit, bool strategies, bool sorted_steps);
+KernelEntry mpm_entry(const std::string& name, const std::string& formula, const std::string& unit, bool strategies,
+                      bool sorted_steps);
 
 // Throws UsageError for a grid spec that is not tetrahedral, --ppe or --sort-every that is not a
 // whole number >= 1, the serial strategy on more than one thread, or more memory than there is.

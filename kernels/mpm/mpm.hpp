@@ -66,13 +66,13 @@ struct alignas(64) NodeState {
 // element across the face opposite each corner (-1 on the boundary), and per node which faces
 // of the box it lies on (bit 0: x, 1: y, 2: z). All of it is rebuilt by permute().
 struct Grid {
-    mesh::Mesh mesh;                      // tetrahedra, corners in conn
-    std::vector<double> shape;            // 16 per element
-    std::vector<std::int32_t> neighbour;  // 4 per element
-    std::vector<std::uint8_t> wall;       // per node
-    std::vector<std::uint32_t> curve;     // per element: its position along the Hilbert curve
+    mesh::Mesh mesh;                              // tetrahedra, corners in conn
+    std::vector<double> shape;                    // 16 per element
+    std::vector<std::int32_t> neighbour;          // 4 per element
+    std::vector<std::uint8_t> wall;               // per node
+    std::vector<std::uint32_t> curve;             // per element: its position along the Hilbert curve
     double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};  // the box
-    double min_length = 0;                // smallest altitude of any element (the time step's l)
+    double min_length = 0;                        // smallest altitude of any element (the time step's l)
 
     std::size_t nodes() const { return mesh.vertices(); }
     std::size_t elements() const { return mesh.elements(); }
@@ -100,7 +100,8 @@ struct Particles {
     std::array<Array<double>, 6> stress;
     Array<double> w;            // 4 per particle: N_i at x_p in its element
     Array<std::uint32_t> elem;  // containing element
-    Array<std::uint32_t> id;    // rank of its position at creation (any grid order gives the same ids); kept through sorting
+    Array<std::uint32_t>
+        id;  // rank of its position at creation (any grid order gives the same ids); kept through sorting
     std::array<Array<double>, 3> accel;  // the implicit integrator's a_p (implicit.hpp); empty for the others
     // Placed particles only: 4 doubles per particle, where reorder_particles gathers before it
     // writes back (thread t's part is the 32 B per particle of its own block).
@@ -120,8 +121,9 @@ struct Particles {
 };
 // The names of the placed particle arrays in the record's placement.arrays, in the order they
 // are allocated; then "reorder-scratch".
-inline constexpr const char* particle_array_names[] = {"x", "y", "z", "vx", "vy", "vz", "mass", "volume", "stress-xx", "stress-yy",
-                                                       "stress-zz", "stress-xy", "stress-yz", "stress-zx", "w", "elem", "id"};
+inline constexpr const char* particle_array_names[] = {
+    "x",         "y",         "z",         "vx",        "vy",        "vz", "mass", "volume", "stress-xx",
+    "stress-yy", "stress-zz", "stress-xy", "stress-yz", "stress-zx", "w",  "elem", "id"};
 
 // The material's region: the axis-aligned box [lo, hi]. dam-collapse puts it in the corner at
 // the origin; tests put it elsewhere (free fall away from the walls).
@@ -142,13 +144,14 @@ enum class Integration { particle, mixed };
 
 struct Settings {
     Material material;
-    Integration integration = Integration::particle;  // a bare Settings; case_settings (suite mpm, the kernels) take mixed
+    Integration integration =
+        Integration::particle;  // a bare Settings; case_settings (suite mpm, the kernels) take mixed
     Region region;
-    int per_element = 4;       // particles in each element whose centroid lies in the region
+    int per_element = 4;  // particles in each element whose centroid lies in the region
     double gravity[3] = {0, 0, -9.81};
-    double damping = 0;        // c, 1/s: a nodal force -c m_n v_n (mass-proportional), for a quasi-static answer; 0: none
-    double courant = 0.8;      // dt = courant * min_length / wave_speed, unless dt is given
-    double dt = 0;             // 0: from the Courant number (for a fluid, again before every step)
+    double damping = 0;    // c, 1/s: a nodal force -c m_n v_n (mass-proportional), for a quasi-static answer; 0: none
+    double courant = 0.8;  // dt = courant * min_length / wave_speed, unless dt is given
+    double dt = 0;         // 0: from the Courant number (for a fluid, again before every step)
     Integrator integrator = Integrator::explicit_step;  // implicit and static: implicit.hpp (elastic only)
     ImplicitSettings implicit;
 };
@@ -200,9 +203,9 @@ struct ScatterPlan {
     // partition scratch: per node the mask of threads touching it, per shared node its slot
     std::vector<std::uint64_t> touched;
     std::vector<std::int32_t> slot;
-    std::vector<std::uint32_t> shared;                 // the shared nodes, by slot
-    std::vector<NodeState> slots;                      // threads x shared
-    std::vector<std::uint32_t> run_start;              // threads + 1: element runs
+    std::vector<std::uint32_t> shared;     // the shared nodes, by slot
+    std::vector<NodeState> slots;          // threads x shared
+    std::vector<std::uint32_t> run_start;  // threads + 1: element runs
     // The updates of the last scatter that needed synchronisation: atomic adds to a node more
     // than one thread touched (atomic), additions into a shared slot (partition), 0 (colour).
     std::uint64_t synchronised = 0;
@@ -232,12 +235,12 @@ struct State {
     ScatterPlan plan;
     Settings settings;
     double dt = 0, time = 0;
-    double dt_min = 0, dt_max = 0;     // the smallest and largest step taken (they differ for a fluid)
+    double dt_min = 0, dt_max = 0;  // the smallest and largest step taken (they differ for a fluid)
     std::uint64_t steps = 0;
-    std::uint64_t clamped = 0;         // particle positions pulled back into the box, in total
-    std::uint32_t node_hi = 0;         // 1 + the largest node any particle's element has
-    Array<double> element_volume;      // mixed integration's scratch: Σ V_p of each element's particles
-    ActiveSystem system;               // the implicit integrator's (implicit.hpp)
+    std::uint64_t clamped = 0;     // particle positions pulled back into the box, in total
+    std::uint32_t node_hi = 0;     // 1 + the largest node any particle's element has
+    Array<double> element_volume;  // mixed integration's scratch: Σ V_p of each element's particles
+    ActiveSystem system;           // the implicit integrator's (implicit.hpp)
     ImplicitStats implicit;
 };
 
@@ -262,11 +265,12 @@ void touch_nodes(State& st, bool fresh);
 // for a region outside the box, per_element < 1, E <= 0, ν outside (-1, 0.5), ρ <= 0, or a
 // given dt above the stable step (unless `force`).
 // With `arena`, the particles, nodes and element volume sums are placed in it (State).
-State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force = false, Arena* arena = nullptr);
+State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, bool force = false,
+                 Arena* arena = nullptr);
 
 // The phases of a step, for the kernels that time one of them; step() runs them all.
-void locate(State& st);   // elements and w of the particles at their current positions; bins
-void p2g(State& st);      // zero the nodes, scatter m, p, f
+void locate(State& st);  // elements and w of the particles at their current positions; bins
+void p2g(State& st);     // zero the nodes, scatter m, p, f
 void update_grid(State& st);
 void g2p(State& st);
 void update_stress(State& st);  // velocity scatter, nodal velocities, stress and volume
@@ -308,12 +312,12 @@ struct Setup {
     // sorted:   sorted along the curve at the start and every sort_every steps;
     // dynamic:  sorted as above, and the grid renumbered (renumber_active) at the same steps.
     std::string particles = "seeded";
-    int sort_every = 5;                 // steps between reorderings; 0: at the start only (5: fastest measured)
+    int sort_every = 5;  // steps between reorderings; 0: at the start only (5: fastest measured)
     Settings settings;
     Strategy strategy = Strategy::serial;
     int threads = 1;
     std::uint64_t seed = 1;
-    bool force = false;                 // run a time step above the stable one
+    bool force = false;  // run a time step above the stable one
 };
 // The accepted names, for messages and --help.
 inline constexpr const char* orderings_accepted = "natural, random, morton, hilbert";

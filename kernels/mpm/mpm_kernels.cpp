@@ -37,12 +37,12 @@ namespace {
 enum class Phase { p2g, g2p, step };
 
 // Bytes of particle arrays per particle, by pass (mpm.hpp's loops; w is 32 B, stress 48 B).
-constexpr double p2g_bytes = 32 + 4 + 8 + 8 + 24 + 48                   // w, elem, m, V, v, σ
-                             + 4 + 8;                                   // mixed integration's element volume sums: elem, V
-constexpr double g2p_bytes = 4 + 32 + 24 + 24 + 24 + 24;                // elem, w, v, x read; v, x written
+constexpr double p2g_bytes = 32 + 4 + 8 + 8 + 24 + 48     // w, elem, m, V, v, σ
+                             + 4 + 8;                     // mixed integration's element volume sums: elem, V
+constexpr double g2p_bytes = 4 + 32 + 24 + 24 + 24 + 24;  // elem, w, v, x read; v, x written
 constexpr double step_bytes = p2g_bytes + g2p_bytes + (32 + 8 + 24 + 4)  // the velocity scatter
-                              + (4 + 56 + 56)                           // stress and volume, read and written
-                              + (24 + 4 + 32 + 4);                      // locate: x, elem read; w, elem written
+                              + (4 + 56 + 56)                            // stress and volume, read and written
+                              + (24 + 4 + 32 + 4);                       // locate: x, elem read; w, elem written
 // Flops per particle, by pass, counted as the loops are written (a multiply-add as two, a division
 // as one; index arithmetic, comparisons, std::max and std::clamp, and the scatters' atomics, colours
 // and partition slots not counted).
@@ -73,12 +73,14 @@ constexpr double g2p_flops = 4 * (1 + 3 * 4) + 3 * 4;  // 64
 constexpr double step_flops(Material::Model model) {
     constexpr double velocity_and_strain = 36 + 72 + 54 + 2 + 2;
     constexpr double locate = 4 * 6 + 4 + 4;
-    return model == Material::Model::fluid ? 5 + p2g_flops + g2p_flops + velocity_and_strain + 20 + locate
-                                           : p2g_flops + g2p_flops + velocity_and_strain + 162 + locate;  // fluid 446, elastic 583
+    return model == Material::Model::fluid
+               ? 5 + p2g_flops + g2p_flops + velocity_and_strain + 20 + locate
+               : p2g_flops + g2p_flops + velocity_and_strain + 162 + locate;  // fluid 446, elastic 583
 }
-constexpr const char* cases[] = {"dam-collapse", "dam-break", "column"};  // --case's choices, in the order of their indices
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // untimed steps before the first repetition: velocities and stresses not zero
-
+constexpr const char* cases[] = {"dam-collapse", "dam-break",
+                                 "column"};                       // --case's choices, in the order of their indices
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // untimed steps before the first repetition:
+                                                                  // velocities and stresses not zero
 
 class MpmKernel final : public Kernel {
 public:
@@ -91,7 +93,8 @@ public:
         setup_.particles = phase == Phase::p2g ? "sorted" : cfg.variant;
         setup_.sort_every = phase == Phase::step ? static_cast<int>(cfg.param("sort-every")) : 0;
         setup_.settings.per_element = static_cast<int>(cfg.param("ppe"));
-        setup_.strategy = phase == Phase::p2g ? parse_strategy(cfg.variant) : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
+        setup_.strategy = phase == Phase::p2g ? parse_strategy(cfg.variant)
+                                              : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
         setup_.threads = cfg.threads;
         setup_.seed = cfg.seed;
     }
@@ -122,15 +125,20 @@ public:
         mass_ = mass_by_id(st_->particles);
         calls_ = 0;
         // Poisoned, so that verify() judges what the timed runs left, not the warm-up's nodes.
-        if (phase_ == Phase::p2g) std::fill(st_->nodes.begin(), st_->nodes.end(), NodeState{nan, {nan, nan, nan}, {nan, nan, nan}, 0});
+        if (phase_ == Phase::p2g)
+            std::fill(st_->nodes.begin(), st_->nodes.end(), NodeState{nan, {nan, nan, nan}, {nan, nan, nan}, 0});
     }
 
     void run(int calls) override {
         State& st = *st_;
         for (int c = 0; c < calls; ++c) {
             switch (phase_) {
-                case Phase::p2g: p2g(st); break;
-                case Phase::g2p: g2p(st); break;
+                case Phase::p2g:
+                    p2g(st);
+                    break;
+                case Phase::g2p:
+                    g2p(st);
+                    break;
                 case Phase::step:
                     for (int k = 0; k < steps_per_call(); ++k) advance(st, setup_);
                     break;
@@ -141,23 +149,28 @@ public:
 
     Verification verify() override {
         std::string failed, what;
-        if (calls_ == 0) failed = "no repetition ran";
-        else switch (phase_) {
-            case Phase::p2g:
-                what = "nodal m, p, f equal a serial P2G of the same particles (1e-12 of the largest), Σ m_n = Σ m_p";
-                failed = check_p2g_against_serial(*st_);
-                break;
-            case Phase::g2p:
-                what = "velocities and positions equal a serial replay of the " + std::to_string(calls_) + " calls exactly";
-                failed = check_g2p_replay(*start_, *st_, calls_);
-                break;
-            case Phase::step:
-                what = "the first " + std::to_string(equivalence_steps) + " steps equal natural order, serial, seeded (1e-10); after " +
-                       std::to_string(st_->steps) + " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
-                failed = equivalence_;
-                if (failed.empty()) failed = check_state(*st_, mass_);
-                break;
-        }
+        if (calls_ == 0)
+            failed = "no repetition ran";
+        else
+            switch (phase_) {
+                case Phase::p2g:
+                    what =
+                        "nodal m, p, f equal a serial P2G of the same particles (1e-12 of the largest), Σ m_n = Σ m_p";
+                    failed = check_p2g_against_serial(*st_);
+                    break;
+                case Phase::g2p:
+                    what = "velocities and positions equal a serial replay of the " + std::to_string(calls_) +
+                           " calls exactly";
+                    failed = check_g2p_replay(*start_, *st_, calls_);
+                    break;
+                case Phase::step:
+                    what = "the first " + std::to_string(equivalence_steps) +
+                           " steps equal natural order, serial, seeded (1e-10); after " + std::to_string(st_->steps) +
+                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
+                    failed = equivalence_;
+                    if (failed.empty()) failed = check_state(*st_, mass_);
+                    break;
+            }
         Verification v;
         v.passed = failed.empty();
         v.detail = describe() + (failed.empty() ? what : "FAILED: " + failed);
@@ -169,7 +182,8 @@ public:
         // nodes/s = units/s x active-nodes / particles.
         std::uint64_t active = 0;
         for (std::uint32_t n = 0; n < st_->node_hi; ++n) active += st_->nodes[n].m > 0 ? 1 : 0;
-        std::vector<Fact> f{{"particles", static_cast<double>(st_->particles.size()), ""}, {"active-nodes", static_cast<double>(active), "nodes"},
+        std::vector<Fact> f{{"particles", static_cast<double>(st_->particles.size()), ""},
+                            {"active-nodes", static_cast<double>(active), "nodes"},
                             {"dt", st_->dt, "s"}};
         if (phase_ == Phase::step) {
             f.push_back({"simulated", st_->time, "s"});
@@ -177,9 +191,12 @@ public:
         }
         if (phase_ == Phase::p2g) {
             const Strategy s = st_->plan.strategy;
-            f.push_back({"synchronised", static_cast<double>(s == Strategy::atomic ? atomic_conflicts(*st_) : st_->plan.synchronised), "node updates"});
+            f.push_back({"synchronised",
+                         static_cast<double>(s == Strategy::atomic ? atomic_conflicts(*st_) : st_->plan.synchronised),
+                         "node updates"});
             if (s == Strategy::colour) f.push_back({"colours", static_cast<double>(st_->plan.colours()), "barriers"});
-            if (s == Strategy::partition) f.push_back({"shared-nodes", static_cast<double>(st_->plan.shared_nodes), "nodes"});
+            if (s == Strategy::partition)
+                f.push_back({"shared-nodes", static_cast<double>(st_->plan.shared_nodes), "nodes"});
         }
         return f;
     }
@@ -188,10 +205,15 @@ public:
         const double np = static_cast<double>(st_->particles.size());
         Work w;
         switch (phase_) {
-            case Phase::p2g: w.units = np, w.stream_bytes = np * p2g_bytes, w.flops = np * p2g_flops; break;
-            case Phase::g2p: w.units = np, w.stream_bytes = np * g2p_bytes, w.flops = np * g2p_flops; break;
+            case Phase::p2g:
+                w.units = np, w.stream_bytes = np * p2g_bytes, w.flops = np * p2g_flops;
+                break;
+            case Phase::g2p:
+                w.units = np, w.stream_bytes = np * g2p_bytes, w.flops = np * g2p_flops;
+                break;
             case Phase::step:
-                w.units = np * steps_per_call(), w.stream_bytes = w.units * step_bytes, w.flops = w.units * step_flops(st_->settings.material.model);
+                w.units = np * steps_per_call(), w.stream_bytes = w.units * step_bytes,
+                w.flops = w.units * step_flops(st_->settings.material.model);
                 break;
         }
         w.hardware_bytes = w.stream_bytes;
@@ -202,8 +224,10 @@ public:
 private:
     int steps_per_call() const { return std::max(setup_.sort_every, 1); }
     std::string describe() const {
-        return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " + std::to_string(st_->particles.size()) +
-               " particles, after " + std::to_string(warm_steps_) + " untimed steps), " + setup_.ordering + ", particles " + setup_.particles + ", " + strategy_name(st_->plan.strategy) + ": ";
+        return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " +
+               std::to_string(st_->particles.size()) + " particles, after " + std::to_string(warm_steps_) +
+               " untimed steps), " + setup_.ordering + ", particles " + setup_.particles + ", " +
+               strategy_name(st_->plan.strategy) + ": ";
     }
 
     KernelConfig cfg_;
@@ -217,18 +241,22 @@ private:
     long calls_ = 0;
 };
 
-
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
-    KernelEntry e = mpm_entry(name, formula, phase == Phase::step ? "particle-step" : "particle", phase == Phase::p2g, phase == Phase::step);
+    KernelEntry e = mpm_entry(name, formula, phase == Phase::step ? "particle-step" : "particle", phase == Phase::p2g,
+                              phase == Phase::step);
     e.info.read_bytes_per_unit = phase == Phase::p2g ? p2g_bytes : phase == Phase::g2p ? 4 + 32 + 24 + 24 : step_bytes;
     if (phase == Phase::g2p) e.info.write_bytes_per_unit = 24 + 24;  // v and x: g2p_bytes is the two together
     // A step's: the default case's (dam-collapse; column's too, both elastic); dam-break's fluid
     // step counts step_flops(fluid), in its records' work.
-    e.info.flops_per_unit = phase == Phase::p2g ? p2g_flops : phase == Phase::g2p ? g2p_flops : step_flops(Material::Model::elastic);
+    e.info.flops_per_unit = phase == Phase::p2g   ? p2g_flops
+                            : phase == Phase::g2p ? g2p_flops
+                                                  : step_flops(Material::Model::elastic);
     e.info.notes = notes;
     e.default_meshes = {"box:24,24,24"};
     e.make = [phase](const KernelConfig& cfg) { return std::make_unique<MpmKernel>(cfg, phase); };
-    e.validate = [name](const KernelConfig& cfg) { validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh); };
+    e.validate = [name](const KernelConfig& cfg) {
+        validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh);
+    };
     register_kernel(std::move(e));
 }
 
@@ -237,8 +265,10 @@ const bool registered = [] {
         "MPM particle-to-grid scatter; --strategy=serial,atomic,colour,partition (default all; serial on one thread)");
     add("mpm-g2p", Phase::g2p, "v_p += dt Σ w f_n / m_n; x_p += dt Σ w p_n / m_n",
         "MPM grid-to-particle update; --particles=seeded,shuffled,sorted,dynamic (default all)");
-    add("mpm-step", Phase::step, "K whole USL steps (locate, P2G, grid, G2P, velocity, stress), then the reordering due",
-        "explicit MPM (--case: dam-collapse, dam-break, column), --sort-every=K steps a repetition; --particles=seeded,shuffled,sorted,dynamic (default all)");
+    add("mpm-step", Phase::step,
+        "K whole USL steps (locate, P2G, grid, G2P, velocity, stress), then the reordering due",
+        "explicit MPM (--case: dam-collapse, dam-break, column), --sort-every=K steps a repetition; "
+        "--particles=seeded,shuffled,sorted,dynamic (default all)");
     return true;
 }();
 

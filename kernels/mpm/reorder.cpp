@@ -20,7 +20,8 @@ void gather(V& v, const std::vector<std::uint32_t>& order, std::size_t width, st
     const std::int64_t n = static_cast<std::int64_t>(order.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t i = 0; i < n; ++i)
-        for (std::size_t k = 0; k < width; ++k) scratch[width * static_cast<std::size_t>(i) + k] = v[width * order[i] + k];
+        for (std::size_t k = 0; k < width; ++k)
+            scratch[width * static_cast<std::size_t>(i) + k] = v[width * order[i] + k];
     v.swap(scratch);
 }
 
@@ -35,9 +36,11 @@ void gather_back(T* v, const std::uint32_t* order, std::size_t width, Block b, v
     // Bytes, not T: the scratch serves arrays of several types (memcpy keeps that defined).
     unsigned char* const s = static_cast<unsigned char*>(mine);
     const std::size_t row = width * sizeof(T);
-    for (std::int64_t i = b.lo; i < b.hi; ++i) std::memcpy(s + row * static_cast<std::size_t>(i - b.lo), v + width * order[i], row);
+    for (std::int64_t i = b.lo; i < b.hi; ++i)
+        std::memcpy(s + row * static_cast<std::size_t>(i - b.lo), v + width * order[i], row);
 #pragma omp barrier
-    std::memcpy(v + width * static_cast<std::size_t>(b.lo), s, width * static_cast<std::size_t>(b.hi - b.lo) * sizeof(T));
+    std::memcpy(v + width * static_cast<std::size_t>(b.lo), s,
+                width * static_cast<std::size_t>(b.hi - b.lo) * sizeof(T));
 }
 
 }  // namespace
@@ -57,8 +60,10 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
     Particles& pt = st.particles;
     if (pt.placed()) {
         const std::int64_t n = static_cast<std::int64_t>(pt.size());
-        double* const d[] = {pt.x.data(), pt.y.data(), pt.z.data(), pt.vx.data(), pt.vy.data(), pt.vz.data(), pt.mass.data(), pt.volume.data(),
-                             pt.stress[0].data(), pt.stress[1].data(), pt.stress[2].data(), pt.stress[3].data(), pt.stress[4].data(), pt.stress[5].data()};
+        double* const d[] = {pt.x.data(),         pt.y.data(),         pt.z.data(),         pt.vx.data(),
+                             pt.vy.data(),        pt.vz.data(),        pt.mass.data(),      pt.volume.data(),
+                             pt.stress[0].data(), pt.stress[1].data(), pt.stress[2].data(), pt.stress[3].data(),
+                             pt.stress[4].data(), pt.stress[5].data()};
         double* const w = pt.w.data();
         std::uint32_t* const u[] = {pt.elem.data(), pt.id.data()};
         double* const scratch = pt.scratch.buf.data();

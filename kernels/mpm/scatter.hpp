@@ -35,7 +35,8 @@ inline double volume_scale(std::uint32_t e, const double* shape, const std::int3
         if (n >= 0 && !(sum[n] > 0)) return 1;
     }
     const double* s = shape + 16 * static_cast<std::size_t>(e);
-    const double det = s[5] * (s[10] * s[15] - s[11] * s[14]) - s[6] * (s[9] * s[15] - s[11] * s[13]) + s[7] * (s[9] * s[14] - s[10] * s[13]);
+    const double det = s[5] * (s[10] * s[15] - s[11] * s[14]) - s[6] * (s[9] * s[15] - s[11] * s[13]) +
+                       s[7] * (s[9] * s[14] - s[10] * s[13]);
     return 1 / (6 * std::fabs(det) * sum[e]);
 }
 
@@ -67,7 +68,8 @@ void scatter(State& st, const Contribution& contribution) {
                     const std::uint32_t* corners = conn + 4 * static_cast<std::size_t>(elem[p]);
                     for (int i = 0; i < 4; ++i) {
                         double* d = node_doubles(st.nodes, corners[i]) + Offset;
-                        for (int k = 0; k < Width; ++k) std::atomic_ref<double>(d[k]).fetch_add(c[Width * i + k], std::memory_order_relaxed);
+                        for (int k = 0; k < Width; ++k)
+                            std::atomic_ref<double>(d[k]).fetch_add(c[Width * i + k], std::memory_order_relaxed);
                     }
                 }
             }
@@ -75,10 +77,15 @@ void scatter(State& st, const Contribution& contribution) {
         }
         case Strategy::colour:
         case Strategy::partition: {
-            auto fn = [](const State& s, std::size_t p, double* c, void* ctx) { (*static_cast<const Contribution*>(ctx))(p, c); (void)s; };
+            auto fn = [](const State& s, std::size_t p, double* c, void* ctx) {
+                (*static_cast<const Contribution*>(ctx))(p, c);
+                (void)s;
+            };
             void* ctx = const_cast<void*>(static_cast<const void*>(&contribution));
-            if (st.plan.strategy == Strategy::colour) scatter_colour(st, Offset, Width, fn, ctx);
-            else scatter_partition(st, Offset, Width, fn, ctx);
+            if (st.plan.strategy == Strategy::colour)
+                scatter_colour(st, Offset, Width, fn, ctx);
+            else
+                scatter_partition(st, Offset, Width, fn, ctx);
             return;
         }
     }

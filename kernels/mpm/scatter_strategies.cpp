@@ -40,7 +40,8 @@ void plan_colours(const Grid& g, ScatterPlan& plan) {
 }
 
 void plan_partition(const Grid& g, ScatterPlan& plan) {
-    if (plan.threads > 64) throw std::runtime_error("MPM partition strategy: at most 64 threads (one bit each per node)");
+    if (plan.threads > 64)
+        throw std::runtime_error("MPM partition strategy: at most 64 threads (one bit each per node)");
     plan.touched.assign(g.nodes(), 0);
     plan.slot.assign(g.nodes(), -1);
     plan.run_start.assign(static_cast<std::size_t>(plan.threads) + 1, 0);
@@ -92,7 +93,8 @@ void scatter_partition(State& st, int offset, int width, ContributionFn fn, void
             plan.run_start.assign(static_cast<std::size_t>(nt) + 1, static_cast<std::uint32_t>(ne));
             for (int k = 0; k < nt; ++k) {
                 const std::uint64_t goal = np * static_cast<std::uint64_t>(k) / static_cast<std::uint64_t>(nt);
-                plan.run_start[k] = static_cast<std::uint32_t>(std::lower_bound(bins.start.begin(), bins.start.end() - 1, goal) - bins.start.begin());
+                plan.run_start[k] = static_cast<std::uint32_t>(
+                    std::lower_bound(bins.start.begin(), bins.start.end() - 1, goal) - bins.start.begin());
             }
             plan.run_start[0] = 0;
         }
@@ -104,7 +106,8 @@ void scatter_partition(State& st, int offset, int width, ContributionFn fn, void
             if (bins.start[e] != bins.start[e + 1])
                 for (int i = 0; i < 4; ++i) {
                     std::uint64_t& mask = plan.touched[conn[4 * static_cast<std::size_t>(e) + i]];
-                    if (!(mask & (1ULL << t))) std::atomic_ref<std::uint64_t>(mask).fetch_or(1ULL << t, std::memory_order_relaxed);
+                    if (!(mask & (1ULL << t)))
+                        std::atomic_ref<std::uint64_t>(mask).fetch_or(1ULL << t, std::memory_order_relaxed);
                 }
 #pragma omp barrier
 #pragma omp single

@@ -49,7 +49,8 @@ std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts
     const double cells[3] = {spec.nx * per_axis, spec.ny * per_axis, spec.nz * per_axis};
     double share = 1;
     for (int a = 0; a < 3; ++a) {
-        const double lo = std::max(0.0, s.region.lo[a] - 1 / cells[a]), hi = std::min(1.0, s.region.hi[a] + 1 / cells[a]);
+        const double lo = std::max(0.0, s.region.lo[a] - 1 / cells[a]),
+                     hi = std::min(1.0, s.region.hi[a] + 1 / cells[a]);
         share *= std::max(0.0, hi - lo);
     }
     return std::min(all, static_cast<std::uint64_t>(share * static_cast<double>(all)) + 1);
@@ -60,20 +61,28 @@ State build(const Setup& s, Arena* arena) {
     if (std::find(names.begin(), names.end(), s.ordering) == names.end())
         throw UsageError("unknown MPM grid ordering '" + s.ordering + "'; orderings: " + orderings_accepted);
     check_particle_order(s.particles);
-    if (s.sort_every < 0) throw UsageError("--sort-every=" + std::to_string(s.sort_every) + ": a whole number of steps >= 0 (0: sort at the start only)");
+    if (s.sort_every < 0)
+        throw UsageError("--sort-every=" + std::to_string(s.sort_every) +
+                         ": a whole number of steps >= 0 (0: sort at the start only)");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(s.mesh);
     const mesh::MeshCounts counts = mesh::mesh_counts(spec);
     if (counts.dim != 3)
-        throw UsageError("--mesh=" + s.mesh + ": the MPM background grid must be made of tetrahedra (e.g. box:NX,NY,NZ); this one has triangles");
-    const std::uint64_t need = state_bytes(counts, particles_bound(spec, counts, s.settings), 1, s.settings.integrator != Integrator::explicit_step), have = available_memory_bytes(MemoryPolicy{});
+        throw UsageError(
+            "--mesh=" + s.mesh +
+            ": the MPM background grid must be made of tetrahedra (e.g. box:NX,NY,NZ); this one has triangles");
+    const std::uint64_t need = state_bytes(counts, particles_bound(spec, counts, s.settings), 1,
+                                           s.settings.integrator != Integrator::explicit_step),
+                        have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
-        throw UsageError("--mesh=" + s.mesh + " with " + std::to_string(s.settings.per_element) + " particles per element needs about " +
-                         format_bytes(need) + " for the grid and its particles, more than the " + format_bytes(have) +
+        throw UsageError("--mesh=" + s.mesh + " with " + std::to_string(s.settings.per_element) +
+                         " particles per element needs about " + format_bytes(need) +
+                         " for the grid and its particles, more than the " + format_bytes(have) +
                          " of memory available; use a smaller grid or fewer particles per element");
     mesh::Mesh m = mesh::load_mesh(spec);
     m = sfc::ordered(m, s.ordering, s.seed, sfc::max_depth(3));
     State st = make_state(make_grid(std::move(m)), s.settings, s.strategy, s.threads, s.force, arena);
-    if (s.particles == "shuffled") shuffle_particles(st, s.seed);
+    if (s.particles == "shuffled")
+        shuffle_particles(st, s.seed);
     else if (s.particles != "seeded") {
         if (s.particles == "dynamic") renumber_active(st);
         sort_particles(st);
@@ -82,7 +91,8 @@ State build(const Setup& s, Arena* arena) {
 }
 
 bool reorders_after(const Setup& s, std::uint64_t step) {
-    return (s.particles == "sorted" || s.particles == "dynamic") && s.sort_every > 0 && step % static_cast<std::uint64_t>(s.sort_every) == 0;
+    return (s.particles == "sorted" || s.particles == "dynamic") && s.sort_every > 0 &&
+           step % static_cast<std::uint64_t>(s.sort_every) == 0;
 }
 
 void advance(State& st, const Setup& s) {

@@ -5,8 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <exception>
+#include <map>
 #include <stdexcept>
 
 #include "harness/common/units.hpp"
@@ -17,7 +17,9 @@ namespace suite::mpm {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+double seconds_between(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
 
 std::string g(double v) {
     char b[32];
@@ -42,12 +44,14 @@ std::string first_bad_particle(const State& st) {
             std::snprintf(b, sizeof b, "(%.6g, %.6g, %.6g)", a[0], a[1], a[2]);
             return std::string(b);
         };
-        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2])) return who() + "'s position " + triple(x) + " is not finite";
-        if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2])) return who() + "'s velocity " + triple(v) + " is not finite";
+        if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+            return who() + "'s position " + triple(x) + " is not finite";
+        if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+            return who() + "'s velocity " + triple(v) + " is not finite";
         for (int a = 0; a < 3; ++a)
             if (!(x[a] >= lo[a] && x[a] <= hi[a]))
-                return who() + " at " + triple(x) + " is outside the box [" + g(lo[0]) + "," + g(lo[1]) + "," + g(lo[2]) + "] to [" +
-                       g(hi[0]) + "," + g(hi[1]) + "," + g(hi[2]) + "]";
+                return who() + " at " + triple(x) + " is outside the box [" + g(lo[0]) + "," + g(lo[1]) + "," +
+                       g(lo[2]) + "] to [" + g(hi[0]) + "," + g(hi[1]) + "," + g(hi[2]) + "]";
     }
     return "";
 }
@@ -79,8 +83,8 @@ std::vector<double> masses_by_id(const Particles& p, std::string& why) {
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t id = p.id[i];
         if (id >= n || seen[id]) {
-            why = "the particle ids are not a permutation of 0.." + std::to_string(n - 1) + " (id " + std::to_string(id) + " at position " +
-                  std::to_string(i) + ")";
+            why = "the particle ids are not a permutation of 0.." + std::to_string(n - 1) + " (id " +
+                  std::to_string(id) + " at position " + std::to_string(i) + ")";
             return {};
         }
         seen[id] = 1;
@@ -88,7 +92,6 @@ std::vector<double> masses_by_id(const Particles& p, std::string& why) {
     }
     return mass;
 }
-
 
 constexpr double column_tolerance = 0.05;
 
@@ -98,7 +101,8 @@ constexpr double column_tolerance = 0.05;
 // and the top settles by ρ g H² / (2 M), M = E (1 - ν) / ((1 + ν)(1 - 2ν)), the constrained
 // modulus (linear, small strain: the measured top strain of 3.6 % at the foot makes the exact
 // hypoelastic answer about 1 % smaller, inside the tolerance).
-void column_check(const State& st, double top_z, const std::vector<double>& z0, const std::vector<char>& top, Outcome& r) {
+void column_check(const State& st, double top_z, const std::vector<double>& z0, const std::vector<char>& top,
+                  Outcome& r) {
     const Material& m = st.settings.material;
     const double g = std::fabs(st.settings.gravity[2]), rho = m.density;
     const double modulus = m.young * (1 - m.poisson) / ((1 + m.poisson) * (1 - 2 * m.poisson));
@@ -150,10 +154,16 @@ void column_check(const State& st, double top_z, const std::vector<double>& z0, 
         r.stress_profile = std::sqrt(se / static_cast<double>(p.size())) / (rho * g * h);
     }
     Check c{"column", std::fabs(r.settlement_error) <= column_tolerance, ""};
-    c.detail = std::string(damped ? (st.settings.damping > 0 ? "settled (damped; the mean of the last tenth of the steps)" : "static (the mean of the last tenth of the steps)") : "the mean over the run (undamped)") +
-               ", the top layer sank " + g6(r.settlement_measured) + " m against the one-dimensional " + g6(r.settlement_exact) + " m: " +
-               g6(100 * r.settlement_error) + " % (at most " + g6(100 * column_tolerance) + " %)" +
-               (damped ? "; σzz against -ρ g (H - z0): RMS " + g6(100 * r.stress_rms) + " % of ρ g H, each layer's mean " + g6(100 * r.stress_profile) + " %" : "");
+    c.detail =
+        std::string(damped ? (st.settings.damping > 0 ? "settled (damped; the mean of the last tenth of the steps)"
+                                                      : "static (the mean of the last tenth of the steps)")
+                           : "the mean over the run (undamped)") +
+        ", the top layer sank " + g6(r.settlement_measured) + " m against the one-dimensional " +
+        g6(r.settlement_exact) + " m: " + g6(100 * r.settlement_error) + " % (at most " + g6(100 * column_tolerance) +
+        " %)" +
+        (damped ? "; σzz against -ρ g (H - z0): RMS " + g6(100 * r.stress_rms) + " % of ρ g H, each layer's mean " +
+                      g6(100 * r.stress_profile) + " %"
+                : "");
     r.checks.push_back(c);
 }
 
@@ -166,7 +176,8 @@ std::string snapshot_name(std::uint64_t step) {
 }
 
 Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, const SimulationHooks& hooks) {
-    if (run.vtk_every > 0 && !hooks.snapshot) throw std::logic_error("mpm::simulate: snapshots asked for and no hook to take them");
+    if (run.vtk_every > 0 && !hooks.snapshot)
+        throw std::logic_error("mpm::simulate: snapshots asked for and no hook to take them");
     Outcome r;
     std::string why;
     const std::vector<double> mass0 = masses_by_id(st.particles, why);
@@ -186,7 +197,8 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
         const Particles& p = st.particles;
         const std::uint32_t* conn = st.grid.mesh.conn.data();
         for (std::size_t i = 0; i < p.size(); ++i)
-            for (int c = 0; c < 4; ++c) top_z = std::max(top_z, st.grid.mesh.z[conn[4 * static_cast<std::size_t>(p.elem[i]) + c]]);
+            for (int c = 0; c < 4; ++c)
+                top_z = std::max(top_z, st.grid.mesh.z[conn[4 * static_cast<std::size_t>(p.elem[i]) + c]]);
         z0.resize(p.size());
         top.assign(p.size(), 0);
         double highest = -INFINITY;
@@ -203,7 +215,8 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
     };
     const auto row = [&] {
         const Energy e = energy(st);
-        r.rows.push_back({st.steps, st.time, front(st.particles), e.kinetic, st.steps == 0 ? 0.0 : st.dt, settlement(), r.stepping_s, e.potential, e.internal, locality(st)});
+        r.rows.push_back({st.steps, st.time, front(st.particles), e.kinetic, st.steps == 0 ? 0.0 : st.dt, settlement(),
+                          r.stepping_s, e.potential, e.internal, locality(st)});
     };
     Check finite{"finite and inside the box", true, ""};
     Check energy{"energy bound", true, ""};
@@ -249,7 +262,8 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
         }
         r.stepping_s += seconds_between(s0, Clock::now());
         if (!st.implicit.failure.empty()) {
-            solver = {solver.name, false, "step " + std::to_string(k) + " (t = " + g(st.time) + " s): " + st.implicit.failure};
+            solver = {solver.name, false,
+                      "step " + std::to_string(k) + " (t = " + g(st.time) + " s): " + st.implicit.failure};
             r.solver_failed = true;
             break;
         }
@@ -265,9 +279,10 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
             total_peak = std::max(total_peak, e - e0);
             if (e > e0 + total_margin * releasable) {
                 total = {total.name, false,
-                         "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): the total energy " + g(e) + " J is " + g(e - e0) +
-                             " J above its start, more than " + g(total_margin) + " of the " + g(releasable) +
-                             " J gravity can release: the time stepping made energy (give a smaller " + (implicit ? "--dt" : "--courant") + ")"};
+                         "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): the total energy " + g(e) +
+                             " J is " + g(e - e0) + " J above its start, more than " + g(total_margin) + " of the " +
+                             g(releasable) + " J gravity can release: the time stepping made energy (give a smaller " +
+                             (implicit ? "--dt" : "--courant") + ")"};
                 break;
             }
         }
@@ -277,9 +292,10 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
             ritter_gap = std::max(ritter_gap, now.front - bound);
             if (now.front > bound && bound < st.grid.hi[0]) {
                 ritter = {ritter.name, false,
-                          "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): the front " + g(now.front) + " m is ahead of Ritter's " +
-                              g(bound - st.grid.min_length) + " m (L0 + 2 sqrt(g H) t) by more than one element's altitude " +
-                              g(st.grid.min_length) + " m"};
+                          "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): the front " + g(now.front) +
+                              " m is ahead of Ritter's " + g(bound - st.grid.min_length) +
+                              " m (L0 + 2 sqrt(g H) t) by more than one element's altitude " + g(st.grid.min_length) +
+                              " m"};
                 break;
             }
         }
@@ -288,8 +304,9 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
         energy_steps = k;
         if (kinetic > energy_margin * (releasable + kinetic0)) {
             energy = {energy.name, false,
-                      "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): the kinetic energy " + g(kinetic) + " J is more than " +
-                          g(energy_margin) + " times the " + g(releasable) + " J gravity can release from the start" +
+                      "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): the kinetic energy " +
+                          g(kinetic) + " J is more than " + g(energy_margin) + " times the " + g(releasable) +
+                          " J gravity can release from the start" +
                           (kinetic0 > 0 ? " plus the starting " + g(kinetic0) + " J" : std::string()) +
                           ": the time stepping is unstable (give a smaller --dt or --courant)"};
             break;
@@ -301,32 +318,39 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
     if (r.signal && run.vtk_every > 0 && r.snapshot_steps.back() != st.steps) snapshot();
     r.wall_s = seconds_between(t0, Clock::now());
     if (finite.passed)
-        finite.detail = "every particle's position and velocity finite and inside the box after each of " + std::to_string(r.steps_done) + " step(s)";
+        finite.detail = "every particle's position and velocity finite and inside the box after each of " +
+                        std::to_string(r.steps_done) + " step(s)";
     r.checks.push_back(finite);
     if (energy.passed)
-        energy.detail = "the kinetic energy peaked at " + g(peak) + " J, at most " + g(energy_margin) + " times the " + g(releasable) +
-                        " J gravity can release" + (kinetic0 > 0 ? " plus the starting " + g(kinetic0) + " J" : std::string()) +
+        energy.detail = "the kinetic energy peaked at " + g(peak) + " J, at most " + g(energy_margin) + " times the " +
+                        g(releasable) + " J gravity can release" +
+                        (kinetic0 > 0 ? " plus the starting " + g(kinetic0) + " J" : std::string()) +
                         " (checked after each of " + std::to_string(energy_steps) + " step(s))";
     r.checks.push_back(energy);
     if (implicit) {
         const ImplicitStats& im = st.implicit;
         if (solver.passed)
-            solver.detail = "converged in every step: at most " + std::to_string(im.max_newton) + " Newton iteration(s), " + std::to_string(im.newton) +
-                            " linear solve(s) in all (" + std::to_string(im.solver_iterations) + " CG iterations), the worst final ||r|| / ||r0|| " +
+            solver.detail = "converged in every step: at most " + std::to_string(im.max_newton) +
+                            " Newton iteration(s), " + std::to_string(im.newton) + " linear solve(s) in all (" +
+                            std::to_string(im.solver_iterations) + " CG iterations), the worst final ||r|| / ||r0|| " +
                             g(im.worst_residual);
         r.checks.push_back(solver);
     }
     if (bounded) {
         if (total.passed)
-            total.detail = "the total energy (kinetic, potential, internal) at most " + g(std::max(total_peak, 0.0)) + " J above its start " + g(e0) +
-                           " J, within " + g(total_margin) + " of the " + g(releasable) + " J gravity can release (after each of " +
-                           std::to_string(r.steps_done) + " step(s))";
+            total.detail = "the total energy (kinetic, potential, internal) at most " + g(std::max(total_peak, 0.0)) +
+                           " J above its start " + g(e0) + " J, within " + g(total_margin) + " of the " +
+                           g(releasable) + " J gravity can release (after each of " + std::to_string(r.steps_done) +
+                           " step(s))";
         r.checks.push_back(total);
     }
     if (fluid) {
         if (ritter.passed)
-            ritter.detail = "the front never ahead of L0 + 2 sqrt(g H) t (L0 = " + g(l0) + " m, H = " + g(h0) + " m) by more than one element's altitude " +
-                            g(st.grid.min_length) + " m (at its closest " + (ritter_gap + st.grid.min_length <= 0 ? g(-(ritter_gap + st.grid.min_length)) + " m behind it)" : g(ritter_gap + st.grid.min_length) + " m ahead of it)");
+            ritter.detail =
+                "the front never ahead of L0 + 2 sqrt(g H) t (L0 = " + g(l0) + " m, H = " + g(h0) +
+                " m) by more than one element's altitude " + g(st.grid.min_length) + " m (at its closest " +
+                (ritter_gap + st.grid.min_length <= 0 ? g(-(ritter_gap + st.grid.min_length)) + " m behind it)"
+                                                      : g(ritter_gap + st.grid.min_length) + " m ahead of it)");
         r.checks.push_back(ritter);
     }
     for (const auto& c : r.checks)
@@ -344,10 +368,14 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
     r.mass_final = mass1.empty() ? NAN : compensated_sum(mass1);
     std::size_t changed = 0;
     for (std::size_t i = 0; i < mass1.size(); ++i) changed += mass1[i] != mass0[i] ? 1 : 0;
-    if (!why.empty()) mass = {mass.name, false, why};
+    if (!why.empty())
+        mass = {mass.name, false, why};
     else if (changed > 0)
-        mass = {mass.name, false, std::to_string(changed) + " particle(s) changed mass; total " + g(r.mass_initial) + " kg -> " + g(r.mass_final) + " kg"};
-    else mass.detail = "every particle's mass is its initial one exactly; total " + format_number(r.mass_final) + " kg";
+        mass = {mass.name, false,
+                std::to_string(changed) + " particle(s) changed mass; total " + g(r.mass_initial) + " kg -> " +
+                    g(r.mass_final) + " kg"};
+    else
+        mass.detail = "every particle's mass is its initial one exactly; total " + format_number(r.mass_final) + " kg";
     r.checks.push_back(mass);
 
     // A P2G of the final particles, with the run's strategy: the nodes must receive all of it.
@@ -357,8 +385,8 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
     r.nodal_mass = compensated_sum(node_mass);
     r.nodal_error = std::fabs(r.nodal_mass - r.mass_initial) / r.mass_initial;
     Check nodal{"nodal mass", r.nodal_error <= 1e-12, ""};
-    nodal.detail = "a P2G of the final particles puts " + format_number(r.nodal_mass) + " kg on the nodes, " + g(r.nodal_error) +
-                   " relative to the particles' total (at most 1e-12)";
+    nodal.detail = "a P2G of the final particles puts " + format_number(r.nodal_mass) + " kg on the nodes, " +
+                   g(r.nodal_error) + " relative to the particles' total (at most 1e-12)";
     r.checks.push_back(nodal);
     for (const auto& c : r.checks)
         if (!c.passed && r.failure.empty()) r.failure = c.name + ": " + c.detail;

@@ -3,11 +3,10 @@
 // mpm::advance with the checks after each (every particle's position and velocity finite and
 // inside the box; the kinetic energy within what gravity can release: an unstable step shows
 // there first; for a fluid also the total energy at most its start plus a margin, and the front
-// never ahead of Ritter's shallow-water front), the snapshots' schedule, and the checks at the end (each particle's mass what
-// it was at the start, bit for bit; a P2G of the final particles puts on the nodes the
-// particles' total mass to 1e-12). It writes nothing itself: snapshots and progress go to the
-// caller's hooks. It stops at the first failed check or when the caller's stop flag is raised,
-// and the outcome holds what was done either way.
+// never ahead of Ritter's shallow-water front), the snapshots' schedule, and the checks at the end (each particle's
+// mass what it was at the start, bit for bit; a P2G of the final particles puts on the nodes the particles' total mass
+// to 1e-12). It writes nothing itself: snapshots and progress go to the caller's hooks. It stops at the first failed
+// check or when the caller's stop flag is raised, and the outcome holds what was done either way.
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -40,11 +39,11 @@ struct SimulationHooks {
 struct FrontRow {
     std::uint64_t step = 0;
     double time = 0, front = 0, kinetic = 0;
-    double dt = 0;                        // the step that led here (0 at step 0)
-    double settlement = NAN;              // the column: the top particle layer's mean downward displacement
-    double stepping_s = 0;                // seconds of mpm::advance (steps and reorderings) up to here
-    double potential = 0, internal = 0;   // mpm::energy's other parts
-    Locality order;                       // how far the particles' order has decayed
+    double dt = 0;                       // the step that led here (0 at step 0)
+    double settlement = NAN;             // the column: the top particle layer's mean downward displacement
+    double stepping_s = 0;               // seconds of mpm::advance (steps and reorderings) up to here
+    double potential = 0, internal = 0;  // mpm::energy's other parts
+    Locality order;                      // how far the particles' order has decayed
 };
 
 struct Check {
@@ -54,12 +53,12 @@ struct Check {
 };
 
 struct Outcome {
-    std::vector<FrontRow> rows;               // step 0, then each step done
-    std::vector<SnapshotEntry> snapshots;     // written, in order
+    std::vector<FrontRow> rows;                 // step 0, then each step done
+    std::vector<SnapshotEntry> snapshots;       // written, in order
     std::vector<std::uint64_t> snapshot_steps;  // the step of each snapshot
     std::uint64_t steps_done = 0;
-    double wall_s = 0;       // the whole loop: steps, checks, snapshots, progress
-    double stepping_s = 0;   // advance() alone: what particle-steps/s divide by
+    double wall_s = 0;      // the whole loop: steps, checks, snapshots, progress
+    double stepping_s = 0;  // advance() alone: what particle-steps/s divide by
     // NaN (null in mpm.json) where not measured: the checks at the end run only after steps
     // whose checks passed.
     double mass_initial = NAN, mass_final = NAN;  // Σ mass over particles in id order
@@ -74,10 +73,11 @@ struct Outcome {
     // exact at its particles' mean starting height (the profile, without the variation inside an
     // element that linear elements cannot represent).
     double stress_profile = NAN;
-    std::vector<Check> checks;  // "finite and inside the box", "energy bound", ("Newton": implicit and static), ("total energy": a fluid and implicit; "Ritter front": a fluid), "mass", "nodal mass"
+    std::vector<Check> checks;  // "finite and inside the box", "energy bound", ("Newton": implicit and static), ("total
+                                // energy": a fluid and implicit; "Ritter front": a fluid), "mass", "nodal mass"
     std::string failure;        // the first failed check, as one line; "" when all passed
     bool solver_failed = false;  // an implicit step's Newton or linear solve failed (its check says why)
-    int signal = 0;             // the stop flag's value that ended the run early, else 0
+    int signal = 0;              // the stop flag's value that ended the run early, else 0
     bool passed() const { return failure.empty(); }
 };
 

@@ -31,8 +31,10 @@ void Particles::add_accelerations(Arena* arena) {
     const std::size_t n = size();
     constexpr const char* names[] = {"ax", "ay", "az"};
     for (int k = 0; k < 3; ++k) {
-        if (arena) accel[k] = Array<double>::placed(arena->allocate<double>(names[k], n), n);
-        else accel[k].resize(n);
+        if (arena)
+            accel[k] = Array<double>::placed(arena->allocate<double>(names[k], n), n);
+        else
+            accel[k].resize(n);
     }
     double* const d[] = {accel[0].data(), accel[1].data(), accel[2].data()};
     const std::int64_t count = static_cast<std::int64_t>(n);
@@ -44,10 +46,12 @@ void Particles::add_accelerations(Arena* arena) {
 }
 
 void Particles::place(std::size_t n, Arena& arena) {
-    Array<double>* const doubles[] = {&x, &y, &z, &vx, &vy, &vz, &mass, &volume, &stress[0], &stress[1], &stress[2], &stress[3], &stress[4], &stress[5]};
+    Array<double>* const doubles[] = {&x,      &y,         &z,         &vx,        &vy,        &vz,        &mass,
+                                      &volume, &stress[0], &stress[1], &stress[2], &stress[3], &stress[4], &stress[5]};
     constexpr std::size_t nd = std::size(doubles);
     static_assert(std::size(particle_array_names) == nd + 3, "a name for every particle array");
-    for (std::size_t k = 0; k < nd; ++k) *doubles[k] = Array<double>::placed(arena.allocate<double>(particle_array_names[k], n), n);
+    for (std::size_t k = 0; k < nd; ++k)
+        *doubles[k] = Array<double>::placed(arena.allocate<double>(particle_array_names[k], n), n);
     w = Array<double>::placed(arena.allocate<double>(particle_array_names[nd], 4 * n), 4 * n);
     elem = Array<std::uint32_t>::placed(arena.allocate<std::uint32_t>(particle_array_names[nd + 1], n), n);
     id = Array<std::uint32_t>::placed(arena.allocate<std::uint32_t>(particle_array_names[nd + 2], n), n);
@@ -80,7 +84,9 @@ void touch_nodes(State& st, bool fresh) {
         const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
         const std::size_t bytes = (static_cast<std::size_t>(nn) * sizeof(NodeState) + page - 1) / page * page;
         if (madvise(nodes.data(), bytes, MADV_DONTNEED) != 0)
-            throw std::runtime_error(std::string("MPM: cannot drop the nodes' pages for a fresh first touch: madvise: ") + std::strerror(errno));
+            throw std::runtime_error(
+                std::string("MPM: cannot drop the nodes' pages for a fresh first touch: madvise: ") +
+                std::strerror(errno));
     }
     NodeState* const d = nodes.data();
 #pragma omp parallel
@@ -114,10 +120,14 @@ Strategy parse_strategy(const std::string& name) {
 
 const char* strategy_name(Strategy s) {
     switch (s) {
-        case Strategy::serial: return "serial";
-        case Strategy::atomic: return "atomic";
-        case Strategy::colour: return "colour";
-        case Strategy::partition: return "partition";
+        case Strategy::serial:
+            return "serial";
+        case Strategy::atomic:
+            return "atomic";
+        case Strategy::colour:
+            return "colour";
+        case Strategy::partition:
+            return "partition";
     }
     return "?";
 }
@@ -165,39 +175,54 @@ std::vector<std::array<double, 4>> seed_points(int n) {
     return out;
 }
 
-std::string triple(const double* v) { return format_number(v[0]) + "," + format_number(v[1]) + "," + format_number(v[2]); }
+std::string triple(const double* v) {
+    return format_number(v[0]) + "," + format_number(v[1]) + "," + format_number(v[2]);
+}
 
 void check_settings(const Grid& g, const Settings& s, bool force) {
     const Material& m = s.material;
-    if (s.per_element < 1) throw UsageError("--ppe=" + std::to_string(s.per_element) + ": particles per element must be a whole number >= 1");
+    if (s.per_element < 1)
+        throw UsageError("--ppe=" + std::to_string(s.per_element) +
+                         ": particles per element must be a whole number >= 1");
     if (m.model == Material::Model::fluid) {
         if (!(m.sound_speed > 0) || !std::isfinite(m.sound_speed))
-            throw UsageError("--sound-speed=" + format_number(m.sound_speed) + ": the fluid's sound speed must be > 0 (m/s)");
+            throw UsageError("--sound-speed=" + format_number(m.sound_speed) +
+                             ": the fluid's sound speed must be > 0 (m/s)");
         if (!(m.viscosity >= 0) || !std::isfinite(m.viscosity))
-            throw UsageError("--viscosity=" + format_number(m.viscosity) + ": the fluid's dynamic viscosity must be >= 0 (Pa s)");
+            throw UsageError("--viscosity=" + format_number(m.viscosity) +
+                             ": the fluid's dynamic viscosity must be >= 0 (Pa s)");
     } else {
-        if (!(m.young > 0) || !std::isfinite(m.young)) throw UsageError("--young=" + format_number(m.young) + ": Young's modulus E must be > 0 (Pa)");
+        if (!(m.young > 0) || !std::isfinite(m.young))
+            throw UsageError("--young=" + format_number(m.young) + ": Young's modulus E must be > 0 (Pa)");
         if (!(m.poisson > -1 && m.poisson < 0.5))
             throw UsageError("--poisson=" + format_number(m.poisson) +
-                             ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit elastic step cannot take");
+                             ": Poisson's ratio must lie in (-1, 0.5); 0.5 is incompressible, which an explicit "
+                             "elastic step cannot take");
     }
-    if (!(m.density > 0) || !std::isfinite(m.density)) throw UsageError("--density=" + format_number(m.density) + ": the density must be > 0 (kg/m³)");
+    if (!(m.density > 0) || !std::isfinite(m.density))
+        throw UsageError("--density=" + format_number(m.density) + ": the density must be > 0 (kg/m³)");
     const Region& r = s.region;
     for (int a = 0; a < 3; ++a)
         if (!(r.lo[a] < r.hi[a]) || r.lo[a] < g.lo[a] - 1e-12 || r.hi[a] > g.hi[a] + 1e-12)
-            throw UsageError("the material's region [" + triple(r.lo) + "] to [" + triple(r.hi) + "] is not a box inside the grid's box [" +
-                             triple(g.lo) + "] to [" + triple(g.hi) + "]");
+            throw UsageError("the material's region [" + triple(r.lo) + "] to [" + triple(r.hi) +
+                             "] is not a box inside the grid's box [" + triple(g.lo) + "] to [" + triple(g.hi) + "]");
     if (!(s.damping >= 0) || !(s.damping * critical_step(g, m) <= 1))
-        throw UsageError("--damping=" + format_number(s.damping) + ": the damping c (1/s) must be >= 0 and at most 1 / the stable step (" +
-                         format_number(1 / critical_step(g, m)) + " here), beyond which one step would reverse a node's momentum");
+        throw UsageError("--damping=" + format_number(s.damping) +
+                         ": the damping c (1/s) must be >= 0 and at most 1 / the stable step (" +
+                         format_number(1 / critical_step(g, m)) +
+                         " here), beyond which one step would reverse a node's momentum");
     if (!(s.courant > 0) || (s.courant > 1 && !force))
-        throw UsageError("--courant=" + format_number(s.courant) + ": the Courant number must lie in (0, 1] (above 1 the step is unstable; --force runs it anyway)");
+        throw UsageError(
+            "--courant=" + format_number(s.courant) +
+            ": the Courant number must lie in (0, 1] (above 1 the step is unstable; --force runs it anyway)");
     const double critical = critical_step(g, m);
     if (!(s.dt >= 0) || !std::isfinite(s.dt))
-        throw UsageError("--dt=" + format_number(s.dt) + ": the time step must be a finite number of seconds > 0 (or 0: from the Courant number)");
+        throw UsageError("--dt=" + format_number(s.dt) +
+                         ": the time step must be a finite number of seconds > 0 (or 0: from the Courant number)");
     if (s.dt > critical && !force && s.integrator == Integrator::explicit_step)
-        throw UsageError("--dt=" + format_number(s.dt) + ": above the stable time step " + format_number(critical) +
-                         " s (smallest element altitude / elastic wave speed); give a smaller one, or --force to run it anyway");
+        throw UsageError(
+            "--dt=" + format_number(s.dt) + ": above the stable time step " + format_number(critical) +
+            " s (smallest element altitude / elastic wave speed); give a smaller one, or --force to run it anyway");
 }
 
 }  // namespace
@@ -208,25 +233,31 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
     State st;
     st.settings = s;
     const double stable = critical_step(grid, s.material);
-    st.dt = s.dt > 0 ? s.dt : s.integrator == Integrator::explicit_step ? s.courant * stable : implicit_default_multiple * stable;
+    st.dt = s.dt > 0                                    ? s.dt
+            : s.integrator == Integrator::explicit_step ? s.courant * stable
+                                                        : implicit_default_multiple * stable;
     const mesh::Mesh& m = grid.mesh;
     const std::size_t ne = grid.elements();
     std::vector<std::uint32_t> chosen;
     for (std::size_t e = 0; e < ne; ++e) {
         const std::uint32_t* c = &m.conn[4 * e];
-        const double centre[3] = {(m.x[c[0]] + m.x[c[1]] + m.x[c[2]] + m.x[c[3]]) / 4, (m.y[c[0]] + m.y[c[1]] + m.y[c[2]] + m.y[c[3]]) / 4,
+        const double centre[3] = {(m.x[c[0]] + m.x[c[1]] + m.x[c[2]] + m.x[c[3]]) / 4,
+                                  (m.y[c[0]] + m.y[c[1]] + m.y[c[2]] + m.y[c[3]]) / 4,
                                   (m.z[c[0]] + m.z[c[1]] + m.z[c[2]] + m.z[c[3]]) / 4};
         bool in = true;
         for (int a = 0; a < 3; ++a) in = in && centre[a] >= s.region.lo[a] && centre[a] <= s.region.hi[a];
         if (in) chosen.push_back(static_cast<std::uint32_t>(e));
     }
     if (chosen.empty())
-        throw UsageError("the material's region holds no element's centroid on this grid; make it larger or the grid finer");
+        throw UsageError(
+            "the material's region holds no element's centroid on this grid; make it larger or the grid finer");
     const auto points = seed_points(s.per_element);
     const std::size_t per = points.size();
     Particles& pt = st.particles;
-    if (arena) pt.place(chosen.size() * per, *arena);
-    else pt.resize(chosen.size() * per);
+    if (arena)
+        pt.place(chosen.size() * per, *arena);
+    else
+        pt.resize(chosen.size() * per);
     if (s.integrator != Integrator::explicit_step) pt.add_accelerations(arena);
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < chosen.size(); ++k) {
@@ -322,7 +353,8 @@ Energy energy(const State& st) {
             continue;
         }
         const double sx = p.stress[0][i], sy = p.stress[1][i], sz = p.stress[2][i];
-        const double shear = p.stress[3][i] * p.stress[3][i] + p.stress[4][i] * p.stress[4][i] + p.stress[5][i] * p.stress[5][i];
+        const double shear =
+            p.stress[3][i] * p.stress[3][i] + p.stress[4][i] * p.stress[4][i] + p.stress[5][i] * p.stress[5][i];
         const double tr = sx + sy + sz, ss = sx * sx + sy * sy + sz * sz + 2 * shear;
         e.internal += 0.5 * p.volume[i] * ((1 + mat.poisson) * ss - mat.poisson * tr * tr) / mat.young;
     }

@@ -34,7 +34,8 @@ void sum_element_volumes(State& st) {
     const Particles& pt = st.particles;
     const std::int64_t np = static_cast<std::int64_t>(pt.size());
 #pragma omp parallel for schedule(static)
-    for (std::int64_t p = 0; p < np; ++p) std::atomic_ref<double>(s[pt.elem[p]]).fetch_add(pt.volume[p], std::memory_order_relaxed);
+    for (std::int64_t p = 0; p < np; ++p)
+        std::atomic_ref<double>(s[pt.elem[p]]).fetch_add(pt.volume[p], std::memory_order_relaxed);
 }
 
 void p2g(State& st) {
@@ -97,7 +98,8 @@ void g2p(State& st) {
     const std::uint32_t* const conn = st.grid.mesh.conn.data();
     Particles& pt = st.particles;
     const double dt = st.dt;
-    const double lo[3] = {st.grid.lo[0], st.grid.lo[1], st.grid.lo[2]}, hi[3] = {st.grid.hi[0], st.grid.hi[1], st.grid.hi[2]};
+    const double lo[3] = {st.grid.lo[0], st.grid.lo[1], st.grid.lo[2]},
+                 hi[3] = {st.grid.hi[0], st.grid.hi[1], st.grid.hi[2]};
     double* const pos[3] = {pt.x.data(), pt.y.data(), pt.z.data()};
     double* const vel[3] = {pt.vx.data(), pt.vy.data(), pt.vz.data()};
     const std::int64_t np = static_cast<std::int64_t>(pt.size());

@@ -67,8 +67,8 @@ std::string particles_vtu(const Particles& p) {
     const std::size_t n = p.size();
     std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"";
     out += byte_order;
-    out += "\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfCells=\"" +
-           std::to_string(n) + "\">\n<Points>\n";
+    out += "\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" + std::to_string(n) +
+           "\" NumberOfCells=\"" + std::to_string(n) + "\">\n<Points>\n";
     data_array(out, "Float64", "Name=\"position\" NumberOfComponents=\"3\"", interleave({&p.x, &p.y, &p.z}, n));
     out += "</Points>\n<Cells>\n";
     std::vector<std::int64_t> connectivity(n), offsets(n);
@@ -82,10 +82,11 @@ std::string particles_vtu(const Particles& p) {
     out += "</Cells>\n<PointData Scalars=\"id\" Vectors=\"velocity\">\n";
     data_array(out, "UInt32", "Name=\"id\"", p.id);
     data_array(out, "Float64", "Name=\"velocity\" NumberOfComponents=\"3\"", interleave({&p.vx, &p.vy, &p.vz}, n));
-    data_array(out, "Float64",
-               "Name=\"stress\" NumberOfComponents=\"6\" ComponentName0=\"xx\" ComponentName1=\"yy\" ComponentName2=\"zz\" "
-               "ComponentName3=\"xy\" ComponentName4=\"yz\" ComponentName5=\"zx\"",
-               interleave({&p.stress[0], &p.stress[1], &p.stress[2], &p.stress[3], &p.stress[4], &p.stress[5]}, n));
+    data_array(
+        out, "Float64",
+        "Name=\"stress\" NumberOfComponents=\"6\" ComponentName0=\"xx\" ComponentName1=\"yy\" ComponentName2=\"zz\" "
+        "ComponentName3=\"xy\" ComponentName4=\"yz\" ComponentName5=\"zx\"",
+        interleave({&p.stress[0], &p.stress[1], &p.stress[2], &p.stress[3], &p.stress[4], &p.stress[5]}, n));
     data_array(out, "Float64", "Name=\"volume\"", p.volume);
     data_array(out, "Float64", "Name=\"mass\"", p.mass);
     return out + "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
@@ -95,7 +96,8 @@ std::string collection_pvd(const std::vector<SnapshotEntry>& snapshots) {
     std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"";
     out += byte_order;
     out += "\">\n<Collection>\n";
-    for (const auto& s : snapshots) out += "<DataSet timestep=\"" + number(s.time) + "\" group=\"\" part=\"0\" file=\"" + s.file + "\"/>\n";
+    for (const auto& s : snapshots)
+        out += "<DataSet timestep=\"" + number(s.time) + "\" group=\"\" part=\"0\" file=\"" + s.file + "\"/>\n";
     return out + "</Collection>\n</VTKFile>\n";
 }
 

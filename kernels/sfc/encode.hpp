@@ -52,21 +52,28 @@ constexpr std::uint64_t spread3(std::uint64_t x) {  // bit i -> bit 3i, for 21 b
 
 template <int Dim>
 constexpr std::uint64_t morton_portable(const std::uint32_t* q) {
-    if constexpr (Dim == 2) return spread2(q[0]) | spread2(q[1]) << 1;
-    else return spread3(q[0]) | spread3(q[1]) << 1 | spread3(q[2]) << 2;
+    if constexpr (Dim == 2)
+        return spread2(q[0]) | spread2(q[1]) << 1;
+    else
+        return spread3(q[0]) | spread3(q[1]) << 1 | spread3(q[2]) << 2;
 }
 
 #if defined(__BMI2__)
 constexpr bool have_pdep = true;
 template <int Dim>
 inline std::uint64_t morton_pdep(const std::uint32_t* q) {
-    if constexpr (Dim == 2) return _pdep_u64(q[0], 0x5555555555555555ULL) | _pdep_u64(q[1], 0xaaaaaaaaaaaaaaaaULL);
-    else return _pdep_u64(q[0], 0x1249249249249249ULL) | _pdep_u64(q[1], 0x2492492492492492ULL) | _pdep_u64(q[2], 0x4924924924924924ULL);
+    if constexpr (Dim == 2)
+        return _pdep_u64(q[0], 0x5555555555555555ULL) | _pdep_u64(q[1], 0xaaaaaaaaaaaaaaaaULL);
+    else
+        return _pdep_u64(q[0], 0x1249249249249249ULL) | _pdep_u64(q[1], 0x2492492492492492ULL) |
+               _pdep_u64(q[2], 0x4924924924924924ULL);
 }
 #else
 constexpr bool have_pdep = false;
 template <int Dim>
-inline std::uint64_t morton_pdep(const std::uint32_t* q) { return morton_portable<Dim>(q); }  // never chosen: have_pdep is false
+inline std::uint64_t morton_pdep(const std::uint32_t* q) {
+    return morton_portable<Dim>(q);
+}  // never chosen: have_pdep is false
 #endif
 
 // Skilling's AxestoTranspose on `depth`-bit coordinates, in place.
@@ -125,8 +132,8 @@ struct OneLevel {
     static constexpr int children = 1 << Dim;
     static constexpr int max_states = 48;  // the symmetries of the cube bound it; 2D uses 4, 3D 24
     int states = 0;
-    std::array<std::array<std::uint8_t, children>, max_states> digit{};  // child -> its place in the order
-    std::array<std::array<std::uint8_t, children>, max_states> next{};   // child -> the state inside it
+    std::array<std::array<std::uint8_t, children>, max_states> digit{};         // child -> its place in the order
+    std::array<std::array<std::uint8_t, children>, max_states> next{};          // child -> the state inside it
     std::array<std::array<std::uint8_t, (1 << (2 * Dim))>, max_states> name{};  // the two-level order
 };
 
@@ -212,7 +219,8 @@ constexpr HilbertTables<Dim> build_hilbert_tables() {
                 digits = digits << Dim | one.digit[state][child];
                 state = one.next[state][child];
             }
-            t.step[static_cast<std::size_t>(s) << T::bits | chunk] = static_cast<std::uint16_t>(digits | static_cast<std::uint32_t>(state) << T::bits);
+            t.step[static_cast<std::size_t>(s) << T::bits | chunk] =
+                static_cast<std::uint16_t>(digits | static_cast<std::uint32_t>(state) << T::bits);
         }
     }
     // The whole box of a curve of depth d is itself one of the states (the curve is the same
@@ -306,9 +314,10 @@ template <int Dim>
 inline void hilbert_decode(std::uint64_t key, int depth, std::uint32_t* q) {
     std::uint32_t x[3] = {0, 0, 0};
     for (int level = 0; level < depth; ++level)
-        for (int i = 0; i < Dim; ++i) x[i] |= static_cast<std::uint32_t>((key >> (level * Dim + (Dim - 1 - i))) & 1) << level;
+        for (int i = 0; i < Dim; ++i)
+            x[i] |= static_cast<std::uint32_t>((key >> (level * Dim + (Dim - 1 - i))) & 1) << level;
     const std::uint32_t n = depth == 32 ? 0 : 1u << depth;  // 2^depth; at 32 bits qb wraps to 0 after the top level
-    std::uint32_t t = x[Dim - 1] >> 1;  // Gray decode by H ^ (H/2)
+    std::uint32_t t = x[Dim - 1] >> 1;                      // Gray decode by H ^ (H/2)
     for (int i = Dim - 1; i > 0; --i) x[i] ^= x[i - 1];
     x[0] ^= t;
     for (std::uint32_t qb = 2; qb != n; qb <<= 1) {  // undo the excess work

@@ -20,8 +20,10 @@ inline std::uint64_t key_of(const mesh::MeshView& m, const KeyFrame& f, std::siz
     } else {
         std::uint32_t q[3];
         for (int a = 0; a < Dim; ++a) q[a] = quantize(t[a], f.depth);
-        if constexpr (C == Curve::morton) return Pdep ? morton_pdep<Dim>(q) : morton_portable<Dim>(q);
-        else return hilbert_key<Dim, Pdep>(q, f.depth);
+        if constexpr (C == Curve::morton)
+            return Pdep ? morton_pdep<Dim>(q) : morton_portable<Dim>(q);
+        else
+            return hilbert_key<Dim, Pdep>(q, f.depth);
     }
 }
 
@@ -44,7 +46,7 @@ void keys_loop(const mesh::MeshView& m, const KeyFrame& f, std::uint64_t* keys) 
                 }
             }
             // Hilbert: the Morton code here, turned into the Hilbert key below.
-            keys[e] = key_of<Dim, C == Curve::hilbert ? Curve::morton : C, Pdep>(m, f, static_cast<std::size_t>(e));
+            keys[e] = key_of < Dim, C == Curve::hilbert ? Curve::morton : C, Pdep > (m, f, static_cast<std::size_t>(e));
         }
         // The table walk is a chain of dependent loads per key. Kept apart from the gathers, it
         // is a loop of independent chains that the core overlaps (see hilbert_from_morton_run).
@@ -56,9 +58,14 @@ void keys_loop(const mesh::MeshView& m, const KeyFrame& f, std::uint64_t* keys) 
 template <int Dim>
 void dispatch(const mesh::MeshView& m, const KeyFrame& f, Curve c, std::uint64_t* keys, bool pdep) {
     switch (c) {
-        case Curve::morton: return pdep ? keys_loop<Dim, Curve::morton, true>(m, f, keys) : keys_loop<Dim, Curve::morton, false>(m, f, keys);
-        case Curve::hilbert: return pdep ? keys_loop<Dim, Curve::hilbert, true>(m, f, keys) : keys_loop<Dim, Curve::hilbert, false>(m, f, keys);
-        case Curve::morton_recursive: return keys_loop<Dim, Curve::morton_recursive, false>(m, f, keys);
+        case Curve::morton:
+            return pdep ? keys_loop<Dim, Curve::morton, true>(m, f, keys)
+                        : keys_loop<Dim, Curve::morton, false>(m, f, keys);
+        case Curve::hilbert:
+            return pdep ? keys_loop<Dim, Curve::hilbert, true>(m, f, keys)
+                        : keys_loop<Dim, Curve::hilbert, false>(m, f, keys);
+        case Curve::morton_recursive:
+            return keys_loop<Dim, Curve::morton_recursive, false>(m, f, keys);
     }
 }
 
@@ -66,7 +73,9 @@ void dispatch(const mesh::MeshView& m, const KeyFrame& f, Curve c, std::uint64_t
 
 bool pdep_in_use() { return have_pdep; }
 
-std::string encoder_name(Encoder e) { return e == Encoder::best && have_pdep ? "BMI2 pdep" : "portable shifts and masks"; }
+std::string encoder_name(Encoder e) {
+    return e == Encoder::best && have_pdep ? "BMI2 pdep" : "portable shifts and masks";
+}
 
 KeyFrame key_frame(const mesh::MeshView& m, int depth) {
     KeyFrame f;
@@ -97,9 +106,12 @@ std::uint64_t element_key(const mesh::MeshView& m, const KeyFrame& f, Curve c, s
     const bool pdep = enc == Encoder::best && have_pdep;
     auto one = [&]<int Dim>() -> std::uint64_t {
         switch (c) {
-            case Curve::morton: return pdep ? key_of<Dim, Curve::morton, true>(m, f, e) : key_of<Dim, Curve::morton, false>(m, f, e);
-            case Curve::hilbert: return pdep ? key_of<Dim, Curve::hilbert, true>(m, f, e) : key_of<Dim, Curve::hilbert, false>(m, f, e);
-            case Curve::morton_recursive: return key_of<Dim, Curve::morton_recursive, false>(m, f, e);
+            case Curve::morton:
+                return pdep ? key_of<Dim, Curve::morton, true>(m, f, e) : key_of<Dim, Curve::morton, false>(m, f, e);
+            case Curve::hilbert:
+                return pdep ? key_of<Dim, Curve::hilbert, true>(m, f, e) : key_of<Dim, Curve::hilbert, false>(m, f, e);
+            case Curve::morton_recursive:
+                return key_of<Dim, Curve::morton_recursive, false>(m, f, e);
         }
         return 0;
     };

@@ -45,7 +45,8 @@ inline void unit_position(const mesh::MeshView& m, const KeyFrame& f, std::size_
 }
 
 // keys[e] for every element.
-void compute_keys(const mesh::MeshView& m, const KeyFrame& f, Curve c, std::uint64_t* keys, Encoder enc = Encoder::best);
+void compute_keys(const mesh::MeshView& m, const KeyFrame& f, Curve c, std::uint64_t* keys,
+                  Encoder enc = Encoder::best);
 
 // One element's key, computed on its own (for checks).
 std::uint64_t element_key(const mesh::MeshView& m, const KeyFrame& f, Curve c, std::size_t e, Encoder enc);

@@ -4,9 +4,9 @@
 #include <numeric>
 
 #include "harness/common/units.hpp"
-#include "kernels/sfc/rcm.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/permutation.hpp"
+#include "kernels/sfc/rcm.hpp"
 
 namespace suite::sfc {
 
@@ -39,15 +39,19 @@ void Pipeline::keys() {
         return;
     }
     frame_ = key_frame(in_, depth_);
-    const Curve c = method_ == Method::morton ? Curve::morton : method_ == Method::hilbert ? Curve::hilbert : Curve::morton_recursive;
+    const Curve c = method_ == Method::morton    ? Curve::morton
+                    : method_ == Method::hilbert ? Curve::hilbert
+                                                 : Curve::morton_recursive;
     compute_keys(in_, frame_, c, a_.keys, encoder_);
 }
 
 void Pipeline::sort() { sort_by_key(a_.keys, in_.elements, key_bits(), a_.perm, a_.sort); }
 
 void Pipeline::renumber() {
-    if (method_ == Method::rcm) apply_vertex_order(in_, a_.perm, a_.new_id, a_.out);
-    else renumber_first_touch(in_, a_.perm, a_.new_id, a_.renumber, a_.out);
+    if (method_ == Method::rcm)
+        apply_vertex_order(in_, a_.perm, a_.new_id, a_.out);
+    else
+        renumber_first_touch(in_, a_.perm, a_.new_id, a_.renumber, a_.out);
 }
 
 Reordered reorder(const mesh::Mesh& m, Method method, int depth, Encoder encoder) {
@@ -63,7 +67,11 @@ Reordered reorder(const mesh::Mesh& m, Method method, int depth, Encoder encoder
     std::vector<std::uint64_t> keys(ne), ka(ne), kb(ne);
     std::vector<std::uint32_t> ia(ne), ib(ne), first(nv), rank(rank_words(ne, m.corners()));
     std::vector<std::uint64_t> bits(rank.size());
-    PipelineArrays a{keys.data(), r.perm.data(), {ka.data(), kb.data(), ia.data(), ib.data()}, r.new_id.data(), {first.data(), bits.data(), rank.data()},
+    PipelineArrays a{keys.data(),
+                     r.perm.data(),
+                     {ka.data(), kb.data(), ia.data(), ib.data()},
+                     r.new_id.data(),
+                     {first.data(), bits.data(), rank.data()},
                      {r.mesh.conn.data(), r.mesh.x.data(), r.mesh.y.data(), m.dim == 3 ? r.mesh.z.data() : nullptr}};
     Pipeline p(m.view(), method, depth, encoder, a);
     p.keys();
@@ -72,14 +80,16 @@ Reordered reorder(const mesh::Mesh& m, Method method, int depth, Encoder encoder
     return r;
 }
 
-mesh::Mesh permuted(const mesh::Mesh& m, const std::vector<std::uint32_t>& perm, const std::vector<std::uint32_t>& new_id) {
+mesh::Mesh permuted(const mesh::Mesh& m, const std::vector<std::uint32_t>& perm,
+                    const std::vector<std::uint32_t>& new_id) {
     mesh::Mesh r;
     r.dim = m.dim;
     r.conn.resize(m.conn.size());
     r.x.resize(m.vertices());
     r.y.resize(m.vertices());
     if (m.dim == 3) r.z.resize(m.vertices());
-    apply_vertex_order(m.view(), perm.data(), new_id.data(), {r.conn.data(), r.x.data(), r.y.data(), m.dim == 3 ? r.z.data() : nullptr});
+    apply_vertex_order(m.view(), perm.data(), new_id.data(),
+                       {r.conn.data(), r.x.data(), r.y.data(), m.dim == 3 ? r.z.data() : nullptr});
     return r;
 }
 

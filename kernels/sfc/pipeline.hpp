@@ -25,12 +25,12 @@ enum class Method { morton, hilbert, morton_recursive, rcm };
 Method parse_method(const std::string& name);
 
 struct PipelineArrays {
-    std::uint64_t* keys = nullptr;   // elements
-    std::uint32_t* perm = nullptr;   // elements
-    SortBuffers sort;                // elements each
-    std::uint32_t* new_id = nullptr; // vertices
-    RenumberScratch renumber;        // first-touch scratch (renumber.hpp)
-    MeshOut out;                     // connectivity and coordinates of the result
+    std::uint64_t* keys = nullptr;    // elements
+    std::uint32_t* perm = nullptr;    // elements
+    SortBuffers sort;                 // elements each
+    std::uint32_t* new_id = nullptr;  // vertices
+    RenumberScratch renumber;         // first-touch scratch (renumber.hpp)
+    MeshOut out;                      // connectivity and coordinates of the result
 };
 
 class Pipeline {
@@ -62,7 +62,8 @@ struct Reordered {
 Reordered reorder(const mesh::Mesh& m, Method method, int depth, Encoder encoder = Encoder::best);
 
 // The mesh with its elements in order `perm` and vertex v renumbered new_id[v].
-mesh::Mesh permuted(const mesh::Mesh& m, const std::vector<std::uint32_t>& perm, const std::vector<std::uint32_t>& new_id);
+mesh::Mesh permuted(const mesh::Mesh& m, const std::vector<std::uint32_t>& perm,
+                    const std::vector<std::uint32_t>& new_id);
 
 // "random": a seeded uniform shuffle of the elements and, independently, of the vertices.
 Reordered shuffled(const mesh::Mesh& m, std::uint64_t seed);

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <limits>
 
-#include "kernels/mesh/edges.hpp"
 #include "harness/kernel/blocks.hpp"
+#include "kernels/mesh/edges.hpp"
 
 namespace suite::sfc {
 

@@ -20,6 +20,7 @@ struct SortBuffers {
 
 // Sorts the first `key_bits` bits of `keys` (bits above must be zero) into `perm` (n entries).
 // Afterwards buffers.keys_a holds the keys in sorted order. Call outside a parallel region.
-void sort_by_key(const std::uint64_t* keys, std::size_t n, int key_bits, std::uint32_t* perm, const SortBuffers& buffers);
+void sort_by_key(const std::uint64_t* keys, std::size_t n, int key_bits, std::uint32_t* perm,
+                 const SortBuffers& buffers);
 
 }  // namespace suite::sfc

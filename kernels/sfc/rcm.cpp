@@ -12,8 +12,8 @@ namespace suite::sfc {
 
 namespace {
 
-using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property, boost::no_property,
-                                                 std::uint32_t, std::uint64_t>;
+using Graph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
+                                                 boost::no_property, std::uint32_t, std::uint64_t>;
 
 // The symmetric adjacency as (source, target) pairs sorted by source, generated on the fly so
 // that Boost builds its graph without a second copy of every edge.
@@ -26,7 +26,9 @@ public:
     using reference = const value_type&;
 
     PairIterator(const std::vector<std::uint64_t>& row, const std::vector<std::uint32_t>& target, std::uint64_t at)
-        : row_(&row), target_(&target), at_(at) { settle(); }
+        : row_(&row), target_(&target), at_(at) {
+        settle();
+    }
     reference operator*() const { return pair_; }
     pointer operator->() const { return &pair_; }
     PairIterator& operator++() {

@@ -26,7 +26,8 @@ constexpr std::uint32_t unset = std::numeric_limits<std::uint32_t>::max();
 
 // Steps 1 and 5 shared by both orders; `number` runs between them inside the parallel region.
 template <class Number>
-void rewrite(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id, const MeshOut& out, Number number) {
+void rewrite(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id, const MeshOut& out,
+             Number number) {
     const int k = in.dim + 1;
     const std::int64_t ne = static_cast<std::int64_t>(in.elements), nv = static_cast<std::int64_t>(in.vertices);
 #pragma omp parallel
@@ -50,13 +51,14 @@ void rewrite(const mesh::MeshView& in, const std::uint32_t* perm, const std::uin
 
 }  // namespace
 
-void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id, const RenumberScratch& sc,
-                          const MeshOut& out) {
+void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id,
+                          const RenumberScratch& sc, const MeshOut& out) {
     const int k = in.dim + 1;
     const std::int64_t nv = static_cast<std::int64_t>(in.vertices);
     const std::int64_t words = static_cast<std::int64_t>(rank_words(in.elements, k));
     const int threads = omp_get_max_threads();
-    std::vector<std::uint64_t> touched(static_cast<std::size_t>(threads) + 1), untouched(static_cast<std::size_t>(threads) + 1);
+    std::vector<std::uint64_t> touched(static_cast<std::size_t>(threads) + 1),
+        untouched(static_cast<std::size_t>(threads) + 1);
     rewrite(in, perm, new_id, out, [&](const Block& eb) {
         const int t = omp_get_thread_num(), nt = omp_get_num_threads();
         const Block vb = my_block(nv), wb = my_block(words);
@@ -74,8 +76,10 @@ void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, s
         std::uint64_t mine_untouched = 0;
         for (std::int64_t v = vb.lo; v < vb.hi; ++v) {
             const std::uint32_t p = sc.first[v];
-            if (p == unset) ++mine_untouched;
-            else std::atomic_ref<std::uint64_t>(sc.bits[p / 64]).fetch_or(1ULL << (p % 64), std::memory_order_relaxed);
+            if (p == unset)
+                ++mine_untouched;
+            else
+                std::atomic_ref<std::uint64_t>(sc.bits[p / 64]).fetch_or(1ULL << (p % 64), std::memory_order_relaxed);
         }
         untouched[t + 1] = mine_untouched;
 #pragma omp barrier
@@ -97,14 +101,18 @@ void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, s
         std::uint64_t next_untouched = untouched[t];
         for (std::int64_t v = vb.lo; v < vb.hi; ++v) {
             const std::uint32_t p = sc.first[v];
-            if (p == unset) new_id[v] = static_cast<std::uint32_t>(next_untouched++);
-            else new_id[v] = sc.rank[p / 64] + static_cast<std::uint32_t>(__builtin_popcountll(sc.bits[p / 64] & ((1ULL << (p % 64)) - 1)));
+            if (p == unset)
+                new_id[v] = static_cast<std::uint32_t>(next_untouched++);
+            else
+                new_id[v] = sc.rank[p / 64] + static_cast<std::uint32_t>(
+                                                  __builtin_popcountll(sc.bits[p / 64] & ((1ULL << (p % 64)) - 1)));
         }
 #pragma omp barrier
     });
 }
 
-void apply_vertex_order(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id, const MeshOut& out) {
+void apply_vertex_order(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id,
+                        const MeshOut& out) {
     rewrite(in, perm, new_id, out, [](const Block&) {
 #pragma omp barrier
     });

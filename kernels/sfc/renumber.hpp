@@ -25,14 +25,17 @@ struct RenumberScratch {
     std::uint64_t* bits = nullptr;
     std::uint32_t* rank = nullptr;
 };
-inline std::size_t rank_words(std::size_t elements, int corners) { return (elements * static_cast<std::size_t>(corners) + 63) / 64; }
+inline std::size_t rank_words(std::size_t elements, int corners) {
+    return (elements * static_cast<std::size_t>(corners) + 63) / 64;
+}
 
 // new_id[v]: vertex v's number in the result. Vertices no element touches (none, in a valid
 // mesh) are numbered last, in their old order.
-void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id, const RenumberScratch& scratch,
-                          const MeshOut& out);
+void renumber_first_touch(const mesh::MeshView& in, const std::uint32_t* perm, std::uint32_t* new_id,
+                          const RenumberScratch& scratch, const MeshOut& out);
 
 // The same rewrite with the vertex numbers given (new_id, a permutation).
-void apply_vertex_order(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id, const MeshOut& out);
+void apply_vertex_order(const mesh::MeshView& in, const std::uint32_t* perm, const std::uint32_t* new_id,
+                        const MeshOut& out);
 
 }  // namespace suite::sfc

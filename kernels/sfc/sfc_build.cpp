@@ -20,12 +20,12 @@
 #include <string>
 #include <vector>
 
-#include "harness/kernel/kernel.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/blocks.hpp"
+#include "harness/kernel/kernel.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/sfc/pipeline.hpp"
 #include "kernels/sfc/sfc_checks.hpp"
-#include "harness/kernel/blocks.hpp"
 
 namespace suite::sfc {
 
@@ -56,11 +56,13 @@ public:
         conn_ = arena.allocate<std::uint32_t>("conn", ne_ * k_);
         arrays_.keys = arena.allocate<std::uint64_t>("keys", ne_);
         arrays_.perm = arena.allocate<std::uint32_t>("perm", ne_);
-        arrays_.sort = {arena.allocate<std::uint64_t>("sort-keys-a", ne_), arena.allocate<std::uint64_t>("sort-keys-b", ne_),
-                        arena.allocate<std::uint32_t>("sort-index-a", ne_), arena.allocate<std::uint32_t>("sort-index-b", ne_)};
+        arrays_.sort = {
+            arena.allocate<std::uint64_t>("sort-keys-a", ne_), arena.allocate<std::uint64_t>("sort-keys-b", ne_),
+            arena.allocate<std::uint32_t>("sort-index-a", ne_), arena.allocate<std::uint32_t>("sort-index-b", ne_)};
         arrays_.new_id = arena.allocate<std::uint32_t>("new-id", nv_);
         const std::size_t words = rank_words(ne_, k_);
-        arrays_.renumber = {arena.allocate<std::uint32_t>("first-touch", nv_), arena.allocate<std::uint64_t>("rank-bits", words),
+        arrays_.renumber = {arena.allocate<std::uint32_t>("first-touch", nv_),
+                            arena.allocate<std::uint64_t>("rank-bits", words),
                             arena.allocate<std::uint32_t>("rank-counts", words)};
         arrays_.out = {arena.allocate<std::uint32_t>("new-conn", ne_ * k_), out_xyz[0], out_xyz[1], out_xyz[2]};
         // First touch by the computing threads, each its block of elements and of vertices, the
@@ -114,8 +116,9 @@ public:
     Verification verify() override {
         const std::string& v = cfg_.variant;
         Checks checks(in_, method_, max_depth(dim_), arrays_, pipeline_->frame());
-        Verification out{true, "mesh " + spec_ + " (" + std::to_string(ne_) + " " + mesh::element_word(dim_, true) + ", " +
-                                   std::to_string(nv_) + " vertices), " + cfg_.access.name + ": ",
+        Verification out{true,
+                         "mesh " + spec_ + " (" + std::to_string(ne_) + " " + mesh::element_word(dim_, true) + ", " +
+                             std::to_string(nv_) + " vertices), " + cfg_.access.name + ": ",
                          0};
         std::vector<std::string> done;
         auto add = [&](const CheckResult& r) {
@@ -143,14 +146,16 @@ public:
         const double keys_s = n * (4 * k + 8 * d * k + 8), keys_h = n * (4 * k + 8 * d * k + 16);
         const double sort_s = n * (8 + 4), sort_h = n * (8 + 8 + 2 * 12 + 12 + 2 * 12 + 2 * 4);
         const double ren_s = n * (4 + 4 * k + 4 * k) + v * (8 * d * 2 + 4);
-        const double ren_h = n * (4 + 4 * k + 2 * 4 * k) + n * k * (4 + 4) + n * k * (4 + 4 + 2 * 4) + v * (8 * d * 3 + 4 * 3 + 8 + 2 * 4);
+        const double ren_h = n * (4 + 4 * k + 2 * 4 * k) + n * k * (4 + 4) + n * k * (4 + 4 + 2 * 4) +
+                             v * (8 * d * 3 + 4 * 3 + 8 + 2 * 4);
         Work w;
         w.units = n;
         const std::string& var = cfg_.variant;
         if (var.empty() || var == "keys") w.stream_bytes += keys_s, w.hardware_bytes += keys_h;
         if (var.empty() || var == "sort") w.stream_bytes += sort_s, w.hardware_bytes += sort_h;
         if (var.empty() || var == "renumber") w.stream_bytes += ren_s, w.hardware_bytes += ren_h;
-        w.footprint_bytes = static_cast<std::uint64_t>(n * (4 * k * 2 + 8 + 4 + 8 * 2 + 4 * 2) + 12.0 * std::ceil(n * k / 64) + v * (8 * d * 2 + 4 * 2));
+        w.footprint_bytes = static_cast<std::uint64_t>(n * (4 * k * 2 + 8 + 4 + 8 * 2 + 4 * 2) +
+                                                       12.0 * std::ceil(n * k / 64) + v * (8 * d * 2 + 4 * 2));
         return w;
     }
 
@@ -170,7 +175,8 @@ private:
 // into them, and for RCM the vertex graph (about 150 bytes a vertex with Boost's copy of it).
 std::uint64_t peak_bytes(const mesh::MeshCounts& c, const std::string& ordering) {
     const std::uint64_t k = static_cast<std::uint64_t>(c.dim) + 1;
-    const std::uint64_t arrays = c.elements * (8 * k + 8 + 4 + 16 + 8) + c.elements * k * 12 / 64 + c.vertices * (16 * c.dim + 8);
+    const std::uint64_t arrays =
+        c.elements * (8 * k + 8 + 4 + 16 + 8) + c.elements * k * 12 / 64 + c.vertices * (16 * c.dim + 8);
     const std::uint64_t mesh = c.elements * 4 * k + c.vertices * 8 * c.dim;
     return arrays + 2 * mesh + (ordering == "rcm" ? 150 * c.vertices : 0);
 }
@@ -181,8 +187,9 @@ void validate(const KernelConfig& cfg) {
     const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
     const std::uint64_t need = peak_bytes(c, cfg.access.name), have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
-        throw UsageError("sfc-build on --mesh=" + spec + " (" + std::to_string(c.elements) + " elements) needs about " + format_bytes(need) +
-                         ", more than the " + format_bytes(have) + " of memory available; use a smaller mesh");
+        throw UsageError("sfc-build on --mesh=" + spec + " (" + std::to_string(c.elements) + " elements) needs about " +
+                         format_bytes(need) + ", more than the " + format_bytes(have) +
+                         " of memory available; use a smaller mesh");
 }
 
 const bool registered = [] {
@@ -200,8 +207,9 @@ const bool registered = [] {
     // renumber 16 read, 12 written, plus the vertices.
     e.info.read_bytes_per_unit = 84;
     e.info.write_bytes_per_unit = 24;
-    e.info.notes = "reorders a mesh along a curve (or RCM); --phase=keys|sort|renumber|all; sized by --mesh, or a disk of at "
-                   "least --size triangles";
+    e.info.notes =
+        "reorders a mesh along a curve (or RCM); --phase=keys|sort|renumber|all; sized by --mesh, or a disk of at "
+        "least --size triangles";
     e.make = [](const KernelConfig& cfg) { return std::make_unique<SfcBuild>(cfg); };
     e.validate = validate;
     e.mesh_elements = [](const std::string& spec) { return mesh::mesh_counts(mesh::parse_mesh_spec(spec)).elements; };

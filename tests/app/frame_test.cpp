@@ -66,7 +66,8 @@ TEST(CommandFrame, TheHandlersItFoundArePutBackAndANewFrameStartsClear) {
     struct sigaction sa {};
     sa.sa_handler = custom_handler;
     sigemptyset(&sa.sa_mask);
-    struct sigaction old_int {}, old_term {};
+    struct sigaction old_int {
+    }, old_term{};
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     {
@@ -86,7 +87,8 @@ TEST(CommandFrame, TheHandlersItFoundArePutBackAndANewFrameStartsClear) {
 }
 
 TEST(CommandFrame, ASignalStartedIgnoredStaysIgnored) {
-    struct sigaction ignore {}, old {};
+    struct sigaction ignore {
+    }, old{};
     ignore.sa_handler = SIG_IGN;
     sigemptyset(&ignore.sa_mask);
     sigaction(SIGINT, &ignore, &old);

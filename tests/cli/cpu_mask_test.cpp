@@ -32,8 +32,8 @@ TEST(CpuMask, AllAndTheDefaultSweepUseOnlyTheAllowedCpus) {
     if (sysconf(_SC_NPROCESSORS_ONLN) < 2) GTEST_SKIP() << "one CPU: no mask can leave one out";
     TempDir d;
     int cpu = -1;
-    const Outcome r = run_masked({"--kernel=copy", "--size=64KiB", "--threads=all", "--reps=2", "--counters=none", "--energy=none", "--quiet",
-                                  "--out=" + d.file("r.json")},
+    const Outcome r = run_masked({"--kernel=copy", "--size=64KiB", "--threads=all", "--reps=2", "--counters=none",
+                                  "--energy=none", "--quiet", "--out=" + d.file("r.json")},
                                  cpu);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(d.file("r.json")));
@@ -62,7 +62,8 @@ TEST(CpuMask, AnExplicitCpuOutsideTheMaskIsRefusedWithTheMaskNamed) {
     EXPECT_EQ(r.status, 2) << describe(r);
     EXPECT_TRUE(r.out.empty()) << describe(r);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
-    EXPECT_NE(r.err.find("--pin=0: CPU 0 is outside this process's CPU mask " + std::to_string(cpu)), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--pin=0: CPU 0 is outside this process's CPU mask " + std::to_string(cpu)), std::string::npos)
+        << r.err;
     // More threads than the mask allows: the message says why there are so few.
     const Outcome t = run_masked({"--kernel=copy", "--size=64KiB", "--threads=2", "--dry-run"}, cpu);
     EXPECT_EQ(t.status, 2) << describe(t);

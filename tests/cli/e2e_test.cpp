@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
 #include <sys/stat.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <regex>
@@ -13,8 +13,8 @@
 #include <sstream>
 #include <thread>
 
-#include "harness/measure/plan.hpp"
 #include "harness/machine/topology.hpp"
+#include "harness/measure/plan.hpp"
 #include "tests/process.hpp"
 
 using namespace suite;
@@ -63,9 +63,11 @@ TEST(E2E, NonTemporalVariantsEmitStreamingStoresAndPlainOnesDoNot) {
     for (const std::string op : {"Copy", "Scale", "Add", "Triad"}) {
         bool nt_found = false, plain_has_nt = false, plain_seen = false;
         for (const auto& [name, body] : functions) {
-            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::nt_store_loop") != std::string::npos)
+            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::nt_store_loop") !=
+                std::string::npos)
                 nt_found = nt_found || has_nt_store(body);
-            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::sequential_loop") != std::string::npos) {
+            if (name.find("StreamKernel<suite::stream::(anonymous namespace)::" + op + ">::sequential_loop") !=
+                std::string::npos) {
                 plain_seen = true;
                 plain_has_nt = plain_has_nt || has_nt_store(body);
             }
@@ -101,7 +103,8 @@ TEST(E2E, RepVariantsAreOneStringInstructionAndThePlainLoopsAreNot) {
             copy_rep = copy_rep || body.find("rep movsb") != std::string::npos;
         if (name.find("suite::stream::(anonymous namespace)::Store::rep_store_loop") != std::string::npos)
             store_rep = store_rep || body.find("rep stos %rax") != std::string::npos;
-        if (name.find("StreamKernel<suite::stream::(anonymous namespace)::Copy>::sequential_loop") != std::string::npos ||
+        if (name.find("StreamKernel<suite::stream::(anonymous namespace)::Copy>::sequential_loop") !=
+                std::string::npos ||
             name.find("suite::stream::(anonymous namespace)::Store::sequential_loop") != std::string::npos) {
             plain_seen = true;
             plain_has_rep = plain_has_rep || body.find("rep ") != std::string::npos;
@@ -131,7 +134,8 @@ TEST(E2E, PeakFlopsLoopsAreTwelveRegisterFmasOfTheirWidth) {
     for (const auto& w : widths) {
         std::string body;
         for (const auto& [name, b] : functions)
-            if (name.find("peak_loop<suite::stream::(anonymous namespace)::" + w.isa + ">") != std::string::npos) body = b;
+            if (name.find("peak_loop<suite::stream::(anonymous namespace)::" + w.isa + ">") != std::string::npos)
+                body = b;
         ASSERT_FALSE(body.empty()) << "peak_loop<" << w.isa << "> not found in the binary";
         // The loop: from the target of the last backward jump to that jump.
         std::vector<std::string> lines;
@@ -143,7 +147,8 @@ TEST(E2E, PeakFlopsLoopsAreTwelveRegisterFmasOfTheirWidth) {
         std::size_t jump = lines.size(), target = lines.size();
         std::string address;
         for (std::size_t i = 0; i < lines.size(); ++i)
-            if (std::smatch mt; std::regex_search(lines[i], mt, jcc) && std::stoull(mt[2], nullptr, 16) < std::stoull(mt[1], nullptr, 16))
+            if (std::smatch mt; std::regex_search(lines[i], mt, jcc) &&
+                                std::stoull(mt[2], nullptr, 16) < std::stoull(mt[1], nullptr, 16))
                 jump = i, address = mt[2];
         ASSERT_LT(jump, lines.size()) << w.isa << ": no backward jump in\n" << body;
         for (std::size_t i = 0; i < jump; ++i)
@@ -155,15 +160,18 @@ TEST(E2E, PeakFlopsLoopsAreTwelveRegisterFmasOfTheirWidth) {
         for (std::size_t i = target; i <= jump; ++i) {
             const std::string& l = lines[i];
             loop += l + "\n";
-            EXPECT_EQ(l.substr(0, l.find('<')).find('('), std::string::npos) << w.isa << ": a memory operand in the loop: " << l;
+            EXPECT_EQ(l.substr(0, l.find('<')).find('('), std::string::npos)
+                << w.isa << ": a memory operand in the loop: " << l;
 #ifdef __FMA__
-            if (l.find("vfmadd") != std::string::npos && l.find(w.fma + " ") != std::string::npos && l.find(w.reg) != std::string::npos) {
+            if (l.find("vfmadd") != std::string::npos && l.find(w.fma + " ") != std::string::npos &&
+                l.find(w.reg) != std::string::npos) {
                 ++fmas;
                 destinations.insert(l.substr(l.rfind('%')));
                 continue;
             }
 #else
-            if ((l.find("mul" + w.fma) != std::string::npos || l.find("add" + w.fma) != std::string::npos) && l.find(w.reg) != std::string::npos) {
+            if ((l.find("mul" + w.fma) != std::string::npos || l.find("add" + w.fma) != std::string::npos) &&
+                l.find(w.reg) != std::string::npos) {
                 ++fmas;
                 continue;
             }
@@ -187,9 +195,10 @@ TEST_P(Interrupt, KeepsFinishedRecordsInAValidIncompleteFile) {
     const std::string dir = make_temp_dir();
     const std::string out = dir + "/r.json";
     int o, e;
-    pid_t pid = spawn({SUITE_BINARY, "--kernel=latency", "--sizes=64KiB,128KiB,256KiB,512KiB,1MiB,2MiB,4MiB,8MiB,16MiB,32MiB",
-                       "--threads=1", "--min-time=0.5", "--out=" + out},
-                      o, e);
+    pid_t pid =
+        spawn({SUITE_BINARY, "--kernel=latency", "--sizes=64KiB,128KiB,256KiB,512KiB,1MiB,2MiB,4MiB,8MiB,16MiB,32MiB",
+               "--threads=1", "--min-time=0.5", "--out=" + out},
+              o, e);
     // Wait for the first record on disk, then interrupt.
     std::size_t seen = 0;
     for (int i = 0; i < 600 && seen == 0; ++i) {
@@ -215,15 +224,17 @@ TEST_P(Interrupt, KeepsFinishedRecordsInAValidIncompleteFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, Interrupt, testing::Values(SIGINT, SIGTERM),
-                         [](const testing::TestParamInfo<int>& i) { return i.param == SIGINT ? std::string("SIGINT") : std::string("SIGTERM"); });
+                         [](const testing::TestParamInfo<int>& i) {
+                             return i.param == SIGINT ? std::string("SIGINT") : std::string("SIGTERM");
+                         });
 
 TEST(E2E, RandomAddIsSlowerThanSequentialAtDramSize) {
     // DRAM-sized: every one of add's arrays at least 4x the last-level cache hwloc reports.
     const std::uint64_t size = default_sizes(Topology::load(), 1).back();
     const std::string dir = make_temp_dir();
     const std::string out = dir + "/dram.json";
-    Outcome r = run_suite({"--kernel=add", "--pattern=sequential,random", "--size=" + std::to_string(size), "--threads=all",
-                           "--reps=3", "--quiet", "--out=" + out});
+    Outcome r = run_suite({"--kernel=add", "--pattern=sequential,random", "--size=" + std::to_string(size),
+                           "--threads=all", "--reps=3", "--quiet", "--out=" + out});
     ASSERT_EQ(r.status, 0) << r.err;
     json doc = load_json(out);
     ASSERT_EQ(doc["results"].size(), 2u);
@@ -233,7 +244,8 @@ TEST(E2E, RandomAddIsSlowerThanSequentialAtDramSize) {
         double gbps = rec["bandwidth_gbps"]["stream"]["best"];
         (rec["pattern"] == "random" ? rnd : seq) = gbps;
     }
-    std::printf("add at %s: sequential %.2f GB/s, random %.2f GB/s (ratio %.2f)\n", std::to_string(size).c_str(), seq, rnd, seq / rnd);
+    std::printf("add at %s: sequential %.2f GB/s, random %.2f GB/s (ratio %.2f)\n", std::to_string(size).c_str(), seq,
+                rnd, seq / rnd);
     EXPECT_GT(seq, 0);
     EXPECT_LT(rnd, seq);
     std::system(("rm -rf " + dir).c_str());
@@ -243,7 +255,8 @@ TEST(E2E, ResultRecordsPinningAndPagesAsObserved) {
     const std::string dir = make_temp_dir();
     const std::string out = dir + "/r.json";
     const Topology topo = Topology::load();
-    Outcome r = run_suite({"--kernel=triad", "--size=8MiB", "--threads=1", "--pin=0", "--reps=2", "--quiet", "--out=" + out});
+    Outcome r =
+        run_suite({"--kernel=triad", "--size=8MiB", "--threads=1", "--pin=0", "--reps=2", "--quiet", "--out=" + out});
     ASSERT_EQ(r.status, 0) << r.err;
     json rec = load_json(out)["results"][0];
     EXPECT_EQ(rec["pin"]["requested"], "0");
@@ -278,7 +291,8 @@ TEST(E2E, ResultRecordsPinningAndPagesAsObserved) {
 
 TEST(E2E, CsvOutputHasAHeaderAndOneRowPerPoint) {
     const std::string dir = make_temp_dir();
-    Outcome r = run_suite({"--kernel=copy,latency", "--size=256KiB", "--threads=1", "--reps=2", "--quiet", "--out=" + dir + "/r.csv"});
+    Outcome r = run_suite(
+        {"--kernel=copy,latency", "--size=256KiB", "--threads=1", "--reps=2", "--quiet", "--out=" + dir + "/r.csv"});
     ASSERT_EQ(r.status, 0) << r.err;
     std::istringstream in(slurp(dir + "/r.csv"));
     std::string header, line;
@@ -307,7 +321,7 @@ TEST(E2E, OutputThatIsNotARegularFileIsRefusedAndLeftAlone) {
     Outcome r = run_suite({"--kernel=copy", "--size=64KiB", "--reps=1", "--out=" + link});
     EXPECT_EQ(r.status, 2) << describe(r);
     EXPECT_NE(r.err.find("not a regular file"), std::string::npos) << r.err;
-    struct stat st{};
+    struct stat st {};
     ASSERT_EQ(lstat(link.c_str(), &st), 0);
     EXPECT_TRUE(S_ISLNK(st.st_mode));
     EXPECT_EQ(slurp(target), "keep me\n");
@@ -333,7 +347,8 @@ TEST(E2E, InfoSaysWhatCanBeMeasuredAndWhyNot) {
     if (flags_at != std::string::npos) {
         const std::string flags = cpuinfo.substr(flags_at, cpuinfo.find('\n', flags_at + 1) - flags_at) + " ";
         for (const char* flag : {"erms", "fsrm"})
-            EXPECT_EQ(info["string_ops"][flag], flags.find(" " + std::string(flag) + " ") != std::string::npos) << flag << ": " << info["string_ops"].dump();
+            EXPECT_EQ(info["string_ops"][flag], flags.find(" " + std::string(flag) + " ") != std::string::npos)
+                << flag << ": " << info["string_ops"].dump();
     }
     Outcome table = run_suite({"info"});
     ASSERT_EQ(table.status, 0);
@@ -384,8 +399,8 @@ TEST(E2E, CommittedExampleResultsStillValidate) {
     std::vector<std::string> files;
     const std::string bench = std::string(SUITE_SOURCE_DIR) + "/results/bench/";
     for (const auto& e : std::filesystem::recursive_directory_iterator(std::string(SUITE_SOURCE_DIR) + "/results"))
-        if (e.path().extension() == ".json" && e.path().parent_path().filename() != "schema" && e.path().filename() != "latest.json" &&
-            e.path().string().rfind(bench, 0) != 0)
+        if (e.path().extension() == ".json" && e.path().parent_path().filename() != "schema" &&
+            e.path().filename() != "latest.json" && e.path().string().rfind(bench, 0) != 0)
             files.push_back(e.path());
     ASSERT_FALSE(files.empty());
     for (const auto& f : files) {

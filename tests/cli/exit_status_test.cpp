@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <map>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/suite/run.hpp"
@@ -36,8 +36,10 @@ Plan solver_plan(const std::vector<std::map<std::string, std::string>>& params, 
     for (const auto& p : params) {
         o.params = p;
         Plan one = make_plan(o, topology());
-        if (plan.points.empty()) plan = std::move(one);
-        else plan.points.insert(plan.points.end(), one.points.begin(), one.points.end());
+        if (plan.points.empty())
+            plan = std::move(one);
+        else
+            plan.points.insert(plan.points.end(), one.points.begin(), one.points.end());
     }
     return plan;
 }
@@ -61,7 +63,9 @@ Ran run(Plan&& plan) {
 TEST(ExitStatus, ASolverThatDoesNotConvergeIsThree) {
     const Ran r = run(solver_plan({{{"delta", "1.5"}}}));
     EXPECT_EQ(r.status, 3) << r.err;
-    EXPECT_NE(r.err.find("suite: error: test-solve-jacobi natural 1024: solver failed: no convergence after"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("suite: error: test-solve-jacobi natural 1024: solver failed: no convergence after"),
+              std::string::npos)
+        << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
@@ -93,5 +97,6 @@ TEST(ExitStatus, DryRunListsTheParameters) {
     plan.dry_run = true;
     const Ran r = run(std::move(plan));
     EXPECT_EQ(r.status, 0);
-    EXPECT_NE(r.out.find("test-solve-jacobi natural 1024 threads=1 delta=0.25 tol=1e-08 wrong=0"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("test-solve-jacobi natural 1024 threads=1 delta=0.25 tol=1e-08 wrong=0"), std::string::npos)
+        << r.out;
 }

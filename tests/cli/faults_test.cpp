@@ -23,8 +23,8 @@ const std::string kFixtures = std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/s
 
 // A previous result to protect: a real, valid one.
 std::string write_previous(const TempDir& d, const std::string& path) {
-    const Outcome r = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=1", "--counters=none", "--energy=none",
-                                 "--quiet", "--out=" + path});
+    const Outcome r = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=1", "--counters=none",
+                                 "--energy=none", "--quiet", "--out=" + path});
     EXPECT_EQ(r.status, 0) << describe(r);
     (void)d;
     return slurp(path);
@@ -35,7 +35,8 @@ std::string shell_quote(const std::string& s) { return "'" + s + "'"; }
 }  // namespace
 
 TEST(Faults, FullDiskKeepsThePreviousFileAndSaysSo) {
-    if (geteuid() != 0) GTEST_SKIP() << "mounting a small tmpfs needs root (a private mount namespace is used, nothing leaks)";
+    if (geteuid() != 0)
+        GTEST_SKIP() << "mounting a small tmpfs needs root (a private mount namespace is used, nothing leaks)";
     TempDir d;
     const std::string mnt = d.file("small");
     fs::create_directory(mnt);
@@ -43,13 +44,17 @@ TEST(Faults, FullDiskKeepsThePreviousFileAndSaysSo) {
     // document (every repetition time of 20 points) cannot fit in what is left.
     const std::string script =
         "set -e; mount -t tmpfs -o size=64k suite-test " + shell_quote(mnt) + "; " + shell_quote(SUITE_BINARY) +
-        " --kernel=copy --size=64KiB --threads=1 --reps=1 --counters=none --energy=none --quiet --out=" + shell_quote(mnt + "/r.json") +
-        "; cp " + shell_quote(mnt + "/r.json") + " " + shell_quote(d.file("before.json")) +
-        "; head -c 56000 /dev/zero > " + shell_quote(mnt + "/filler") + "; set +e; " + shell_quote(SUITE_BINARY) +
-        " --kernel=copy,scale,add,triad --sizes=16KiB:256KiB --threads=1 --reps=300 --counters=none --energy=none --quiet --out=" +
-        shell_quote(mnt + "/r.json") + "; status=$?; cp " + shell_quote(mnt + "/r.json") + " " + shell_quote(d.file("after.json")) +
-        "; ls -a " + shell_quote(mnt) + " > " + shell_quote(d.file("listing")) + "; exit $status";
-    const Outcome r = run_program({"/usr/bin/unshare", "--mount", "--propagation", "private", "/bin/sh", "-c", script}, 120);
+        " --kernel=copy --size=64KiB --threads=1 --reps=1 --counters=none --energy=none --quiet --out=" +
+        shell_quote(mnt + "/r.json") + "; cp " + shell_quote(mnt + "/r.json") + " " +
+        shell_quote(d.file("before.json")) + "; head -c 56000 /dev/zero > " + shell_quote(mnt + "/filler") +
+        "; set +e; " + shell_quote(SUITE_BINARY) +
+        " --kernel=copy,scale,add,triad --sizes=16KiB:256KiB --threads=1 --reps=300 --counters=none --energy=none "
+        "--quiet --out=" +
+        shell_quote(mnt + "/r.json") + "; status=$?; cp " + shell_quote(mnt + "/r.json") + " " +
+        shell_quote(d.file("after.json")) + "; ls -a " + shell_quote(mnt) + " > " + shell_quote(d.file("listing")) +
+        "; exit $status";
+    const Outcome r =
+        run_program({"/usr/bin/unshare", "--mount", "--propagation", "private", "/bin/sh", "-c", script}, 120);
     if (r.status != 1 && r.err.find("mount") != std::string::npos && r.err.find("No space") == std::string::npos)
         GTEST_SKIP() << "cannot mount a tmpfs here: " << r.err;
     EXPECT_EQ(r.status, 1) << describe(r);
@@ -57,7 +62,8 @@ TEST(Faults, FullDiskKeepsThePreviousFileAndSaysSo) {
     EXPECT_NE(r.err.find("the previous file, if any, is unchanged"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_TRUE(slurp(d.file("after.json")) == slurp(d.file("before.json"))) << "the previous result file changed";
-    EXPECT_EQ(slurp(d.file("listing")).find(".tmp"), std::string::npos) << "a temporary file was left behind:\n" << slurp(d.file("listing"));
+    EXPECT_EQ(slurp(d.file("listing")).find(".tmp"), std::string::npos) << "a temporary file was left behind:\n"
+                                                                        << slurp(d.file("listing"));
 }
 
 TEST(Faults, FileSizeLimitIsAnErrorAndTheFileStaysValid) {
@@ -70,9 +76,11 @@ TEST(Faults, FileSizeLimitIsAnErrorAndTheFileStaysValid) {
     const std::string before = write_previous(d, out);
     // 4 blocks: 2 KiB for dash's 512-byte blocks, 4 KiB for bash's; the previous file is larger.
     ASSERT_GT(before.size(), 4096u);
-    const std::string script = "ulimit -f 4; exec " + shell_quote(SUITE_BINARY) +
-                               " --kernel=copy,scale,add,triad --sizes=16KiB:256KiB --threads=1 --reps=3 --counters=none "
-                               "--energy=none --quiet --out=" + shell_quote(out);
+    const std::string script =
+        "ulimit -f 4; exec " + shell_quote(SUITE_BINARY) +
+        " --kernel=copy,scale,add,triad --sizes=16KiB:256KiB --threads=1 --reps=3 --counters=none "
+        "--energy=none --quiet --out=" +
+        shell_quote(out);
     const Outcome r = run_program({"/bin/sh", "-c", script}, 120);
     EXPECT_EQ(r.term_signal, 0) << describe(r);
     EXPECT_EQ(r.status, 1) << describe(r);
@@ -80,7 +88,8 @@ TEST(Faults, FileSizeLimitIsAnErrorAndTheFileStaysValid) {
     EXPECT_NE(r.err.find("cannot write " + out), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
     EXPECT_TRUE(slurp(out) == before) << "the previous result file changed";
-    for (const auto& e : fs::directory_iterator(d.path())) EXPECT_EQ(e.path().filename().string(), "r.json") << "left behind: " << e.path();
+    for (const auto& e : fs::directory_iterator(d.path()))
+        EXPECT_EQ(e.path().filename().string(), "r.json") << "left behind: " << e.path();
 }
 
 TEST(Faults, EnergyFileVanishingMidRunLosesThatPointOnlyAndTheRunGoesOn) {
@@ -107,8 +116,8 @@ TEST(Faults, EnergyFileVanishingMidRunLosesThatPointOnlyAndTheRunGoesOn) {
     // Points of 0.1 s each (not 5 repetitions of a few ms): the fake counter's thread advances
     // it every 50 us when it gets a CPU, and under a loaded CI it once got none during a whole
     // short point, which then read a counter that never moved.
-    const Outcome r = run_suite({"--kernel=triad", "--sizes=1MiB,2MiB,3MiB,4MiB,5MiB", "--threads=1", "--min-time=0.1", "--energy=sysfs",
-                                 "--counters=none", "--quiet", "--out=" + out},
+    const Outcome r = run_suite({"--kernel=triad", "--sizes=1MiB,2MiB,3MiB,4MiB,5MiB", "--threads=1", "--min-time=0.1",
+                                 "--energy=sysfs", "--counters=none", "--quiet", "--out=" + out},
                                 120);
     unsetenv("SUITE_SYSFS_ROOT");
     done = true;
@@ -117,7 +126,8 @@ TEST(Faults, EnergyFileVanishingMidRunLosesThatPointOnlyAndTheRunGoesOn) {
     const json doc = json::parse(slurp(out));
     ASSERT_EQ(doc["results"].size(), 5u);
     EXPECT_TRUE(doc["complete"].get<bool>());
-    EXPECT_TRUE(doc["results"][0]["energy"]["domains"][0]["available"].get<bool>()) << doc["results"][0]["energy"].dump();
+    EXPECT_TRUE(doc["results"][0]["energy"]["domains"][0]["available"].get<bool>())
+        << doc["results"][0]["energy"].dump();
     const json& last = doc["results"][4]["energy"]["domains"][0];
     EXPECT_FALSE(last["available"].get<bool>());
     EXPECT_NE(last["reason"].get<std::string>().find("during the run"), std::string::npos) << last.dump();
@@ -127,16 +137,19 @@ TEST(Faults, EnergyFileVanishingMidRunLosesThatPointOnlyAndTheRunGoesOn) {
 TEST(Faults, RunsWithoutRoot) {
     if (geteuid() != 0) {
         // Every other test already runs unprivileged here.
-        const Outcome r = run_suite({"--kernel=triad", "--size=1MiB", "--threads=1", "--reps=3", "--quiet", "--format=json"});
+        const Outcome r =
+            run_suite({"--kernel=triad", "--size=1MiB", "--threads=1", "--reps=3", "--quiet", "--format=json"});
         EXPECT_EQ(r.status, 0) << describe(r);
         return;
     }
     TempDir d;
     fs::permissions(d.path(), fs::perms::all, fs::perm_options::add);  // the unprivileged user writes here
-    const Outcome r = run_program({"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", SUITE_BINARY, "--kernel=triad,latency",
-                                   "--size=1MiB", "--threads=1,2", "--reps=3", "--quiet", "--out=" + d.file("r.json")},
-                                  120);
-    if (r.status != 0 && r.err.find("Permission denied") != std::string::npos && r.err.find("suite") == std::string::npos)
+    const Outcome r = run_program(
+        {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", SUITE_BINARY, "--kernel=triad,latency",
+         "--size=1MiB", "--threads=1,2", "--reps=3", "--quiet", "--out=" + d.file("r.json")},
+        120);
+    if (r.status != 0 && r.err.find("Permission denied") != std::string::npos &&
+        r.err.find("suite") == std::string::npos)
         GTEST_SKIP() << "uid 65534 cannot reach the binary here: " << r.err;
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(d.file("r.json")));
@@ -150,18 +163,21 @@ TEST(Faults, RunsWithoutRoot) {
 }
 
 TEST(Faults, AsRootItChangesNoSystemSetting) {
-    const std::vector<std::string> settings = {
-        "/proc/sys/kernel/perf_event_paranoid", "/proc/sys/kernel/numa_balancing", "/sys/kernel/mm/transparent_hugepage/enabled",
-        "/sys/kernel/mm/transparent_hugepage/defrag", "/proc/sys/vm/overcommit_memory", "/proc/sys/kernel/randomize_va_space",
-        "/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor"};
+    const std::vector<std::string> settings = {"/proc/sys/kernel/perf_event_paranoid",
+                                               "/proc/sys/kernel/numa_balancing",
+                                               "/sys/kernel/mm/transparent_hugepage/enabled",
+                                               "/sys/kernel/mm/transparent_hugepage/defrag",
+                                               "/proc/sys/vm/overcommit_memory",
+                                               "/proc/sys/kernel/randomize_va_space",
+                                               "/sys/devices/system/cpu/cpu0/cpufreq/scaling_governor"};
     auto snapshot = [&] {
         std::vector<std::string> v;
         for (const auto& p : settings) v.push_back(fs::exists(p) ? slurp(p) : "(absent)");
         return v;
     };
     const auto before = snapshot();
-    const Outcome r = run_suite({"--kernel=triad,add", "--pattern=sequential,random", "--size=2MiB", "--threads=1,2", "--reps=3",
-                                 "--placement=interleave", "--quiet", "--format=json"});
+    const Outcome r = run_suite({"--kernel=triad,add", "--pattern=sequential,random", "--size=2MiB", "--threads=1,2",
+                                 "--reps=3", "--placement=interleave", "--quiet", "--format=json"});
     ASSERT_EQ(r.status, 0) << describe(r);
     const auto after = snapshot();
     for (std::size_t i = 0; i < settings.size(); ++i) EXPECT_EQ(before[i], after[i]) << settings[i];

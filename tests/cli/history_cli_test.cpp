@@ -40,7 +40,8 @@ TEST(HistoryCli, TwoRealRunsAddedListedAndGated) {
     TempDir tmp;
     const std::string db = tmp.file("h.sqlite"), a = tmp.file("a.json"), b = tmp.file("b.json");
     for (const auto& out : {a, b}) {
-        Outcome r = run_suite({"--kernel=add", "--pattern=sequential", "--size=64KiB", "--threads=1", "--reps=5", "--quiet", "--out=" + out});
+        Outcome r = run_suite({"--kernel=add", "--pattern=sequential", "--size=64KiB", "--threads=1", "--reps=5",
+                               "--quiet", "--out=" + out});
         ASSERT_EQ(r.status, 0) << describe(r);
     }
     Outcome add = run_suite({"history", "add", a, "--db", db, "--commit", "c1", "--branch", "main"});
@@ -50,7 +51,8 @@ TEST(HistoryCli, TwoRealRunsAddedListedAndGated) {
     ASSERT_EQ(add.status, 0) << describe(add);
     Outcome again = run_suite({"history", "add", a, "--db", db});
     ASSERT_EQ(again.status, 0) << describe(again);
-    EXPECT_NE(again.out.find("already in the history as run 1 (commit c1); not added again"), std::string::npos) << again.out;
+    EXPECT_NE(again.out.find("already in the history as run 1 (commit c1); not added again"), std::string::npos)
+        << again.out;
     EXPECT_NE(again.out.find(db + ": 2 run(s)"), std::string::npos) << again.out;
 
     Outcome list = run_suite({"history", "list", "--db", db});
@@ -113,7 +115,8 @@ TEST(HistoryCli, EachUnusableDatabaseIsOneLineExitTwoAndUntouched) {
     const std::string newer = tmp.file("newer.sqlite");
     std::filesystem::copy_file(good, newer);
     SqlDatabase::open(newer, {true, false, 1000}).exec("UPDATE meta SET value = '99' WHERE key = 'schema_version'");
-    refused(newer, {"history", "add", write_run(tmp, 1, g), "--db", newer}, "schema version 99 is newer than this suite's");
+    refused(newer, {"history", "add", write_run(tmp, 1, g), "--db", newer},
+            "schema version 99 is newer than this suite's");
     refused(newer, {"history", "steps", "--db", newer}, "schema version 99 is newer");
     // Locked by another connection for longer than --wait.
     {
@@ -138,10 +141,12 @@ TEST(HistoryCli, EachUnusableDatabaseIsOneLineExitTwoAndUntouched) {
         const std::uint64_t before = file_hash(ro);
         std::vector<std::string> argv;
         if (geteuid() == 0) argv = {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"};
-        for (const auto& a : {std::string(SUITE_BINARY), std::string("history"), std::string("add"), write_run(tmp, 3, g), std::string("--db"), ro})
+        for (const auto& a : {std::string(SUITE_BINARY), std::string("history"), std::string("add"),
+                              write_run(tmp, 3, g), std::string("--db"), ro})
             argv.push_back(a);
         const Outcome r = run_program(argv, 120);
-        if (r.status != 2 && r.err.find("Permission denied") != std::string::npos && r.err.find("suite:") == std::string::npos)
+        if (r.status != 2 && r.err.find("Permission denied") != std::string::npos &&
+            r.err.find("suite:") == std::string::npos)
             GTEST_SKIP() << "uid 65534 cannot reach the binary here: " << r.err;
         expect_one_line_refusal(r, "is read-only");
         EXPECT_EQ(file_hash(ro), before);
@@ -150,10 +155,13 @@ TEST(HistoryCli, EachUnusableDatabaseIsOneLineExitTwoAndUntouched) {
 
 TEST(HistoryCli, UsageErrorsNameWhatIsAccepted) {
     TempDir tmp;
-    expect_one_line_refusal(run_suite({"history"}), "history needs a subcommand: add, list, steps, check, noise or html");
+    expect_one_line_refusal(run_suite({"history"}),
+                            "history needs a subcommand: add, list, steps, check, noise or html");
     expect_one_line_refusal(run_suite({"history", "chek"}), "(did you mean 'check'?)");
-    expect_one_line_refusal(run_suite({"history", "add", "--db", tmp.file("h.sqlite")}), "history add needs at least one result file");
-    expect_one_line_refusal(run_suite({"history", "list", "--db", tmp.file("none.sqlite")}), "no history database there");
+    expect_one_line_refusal(run_suite({"history", "add", "--db", tmp.file("h.sqlite")}),
+                            "history add needs at least one result file");
+    expect_one_line_refusal(run_suite({"history", "list", "--db", tmp.file("none.sqlite")}),
+                            "no history database there");
     EXPECT_TRUE(tmp.entries().empty()) << "a reader created nothing";
     expect_one_line_refusal(run_suite({"histroy"}), "(did you mean 'history'?)");
     Outcome help = run_suite({"history", "--help"});
@@ -181,7 +189,9 @@ TEST(HistoryCli, StepsNamesTheCommitOfAMadeUpStep) {
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.out.find("1 step(s) in 2 series"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find(made_up_commit(10)), std::string::npos) << r.out;
-    EXPECT_TRUE(r.out.find("-19.") != std::string::npos || r.out.find("-20.") != std::string::npos || r.out.find("-21.") != std::string::npos) << r.out;
+    EXPECT_TRUE(r.out.find("-19.") != std::string::npos || r.out.find("-20.") != std::string::npos ||
+                r.out.find("-21.") != std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("worse"), std::string::npos) << r.out;
     expect_one_line_refusal(run_suite({"history", "steps", "--db", db, "--machine", "nowhere"}), "no machine in");
     expect_one_line_refusal(run_suite({"history", "steps", "--db", db, "--kernel", "cpy"}), "(did you mean 'copy'?)");

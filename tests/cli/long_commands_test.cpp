@@ -24,7 +24,8 @@ using namespace suite::test;
 namespace {
 
 // Starts `args`, waits until `first` exists in `dir` (the first ordering is done), sends `sig`.
-Outcome interrupt_after(const std::vector<std::string>& args, const std::string& dir, const std::string& first, int sig) {
+Outcome interrupt_after(const std::vector<std::string>& args, const std::string& dir, const std::string& first,
+                        int sig) {
     int out_fd = -1, err_fd = -1;
     std::vector<std::string> argv = {SUITE_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
@@ -83,8 +84,8 @@ TEST_P(LongCommand, AnInterruptedTraverseKeepsTheOrderingsItFinished) {
     TempDir tmp;
     const std::string dir = tmp.file("t");
     // About 3 s an ordering on the development VM: eight .vtu files of 384 k tetrahedra each.
-    const Outcome r = interrupt_after({"traverse", "--mesh=box:40,40,40", "--ordering=natural,random,morton", "--threads=1-8", "--no-png",
-                                       "--out=" + dir},
+    const Outcome r = interrupt_after({"traverse", "--mesh=box:40,40,40", "--ordering=natural,random,morton",
+                                       "--threads=1-8", "--no-png", "--out=" + dir},
                                       dir, "summary.json", sig);
     ASSERT_EQ(r.status, 128 + sig) << describe(r);
     const int done = finished_orderings(r.err, 3);
@@ -94,9 +95,12 @@ TEST_P(LongCommand, AnInterruptedTraverseKeepsTheOrderingsItFinished) {
     EXPECT_EQ(doc["complete"], false);
     ASSERT_EQ(doc["orderings"].size(), static_cast<std::size_t>(done));
     for (const auto& o : doc["orderings"])
-        for (const auto& t : o["threads"]) EXPECT_TRUE(fs::is_regular_file(dir + "/" + t["vtu"].get<std::string>())) << t.dump();
+        for (const auto& t : o["threads"])
+            EXPECT_TRUE(fs::is_regular_file(dir + "/" + t["vtu"].get<std::string>())) << t.dump();
     expect_no_leftovers(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(Signals, LongCommand, ::testing::Values(SIGINT, SIGTERM),
-                         [](const ::testing::TestParamInfo<int>& i) { return i.param == SIGINT ? std::string("SIGINT") : std::string("SIGTERM"); });
+                         [](const ::testing::TestParamInfo<int>& i) {
+                             return i.param == SIGINT ? std::string("SIGINT") : std::string("SIGTERM");
+                         });

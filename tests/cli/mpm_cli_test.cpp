@@ -28,7 +28,9 @@ const std::string checker = std::string(SUITE_SOURCE_DIR) + "/tests/check_mpm_vt
 
 nlohmann::json read_json(const std::string& path) { return nlohmann::json::parse(std::ifstream(path)); }
 
-std::size_t count_lines(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
+std::size_t count_lines(const std::string& text) {
+    return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
 
 // A small run into `dir`, checked to succeed.
 void small_run(const std::string& dir, const std::vector<std::string>& extra) {
@@ -43,14 +45,20 @@ void small_run(const std::string& dir, const std::vector<std::string>& extra) {
 TEST(MpmCli, SmallRunWritesSnapshotsCsvJsonAndPngThatMeshioReadsBack) {
     TempDir tmp;
     const std::string dir = tmp.file("dam");
-    const Outcome r = run_suite({"mpm", "--case=dam-collapse", "--mesh=box:6,6,6", "--steps=40", "--vtk-every=20", "--out=" + dir}, 120);
+    const Outcome r = run_suite(
+        {"mpm", "--case=dam-collapse", "--mesh=box:6,6,6", "--steps=40", "--vtk-every=20", "--out=" + dir}, 120);
     ASSERT_EQ(r.status, 0) << describe(r);
-    for (const char* name : {"particles_000000.vtu", "particles_000020.vtu", "particles_000040.vtu", "particles.pvd", "front.csv", "mpm.json"})
+    for (const char* name : {"particles_000000.vtu", "particles_000020.vtu", "particles_000040.vtu", "particles.pvd",
+                             "front.csv", "mpm.json"})
         EXPECT_TRUE(fs::is_regular_file(dir + "/" + name)) << name;
     EXPECT_FALSE(fs::exists(dir + "/particles_000010.vtu"));
     // front.csv: a header and one row a step from step 0.
     const std::string csv = slurp(dir + "/front.csv");
-    EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element,top_settlement,stepping_seconds\n", 0), 0u) << csv;
+    EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_"
+                        "element,top_settlement,stepping_seconds\n",
+                        0),
+              0u)
+        << csv;
     EXPECT_EQ(count_lines(csv), 1u + 41u);
     // The PNG: there, a PNG, not empty.
     const std::string png = slurp(dir + "/front.png");
@@ -71,7 +79,8 @@ TEST(MpmCli, SmallRunWritesSnapshotsCsvJsonAndPngThatMeshioReadsBack) {
     EXPECT_EQ(doc["snapshots"].size(), 3u);
     // The summary on stdout names what the brief asks for; the progress lines (stderr is a
     // pipe here) come every tenth of the run.
-    for (const char* word : {"particles", "grid", "dt", "steps", "wall", "per thread", "front", "mass drift", "clamped", "NaN check"})
+    for (const char* word :
+         {"particles", "grid", "dt", "steps", "wall", "per thread", "front", "mass drift", "clamped", "NaN check"})
         EXPECT_NE(r.out.find(word), std::string::npos) << word << "\n" << r.out;
     EXPECT_NE(r.out.find(std::to_string(doc["counts"]["particles"].get<std::size_t>())), std::string::npos) << r.out;
     EXPECT_EQ(count_lines(r.err), 10u) << r.err;
@@ -99,14 +108,16 @@ TEST(MpmCli, HilbertGridAndSortedParticlesEndWhereNaturalAndUnsortedDo) {
 TEST(MpmCli, QuietPrintsNothingAndNoSnapshotsWithVtkEveryZero) {
     TempDir tmp;
     const std::string dir = tmp.file("q");
-    const Outcome r = run_suite({"mpm", "--mesh=box:6,6,6", "--steps=5", "--vtk-every=0", "--no-png", "--quiet", "--out=" + dir}, 60);
+    const Outcome r =
+        run_suite({"mpm", "--mesh=box:6,6,6", "--steps=5", "--vtk-every=0", "--no-png", "--quiet", "--out=" + dir}, 60);
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_EQ(r.out, "");
     EXPECT_EQ(r.err, "");
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
-    EXPECT_EQ(names, (std::vector<std::string>{".suite-files", "front.csv", "mpm.json"})) << "the run's files and their manifest";
+    EXPECT_EQ(names, (std::vector<std::string>{".suite-files", "front.csv", "mpm.json"}))
+        << "the run's files and their manifest";
     EXPECT_EQ(slurp(dir + "/.suite-files"), "suite mpm\nfront.csv\nmpm.json\n");
     EXPECT_TRUE(read_json(dir + "/mpm.json")["files"]["collection"].is_null());
 }
@@ -119,7 +130,8 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
         std::vector<std::string> args = {"mpm"};
         for (const std::string base : {"--mesh=box:6,6,6", "--steps=10"}) {
             const std::string name = base.substr(0, base.find('=') + 1);
-            if (std::none_of(extra.begin(), extra.end(), [&](const std::string& e) { return e.rfind(name, 0) == 0; })) args.push_back(base);
+            if (std::none_of(extra.begin(), extra.end(), [&](const std::string& e) { return e.rfind(name, 0) == 0; }))
+                args.push_back(base);
         }
         if (with_out) args.push_back("--out=" + dir);
         args.insert(args.end(), extra.begin(), extra.end());
@@ -131,20 +143,27 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
         EXPECT_TRUE(r.out.empty()) << describe(r);
         EXPECT_FALSE(fs::exists(dir)) << join(args);
     };
-    refused({"--case=dambreak"}, "unknown case 'dambreak' (did you mean 'dam-break'?); accepted: dam-collapse, dam-break, column");
-    refused({"--case=dam-break", "--column=0.3,1,0.6"}, "--column does not apply to --case=dam-break (a fluid: it takes --sound-speed, --viscosity and --density)");
+    refused({"--case=dambreak"},
+            "unknown case 'dambreak' (did you mean 'dam-break'?); accepted: dam-collapse, dam-break, column");
+    refused({"--case=dam-break", "--column=0.3,1,0.6"},
+            "--column does not apply to --case=dam-break (a fluid: it takes --sound-speed, --viscosity and --density)");
     refused({"--case=dam-break", "--young=1e6"}, "--young does not apply to --case=dam-break");
     refused({"--case=column", "--sound-speed=40"}, "--sound-speed does not apply to --case=column (an elastic solid");
-    refused({"--case=column", "--column=0.5,1,0.5"}, "--column=0.5,1,0.5 with --case=column: the one-dimensional answer needs the layer to fill the box's width");
-    refused({"--particles=unsorted"}, "--particles=unsorted: now called shuffled; particle orders: seeded, shuffled, sorted, dynamic");
+    refused(
+        {"--case=column", "--column=0.5,1,0.5"},
+        "--column=0.5,1,0.5 with --case=column: the one-dimensional answer needs the layer to fill the box's width");
+    refused({"--particles=unsorted"},
+            "--particles=unsorted: now called shuffled; particle orders: seeded, shuffled, sorted, dynamic");
     refused({"--case=dam-break", "--sound-speed=0"}, "--sound-speed=0: the fluid's sound speed must be > 0 (m/s)");
-    refused({"--case=dam-break", "--viscosity=-1"}, "--viscosity=-1: the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
+    refused({"--case=dam-break", "--viscosity=-1"},
+            "--viscosity=-1: the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
     refused({"--poisson=0.5"}, "--poisson=0.5: Poisson's ratio must lie in (-1, 0.5)");
     refused({"--young=0"}, "--young=0: Young's modulus E must be > 0");
     refused({"--young=1e5x"}, "--young=1e5x: expected a finite number");
     refused({"--density=nan"}, "--density=nan: expected a finite number");
     refused({"--ppe=0"}, "--ppe=0: expected a whole number from 1 to 1000");
-    refused({"--column=0.4,0.4,1.5"}, "--column=0.4,0.4,1.5: the material's region [0,0,0] to [0.4,0.4,1.5] is not a box inside the grid's box");
+    refused({"--column=0.4,0.4,1.5"},
+            "--column=0.4,0.4,1.5: the material's region [0,0,0] to [0.4,0.4,1.5] is not a box inside the grid's box");
     refused({"--column=0.4,0.4"}, "--column=0.4,0.4: the material's region [0,X]x[0,Y]x[0,Z] is three finite numbers");
     refused({"--column=0.01,0.01,0.01"}, "--column=0.01,0.01,0.01: the material's region holds no element's centroid");
     refused({"--mesh=disk:refine=2"}, "--mesh=disk:refine=2: the MPM background grid must be made of tetrahedra");
@@ -155,18 +174,24 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
     refused({"--vtk-every=2.5"}, "--vtk-every=2.5: expected a whole number");
     refused({"--sort-every=x"}, "--sort-every=x: expected a whole number");
     refused({"--threads=0"}, "--threads=0: expected a whole number from 1 to 1024");
-    refused({"--threads=65"}, "--threads=65: the partition strategy (the default for more than one thread) takes at most 64 threads");
-    refused({"--ordering=hilbrt"}, "unknown grid ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert");
-    refused({"--particles=sortd"}, "unknown particle order 'sortd' (did you mean 'sorted'?); accepted: seeded, shuffled, sorted, dynamic");
+    refused({"--threads=65"},
+            "--threads=65: the partition strategy (the default for more than one thread) takes at most 64 threads");
+    refused({"--ordering=hilbrt"},
+            "unknown grid ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert");
+    refused({"--particles=sortd"},
+            "unknown particle order 'sortd' (did you mean 'sorted'?); accepted: seeded, shuffled, sorted, dynamic");
     refused({"--strategy=locks"}, "unknown strategy 'locks'; accepted: serial, atomic, colour, partition");
     refused({"--seed=-3"}, "--seed=-3: expected a whole number");
     refused({"--young="}, "--young= has an empty value");
     refused({"--vtk-evry=5"}, "unknown option '--vtk-evry' (did you mean '--vtk-every'?)");
     refused({"--integrator=newmark"}, "--integrator=newmark: not an integrator; accepted: explicit, implicit, static");
-    refused({"--integrator=implicit", "--case=dam-break"}, "--integrator=implicit: the implicit integrators have the elastic material only");
-    refused({"--integrator=implicit", "--newmark=0.2,0.5"}, "--newmark=0.2,0.5: Newmark's β, γ must satisfy 1/2 <= γ <= 2β <= 1");
+    refused({"--integrator=implicit", "--case=dam-break"},
+            "--integrator=implicit: the implicit integrators have the elastic material only");
+    refused({"--integrator=implicit", "--newmark=0.2,0.5"},
+            "--newmark=0.2,0.5: Newmark's β, γ must satisfy 1/2 <= γ <= 2β <= 1");
     refused({"--integrator=implicit", "--newmark=0.25"}, "--newmark=0.25: Newmark's BETA,GAMMA, two numbers");
-    refused({"--integrator=static", "--newmark=0.3,0.5"}, "--newmark applies to --integrator=implicit (static has no inertia)");
+    refused({"--integrator=static", "--newmark=0.3,0.5"},
+            "--newmark applies to --integrator=implicit (static has no inertia)");
     refused({"--solver=cholmod"}, "--solver applies to --integrator=implicit or static, not explicit");
     refused({"--newton-max=3"}, "--newton-max applies to --integrator=implicit or static, not explicit");
     refused({"--integrator=implicit", "--newton-max=0"}, "--newton-max=0: expected a whole number from 1 to 1000");
@@ -181,7 +206,9 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
 TEST(MpmCli, AnImplicitRunRecordsItsNewtonAndAFailedNewtonExitsThree) {
     TempDir tmp;
     const std::string dir = tmp.file("implicit");
-    const Outcome r = run_suite({"mpm", "--integrator=implicit", "--mesh=box:6,6,6", "--steps=8", "--vtk-every=0", "--no-png", "--out=" + dir}, 120);
+    const Outcome r = run_suite(
+        {"mpm", "--integrator=implicit", "--mesh=box:6,6,6", "--steps=8", "--vtk-every=0", "--no-png", "--out=" + dir},
+        120);
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.out.find("integrator     implicit, large strain, cg"), std::string::npos) << r.out;
     const nlohmann::json doc = read_json(dir + "/mpm.json");
@@ -201,14 +228,21 @@ TEST(MpmCli, AnImplicitRunRecordsItsNewtonAndAFailedNewtonExitsThree) {
     EXPECT_NE(std::find(checks.begin(), checks.end(), "total energy"), checks.end()) << join(checks);
     // The explicit run records no implicit part: null, not zeros.
     const std::string plain = tmp.file("explicit");
-    ASSERT_EQ(run_suite({"mpm", "--mesh=box:6,6,6", "--steps=2", "--vtk-every=0", "--no-png", "--out=" + plain}, 60).status, 0);
+    ASSERT_EQ(
+        run_suite({"mpm", "--mesh=box:6,6,6", "--steps=2", "--vtk-every=0", "--no-png", "--out=" + plain}, 60).status,
+        0);
     EXPECT_TRUE(read_json(plain + "/mpm.json")["implicit"].is_null());
     // One Newton iteration cannot reach a nonlinear step's tolerance: status 3, said in one line
     // after the progress, the files written and marked unverified.
     const std::string failed = tmp.file("failed");
-    const Outcome f = run_suite({"mpm", "--integrator=implicit", "--dt=0.2", "--newton-max=1", "--mesh=box:6,6,6", "--steps=5", "--vtk-every=0", "--no-png", "--out=" + failed}, 60);
+    const Outcome f = run_suite({"mpm", "--integrator=implicit", "--dt=0.2", "--newton-max=1", "--mesh=box:6,6,6",
+                                 "--steps=5", "--vtk-every=0", "--no-png", "--out=" + failed},
+                                60);
     ASSERT_EQ(f.status, 3) << describe(f);
-    EXPECT_NE(f.err.find("suite: error: mpm check failed: Newton: step 1 (t = 0 s): Newton did not converge in 1 iterations"), std::string::npos) << f.err;
+    EXPECT_NE(
+        f.err.find("suite: error: mpm check failed: Newton: step 1 (t = 0 s): Newton did not converge in 1 iterations"),
+        std::string::npos)
+        << f.err;
     const nlohmann::json fd = read_json(failed + "/mpm.json");
     EXPECT_EQ(fd["verification"]["passed"], false);
     EXPECT_EQ(fd["complete"], false);
@@ -218,14 +252,16 @@ TEST(MpmCli, AnImplicitRunRecordsItsNewtonAndAFailedNewtonExitsThree) {
 TEST(MpmCli, DryRunChecksEverythingAndWritesNothing) {
     TempDir tmp;
     const std::string dir = tmp.file("dam");
-    const Outcome r = run_suite({"mpm", "--mesh=box:8,8,8", "--steps=100", "--vtk-every=30", "--dry-run", "--out=" + dir}, 60);
+    const Outcome r =
+        run_suite({"mpm", "--mesh=box:8,8,8", "--steps=100", "--vtk-every=30", "--dry-run", "--out=" + dir}, 60);
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.out.find("elements"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("5 snapshot(s)"), std::string::npos) << r.out;  // 0, 30, 60, 90 and the last, 100
     EXPECT_TRUE(r.err.empty()) << r.err;
     EXPECT_TRUE(tmp.entries().empty()) << join(tmp.entries());
     // A dry run still refuses what the run would refuse, the library's checks included.
-    const Outcome bad = run_suite({"mpm", "--mesh=box:8,8,8", "--poisson=0.49999999", "--dt=0.01", "--dry-run", "--out=" + dir}, 60);
+    const Outcome bad =
+        run_suite({"mpm", "--mesh=box:8,8,8", "--poisson=0.49999999", "--dt=0.01", "--dry-run", "--out=" + dir}, 60);
     EXPECT_EQ(bad.status, 2) << describe(bad);
     EXPECT_TRUE(tmp.entries().empty()) << join(tmp.entries());
     const Outcome no_out = run_suite({"mpm", "--mesh=box:6,6,6", "--dry-run"}, 60);
@@ -259,11 +295,15 @@ TEST(MpmCli, ARunForcedPastTheStableStepExitsOneNamingWhatBlewUp) {
     TempDir tmp;
     for (const std::string courant : {"3", "10"}) {
         const std::string dir = tmp.file("blow" + courant);
-        const Outcome r = run_suite({"mpm", "--mesh=box:6,6,6", "--steps=3000", "--vtk-every=0", "--force", "--courant=" + courant, "--no-png", "--out=" + dir}, 120);
+        const Outcome r = run_suite({"mpm", "--mesh=box:6,6,6", "--steps=3000", "--vtk-every=0", "--force",
+                                     "--courant=" + courant, "--no-png", "--out=" + dir},
+                                    120);
         ASSERT_EQ(r.status, 1) << courant << "\n" << describe(r);
         // The error is the last line on stderr, after the progress lines.
         const std::size_t last = r.err.rfind('\n', r.err.size() - 2);
-        EXPECT_EQ(r.err.substr(last == std::string::npos ? 0 : last + 1).rfind("suite: error: mpm check failed: ", 0), 0u) << r.err;
+        EXPECT_EQ(r.err.substr(last == std::string::npos ? 0 : last + 1).rfind("suite: error: mpm check failed: ", 0),
+                  0u)
+            << r.err;
         EXPECT_NE(r.err.find("energy bound: after step"), std::string::npos) << r.err;
         const nlohmann::json doc = read_json(dir + "/mpm.json");
         EXPECT_EQ(doc["complete"], false);
@@ -278,7 +318,9 @@ TEST(MpmCli, AnInterruptedRunKeepsItsFilesAndExits128PlusTheSignal) {
     TempDir tmp;
     const std::string dir = tmp.file("long");
     int out_fd = -1, err_fd = -1;
-    const pid_t pid = spawn({SUITE_BINARY, "mpm", "--mesh=box:6,6,6", "--steps=100000000", "--vtk-every=1000", "--no-png", "--out=" + dir}, out_fd, err_fd);
+    const pid_t pid = spawn(
+        {SUITE_BINARY, "mpm", "--mesh=box:6,6,6", "--steps=100000000", "--vtk-every=1000", "--no-png", "--out=" + dir},
+        out_fd, err_fd);
     // Stopped once it has printed a progress line (a tenth of 10^8 steps is hours: none comes)
     // or, more to the point, once its first snapshot is there: it is stepping.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -298,7 +340,9 @@ TEST(MpmCli, AnInterruptedRunKeepsItsFilesAndExits128PlusTheSignal) {
 TEST(MpmCli, TheDamBreakFlowsAndRecordsHowTheParticlesOrderDecays) {
     TempDir tmp;
     const std::string dir = tmp.file("water");
-    const Outcome r = run_suite({"mpm", "--case=dam-break", "--mesh=box:6,6,6", "--steps=300", "--vtk-every=0", "--no-png", "--out=" + dir}, 120);
+    const Outcome r = run_suite(
+        {"mpm", "--case=dam-break", "--mesh=box:6,6,6", "--steps=300", "--vtk-every=0", "--no-png", "--out=" + dir},
+        120);
     ASSERT_EQ(r.status, 0) << describe(r);
     const nlohmann::json doc = nlohmann::json::parse(slurp(dir + "/mpm.json"));
     EXPECT_EQ(doc["settings"]["case"], "dam-break");
@@ -307,19 +351,22 @@ TEST(MpmCli, TheDamBreakFlowsAndRecordsHowTheParticlesOrderDecays) {
     EXPECT_EQ(doc["settings"]["particles"], "seeded");
     EXPECT_GT(doc["front"]["final"].get<double>(), 0.9) << "the water reached the far wall";
     EXPECT_LT(doc["dt_range"]["min"].get<double>(), doc["dt_range"]["max"].get<double>());
-    EXPECT_GT(doc["locality"]["final"]["mean_curve_gap"].get<double>(), 5 * doc["locality"]["initial"]["mean_curve_gap"].get<double>());
+    EXPECT_GT(doc["locality"]["final"]["mean_curve_gap"].get<double>(),
+              5 * doc["locality"]["initial"]["mean_curve_gap"].get<double>());
     std::vector<std::string> names;
     for (const auto& c : doc["verification"]["checks"]) names.push_back(c["check"]);
-    EXPECT_EQ(names, (std::vector<std::string>{"finite and inside the box", "energy bound", "total energy", "Ritter front", "mass", "nodal mass"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"finite and inside the box", "energy bound", "total energy",
+                                               "Ritter front", "mass", "nodal mass"}));
     EXPECT_NE(r.out.find("suite mpm: dam-break on box:6,6,6"), std::string::npos) << r.out;
 }
 
 TEST(MpmCli, TheKernelsTakeTheCaseAndAWarmUpThatReachesTheMixedFlow) {
     TempDir tmp;
     const std::string out = tmp.file("r.json");
-    const Outcome r = run_suite({"--kernel=mpm-step", "--case=dam-break", "--warm-steps=60", "--mesh=box:6,6,6", "--particles=seeded,sorted",
-                                 "--sort-every=5", "--threads=1", "--reps=2", "--quiet", "--out=" + out},
-                                120);
+    const Outcome r =
+        run_suite({"--kernel=mpm-step", "--case=dam-break", "--warm-steps=60", "--mesh=box:6,6,6",
+                   "--particles=seeded,sorted", "--sort-every=5", "--threads=1", "--reps=2", "--quiet", "--out=" + out},
+                  120);
     ASSERT_EQ(r.status, 0) << describe(r);
     const nlohmann::json doc = read_json(out);
     ASSERT_EQ(doc["results"].size(), 2u);

@@ -26,7 +26,8 @@ using nlohmann::json;
 
 namespace {
 
-const std::vector<std::string> kQuick = {"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=1", "--counters=none", "--energy=none", "--quiet"};
+const std::vector<std::string> kQuick = {"--kernel=copy",   "--size=64KiB",  "--threads=1", "--reps=1",
+                                         "--counters=none", "--energy=none", "--quiet"};
 
 std::vector<std::string> quick(const std::vector<std::string>& more) {
     std::vector<std::string> a = kQuick;
@@ -40,7 +41,8 @@ void expect_refused(const Outcome& r, const std::vector<std::string>& expected) 
     EXPECT_EQ(r.status, 2) << describe(r);
     EXPECT_TRUE(r.out.empty()) << describe(r);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr must be one line\n" << describe(r);
-    for (const auto& s : expected) EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks \"" << s << "\"\n" << describe(r);
+    for (const auto& s : expected)
+        EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks \"" << s << "\"\n" << describe(r);
 }
 
 // Names in `dir` that a write leaves behind when it should not: temporary, probe and lock files.
@@ -48,7 +50,8 @@ std::vector<std::string> leftovers(const fs::path& dir) {
     std::vector<std::string> out;
     for (const auto& e : fs::directory_iterator(dir)) {
         const std::string n = e.path().filename().string();
-        if (n.find(".tmp.") != std::string::npos || n.find(".probe.") != std::string::npos || n.find(".lock") != std::string::npos)
+        if (n.find(".tmp.") != std::string::npos || n.find(".probe.") != std::string::npos ||
+            n.find(".lock") != std::string::npos)
             out.push_back(n);
     }
     return out;
@@ -62,7 +65,7 @@ std::string make_result(const std::string& path) {
 }
 
 bool is_char_device(const std::string& p) {
-    struct stat st{};
+    struct stat st {};
     return lstat(p.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
 }
 
@@ -96,8 +99,10 @@ TEST(Output, CheckMarkdownOverAnInputIsRefusedByInodeAndTheInputStays) {
     const std::string base_text = make_result(base), run_text = make_result(run);
     fs::create_directory(d.file("sub"));
     ASSERT_EQ(link(base.c_str(), d.file("hard.json").c_str()), 0);
-    const std::vector<std::pair<std::string, std::string>> spellings = {
-        {base, "base.json"}, {d.file("sub/../base.json"), "base.json"}, {d.file("hard.json"), "base.json"}, {run, "run.json"}};
+    const std::vector<std::pair<std::string, std::string>> spellings = {{base, "base.json"},
+                                                                        {d.file("sub/../base.json"), "base.json"},
+                                                                        {d.file("hard.json"), "base.json"},
+                                                                        {run, "run.json"}};
     for (const auto& [target, input] : spellings) {
         SCOPED_TRACE(target);
         const Outcome r = run_suite({"check", "--baseline", base, run, "--markdown=" + target});
@@ -114,13 +119,14 @@ TEST(Output, RunOutOverItsMeshFileIsRefused) {
     const std::string mesh = d.file("square.txt");
     {
         std::ofstream f(mesh);
-        f << " 4 vertices in the domain\n Index of vertex | x coordinate | y coordinate\n 0 0 0\n 1 1 0\n 2 1 1\n 3 0 1\n"
+        f << " 4 vertices in the domain\n Index of vertex | x coordinate | y coordinate\n 0 0 0\n 1 1 0\n 2 1 1\n 3 0 "
+             "1\n"
              " 2 faces in the domain\n index of vertex 0 | index of vertex 1 | index of vertex 2\n 0 1 2\n 0 2 3\n";
     }
     const std::string text = slurp(mesh);
     ASSERT_EQ(link(mesh.c_str(), d.file("alias.json").c_str()), 0);
-    const Outcome r = run_suite({"--kernel=sfc-build", "--mesh=file:" + mesh, "--threads=1", "--reps=1", "--counters=none", "--energy=none",
-                                 "--quiet", "--out=" + d.file("alias.json")});
+    const Outcome r = run_suite({"--kernel=sfc-build", "--mesh=file:" + mesh, "--threads=1", "--reps=1",
+                                 "--counters=none", "--energy=none", "--quiet", "--out=" + d.file("alias.json")});
     expect_refused(r, {"--out=" + d.file("alias.json"), "is the same file as the input", mesh});
     EXPECT_EQ(slurp(mesh), text);
     // traverse reads the same mesh: its directory's files are checked against it too, and a
@@ -144,11 +150,12 @@ TEST(Output, SpecialFilesAreRefusedAndLeftAsTheyWere) {
     const std::string target = d.file("target.json");
     const std::string target_text = make_result(target);
     ASSERT_EQ(symlink(target.c_str(), link_path.c_str()), 0);
-    for (const auto& [path, kind] : std::vector<std::pair<std::string, std::string>>{{fifo, "a named pipe (FIFO)"}, {sock, "a socket"}, {link_path, "a symlink"}}) {
+    for (const auto& [path, kind] : std::vector<std::pair<std::string, std::string>>{
+             {fifo, "a named pipe (FIFO)"}, {sock, "a socket"}, {link_path, "a symlink"}}) {
         SCOPED_TRACE(path);
         expect_refused(run_suite(quick({"--out=" + path})), {"--out=" + path, kind, "regular file"});
     }
-    struct stat st{};
+    struct stat st {};
     EXPECT_TRUE(lstat(fifo.c_str(), &st) == 0 && S_ISFIFO(st.st_mode));
     EXPECT_TRUE(lstat(sock.c_str(), &st) == 0 && S_ISSOCK(st.st_mode));
     EXPECT_TRUE(lstat(link_path.c_str(), &st) == 0 && S_ISLNK(st.st_mode));
@@ -165,17 +172,20 @@ TEST(Output, AFileThisUserMayNotWriteIsNotReplaced) {
     fs::permissions(d.path(), fs::perms::all, fs::perm_options::add);  // a writable directory for anyone
     const std::string out = d.file("theirs.json");
     const std::string text = make_result(out);
-    fs::permissions(out, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read, fs::perm_options::replace);
+    fs::permissions(out, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read,
+                    fs::perm_options::replace);
     std::vector<std::string> argv;
     if (geteuid() == 0) argv = {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"};
     argv.push_back(SUITE_BINARY);
     for (const auto& a : quick({"--out=" + out})) argv.push_back(a);
     const Outcome r = run_program(argv, 120);
-    if (r.status != 2 && r.err.find("Permission denied") != std::string::npos && r.err.find("suite:") == std::string::npos)
+    if (r.status != 2 && r.err.find("Permission denied") != std::string::npos &&
+        r.err.find("suite:") == std::string::npos)
         GTEST_SKIP() << "uid 65534 cannot reach the binary here: " << r.err;
     expect_refused(r, {"--out=" + out, "may not write it"});
     EXPECT_EQ(slurp(out), text);
-    EXPECT_EQ(fs::status(out).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    EXPECT_EQ(fs::status(out).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
     EXPECT_TRUE(leftovers(d.path()).empty()) << join(leftovers(d.path()));
 }
 
@@ -185,8 +195,8 @@ TEST(Output, ASecondRunOnTheSameOutputRefusesAtStartNamingTheFirst) {
     TempDir d;
     const std::string out = d.file("r.json");
     int o, e;
-    const pid_t first = spawn({SUITE_BINARY, "--kernel=copy", "--sizes=16KiB,32KiB,64KiB", "--threads=1", "--min-time=0.5", "--counters=none",
-                               "--energy=none", "--quiet", "--out=" + out},
+    const pid_t first = spawn({SUITE_BINARY, "--kernel=copy", "--sizes=16KiB,32KiB,64KiB", "--threads=1",
+                               "--min-time=0.5", "--counters=none", "--energy=none", "--quiet", "--out=" + out},
                               o, e);
     bool locked = false;
     for (int i = 0; i < 400 && !locked; ++i) {

@@ -33,7 +33,10 @@ std::vector<std::string> examples_in(const std::string& file, const std::string&
     while (std::getline(in, line)) {
         if (!section.empty() && line.rfind("## ", 0) == 0) in_section = line == section;
         if (!in_section) continue;
-        if (line.rfind("```", 0) == 0) { in_code = !in_code; continue; }
+        if (line.rfind("```", 0) == 0) {
+            in_code = !in_code;
+            continue;
+        }
         if (in_code && line.rfind("./suite", 0) == 0) lines.push_back(line);
     }
     return lines;

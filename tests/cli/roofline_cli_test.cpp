@@ -34,11 +34,14 @@ struct Measured {
         roof = dir + "/roof.json";
         run = dir + "/run.json";
         peak = dir + "/peak.json";
-        Outcome r = run_suite({"roofline", "--threads=1", "--min-time=0.02", "--dram-size=48MiB", "--no-png", "--out=" + roof});
+        Outcome r =
+            run_suite({"roofline", "--threads=1", "--min-time=0.02", "--dram-size=48MiB", "--no-png", "--out=" + roof});
         EXPECT_EQ(r.status, 0) << r.err;
-        Outcome s = run_suite({"--kernel=triad,latency", "--sizes=64KiB", "--threads=1", "--reps=3", "--quiet", "--out=" + run});
+        Outcome s = run_suite(
+            {"--kernel=triad,latency", "--sizes=64KiB", "--threads=1", "--reps=3", "--quiet", "--out=" + run});
         EXPECT_EQ(s.status, 0) << s.err;
-        Outcome p = run_suite({"--kernel=peak-flops", "--isa=scalar", "--size=4096", "--threads=1", "--reps=3", "--quiet", "--out=" + peak});
+        Outcome p = run_suite({"--kernel=peak-flops", "--isa=scalar", "--size=4096", "--threads=1", "--reps=3",
+                               "--quiet", "--out=" + peak});
         EXPECT_EQ(p.status, 0) << p.err;
     }
 };
@@ -111,13 +114,23 @@ TEST(Roofline, PlacesARunOnItsOwnMachinesCeilingsAndSaysWhatItCannotPlace) {
 TEST(Roofline, PlacementArithmeticOnHandSetCeilings) {
     const Measured& m = measured();
     json roof = json::parse(slurp(m.roof));
-    roof["levels"] = json::array({{{"name", "L1"}, {"capacity_bytes", 16384}, {"instances", 1}, {"pus_per_instance", 1}, {"source", "reported"}},
-                                  {{"name", "L2"}, {"capacity_bytes", 1 << 20}, {"instances", 1}, {"pus_per_instance", 1}, {"source", "reported"}},
-                                  {{"name", "DRAM"}, {"capacity_bytes", nullptr}, {"instances", 1}, {"pus_per_instance", 1}, {"source", "memory"}}});
+    roof["levels"] = json::array(
+        {{{"name", "L1"}, {"capacity_bytes", 16384}, {"instances", 1}, {"pus_per_instance", 1}, {"source", "reported"}},
+         {{"name", "L2"},
+          {"capacity_bytes", 1 << 20},
+          {"instances", 1},
+          {"pus_per_instance", 1},
+          {"source", "reported"}},
+         {{"name", "DRAM"},
+          {"capacity_bytes", nullptr},
+          {"instances", 1},
+          {"pus_per_instance", 1},
+          {"source", "memory"}}});
     auto level = [](const char* name, double gbps) {
         json f = {{"kernel", "load"}, {"gbps", gbps}, {"hardware_gbps", gbps}};
-        return json{{"level", name}, {"footprint_bytes", 4096}, {"gbps", gbps}, {"hardware_gbps", gbps}, {"kernel", "load"},
-                    {"read_only", f}, {"read_write", nullptr}, {"measured", json::array({f})}};
+        return json{
+            {"level", name},    {"footprint_bytes", 4096}, {"gbps", gbps},          {"hardware_gbps", gbps},
+            {"kernel", "load"}, {"read_only", f},          {"read_write", nullptr}, {"measured", json::array({f})}};
     };
     // A triad at 64 KiB is past L1 (16 KiB, reach 32 KiB) and inside L2: held against L2's 1 GB/s.
     roof["ceilings"][0]["bandwidth"] = json::array({level("L1", 1000), level("L2", 1), level("DRAM", 0.5)});

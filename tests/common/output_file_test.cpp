@@ -17,8 +17,8 @@
 
 namespace fs = std::filesystem;
 using namespace suite;
-using suite::test::TempDir;
 using suite::test::slurp;
+using suite::test::TempDir;
 
 namespace {
 
@@ -46,7 +46,7 @@ TEST(OutputFile, WritesReplaceAtomicallyAndKeepTheFileMode) {
         f.write("two\n");
     }
     EXPECT_EQ(slurp(p), "two\n");
-    struct stat st{};
+    struct stat st {};
     ASSERT_EQ(stat(p.c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 0777, 0600u) << "a replaced file keeps its permissions";
     EXPECT_EQ(names(d), (std::vector<std::string>{"r.json"})) << "the lock file goes with the claim";
@@ -71,7 +71,7 @@ TEST(OutputFile, ATargetThatTurnsIntoAFifoAfterTheClaimIsNotWritten) {
     ASSERT_EQ(mkfifo(p.c_str(), 0644), 0);
     const std::string msg = message_of([&] { f.write("x"); });
     EXPECT_NE(msg.find("a named pipe (FIFO)"), std::string::npos) << msg;
-    struct stat st{};
+    struct stat st {};
     EXPECT_TRUE(lstat(p.c_str(), &st) == 0 && S_ISFIFO(st.st_mode));
     EXPECT_EQ(names(d), (std::vector<std::string>{"r.json", "r.json.lock"})) << "no temporary file";
 }

@@ -18,7 +18,9 @@ using namespace suite;
 
 namespace {
 
-void write(const std::string& path, const std::string& content) { std::ofstream(path, std::ios::binary | std::ios::trunc) << content; }
+void write(const std::string& path, const std::string& content) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << content;
+}
 
 }  // namespace
 
@@ -41,7 +43,8 @@ TEST(SysfsFile, AFifoIsRefusedAtOnceNotWaitedOn) {
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
     EXPECT_FALSE(a.ok);
     EXPECT_EQ(a.error, 0);
-    EXPECT_NE(a.reason.find(fifo + " is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos) << a.reason;
+    EXPECT_NE(a.reason.find(fifo + " is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos)
+        << a.reason;
 }
 
 TEST(SysfsFile, DevicesDirectoriesAndLargeFilesAreRefused) {
@@ -63,5 +66,6 @@ TEST(SysfsFile, AMissingFileGivesItsErrno) {
     const AttributeText a = read_attribute(d.file("nothing"));
     EXPECT_FALSE(a.ok);
     EXPECT_EQ(a.error, ENOENT);
-    EXPECT_NE(a.reason.find("cannot read " + d.file("nothing") + ": No such file or directory"), std::string::npos) << a.reason;
+    EXPECT_NE(a.reason.find("cannot read " + d.file("nothing") + ": No such file or directory"), std::string::npos)
+        << a.reason;
 }

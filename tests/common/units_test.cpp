@@ -52,19 +52,23 @@ TEST(ParseBytes, FractionsAreExactAndAWholeNumberOfBytes) {
     EXPECT_NE(refusal([] { parse_bytes("0.3KiB"); }).find("307.2 bytes"), std::string::npos);
     // Never an exception other than UsageError, whatever the digits (std::stod threw out_of_range).
     EXPECT_NE(refusal([] { parse_bytes(std::string(400, '9')); }).find("too large"), std::string::npos);
-    EXPECT_NE(refusal([] { parse_bytes("1000000000000000001"); }).find("at most 1000000000000000000 bytes"), std::string::npos);
+    EXPECT_NE(refusal([] { parse_bytes("1000000000000000001"); }).find("at most 1000000000000000000 bytes"),
+              std::string::npos);
     EXPECT_NE(refusal([] { parse_bytes("0." + std::string(60, '0') + "1KiB"); }), "");
 }
 
 TEST(WholeNumbers, StrictDigitsAndTheRangeInTheMessage) {
     EXPECT_EQ(whole_number("0"), 0u);
     EXPECT_EQ(whole_number("18446744073709551615"), UINT64_MAX);
-    for (const char* bad : {"", "-1", "+1", " 1", "1 ", "1.0", "1e3", "0x10", "18446744073709551616", "99999999999999999999999"})
+    for (const char* bad :
+         {"", "-1", "+1", " 1", "1 ", "1.0", "1e3", "0x10", "18446744073709551616", "99999999999999999999999"})
         EXPECT_FALSE(whole_number(bad).has_value()) << bad;
     EXPECT_FALSE(whole_number("33", 32).has_value());
     EXPECT_EQ(parse_whole("7", "--reps", 1, 10), 7u);
-    EXPECT_EQ(refusal([] { parse_whole("0", "--reps", 1, 10000000); }), "--reps=0: expected a whole number from 1 to 10000000");
-    EXPECT_EQ(refusal([] { parse_whole("40", "--depth", 1, 32, "in 2D"); }), "--depth=40: expected a whole number from 1 to 32 (in 2D)");
+    EXPECT_EQ(refusal([] { parse_whole("0", "--reps", 1, 10000000); }),
+              "--reps=0: expected a whole number from 1 to 10000000");
+    EXPECT_EQ(refusal([] { parse_whole("40", "--depth", 1, 32, "in 2D"); }),
+              "--depth=40: expected a whole number from 1 to 32 (in 2D)");
 }
 
 TEST(ParseSeed, ZeroToTwoToThe64MinusOneExactly) {
@@ -78,7 +82,8 @@ TEST(ParseSeed, ZeroToTwoToThe64MinusOneExactly) {
 
 TEST(ParseNameList, EachNameOnceInTheOrderGiven) {
     EXPECT_EQ(parse_name_list("triad,add", "--kernel"), (std::vector<std::string>{"triad", "add"}));
-    EXPECT_EQ(refusal([] { parse_name_list("add,triad,add", "--kernel"); }), "--kernel=add,triad,add names 'add' twice; give each once");
+    EXPECT_EQ(refusal([] { parse_name_list("add,triad,add", "--kernel"); }),
+              "--kernel=add,triad,add names 'add' twice; give each once");
     EXPECT_NE(refusal([] { parse_name_list("add,", "--kernel"); }).find("empty name"), std::string::npos);
 }
 
@@ -100,13 +105,15 @@ TEST(ParseSizeList, TheSweepFactorIsAPlainDecimalAboveOne) {
 
 TEST(ParseCountList, WholeCountsInTheKernelsUnit) {
     EXPECT_EQ(parse_count("10000", "elements", "sfc-build"), 10000u);
-    EXPECT_EQ(parse_count_list("1000:100000:x10", "elements", "sfc-build"), (std::vector<std::uint64_t>{1000, 10000, 100000}));
+    EXPECT_EQ(parse_count_list("1000:100000:x10", "elements", "sfc-build"),
+              (std::vector<std::uint64_t>{1000, 10000, 100000}));
     for (const char* bad : {"0", "1.5", "1MiB", "-3"}) {
         const std::string m = refusal([&] { parse_count(bad, "elements", "sfc-build"); });
         EXPECT_NE(m.find("for sfc-build, which is sized by a count of elements"), std::string::npos) << m;
         EXPECT_EQ(m.find("byte"), std::string::npos) << m;
     }
-    EXPECT_NE(refusal([] { parse_count_list("10,10", "elements", "sfc-build"); }).find("10 elements twice"), std::string::npos);
+    EXPECT_NE(refusal([] { parse_count_list("10,10", "elements", "sfc-build"); }).find("10 elements twice"),
+              std::string::npos);
 }
 
 TEST(ParseSizeList, LogSweepsAndLists) {
@@ -127,19 +134,29 @@ TEST(ParseThreadList, ListsRangesStepsAndAll) {
     EXPECT_EQ(parse_thread_list("2-8:3", 8), (std::vector<int>{2, 5, 8}));
     EXPECT_EQ(parse_thread_list("all", 8), (std::vector<int>{8}));
     EXPECT_EQ(parse_thread_list("1,all", 8), (std::vector<int>{1, 8}));
-    for (const char* bad : {"0", "9", "", "a", "4-2", "1-4:0", "-1", "1-999999999"}) EXPECT_THROW(parse_thread_list(bad, 8), UsageError) << bad;
+    for (const char* bad : {"0", "9", "", "a", "4-2", "1-4:0", "-1", "1-999999999"})
+        EXPECT_THROW(parse_thread_list(bad, 8), UsageError) << bad;
 }
 
 TEST(ParseThreadList, MessagesNameTheValueAndRepeatsAreRefused) {
-    EXPECT_NE(refusal([] { parse_thread_list("-1", 8); }).find("invalid thread count '-1' in '-1': expected whole numbers from 1 to 8"),
+    EXPECT_NE(refusal([] {
+                  parse_thread_list("-1", 8);
+              }).find("invalid thread count '-1' in '-1': expected whole numbers from 1 to 8"),
               std::string::npos);
     EXPECT_NE(refusal([] { parse_thread_list("1-", 8); }).find("invalid thread range '1-'"), std::string::npos);
     EXPECT_NE(refusal([] { parse_thread_list("1,,2", 8); }).find("empty item"), std::string::npos);
-    EXPECT_NE(refusal([] { parse_thread_list("2,1-4", 8); }).find("thread count 2 is given twice in '2,1-4' (by '2' and '1-4')"), std::string::npos);
+    EXPECT_NE(refusal([] {
+                  parse_thread_list("2,1-4", 8);
+              }).find("thread count 2 is given twice in '2,1-4' (by '2' and '1-4')"),
+              std::string::npos);
     EXPECT_NE(refusal([] { parse_thread_list("8,all", 8); }).find("thread count 8 is given twice"), std::string::npos);
-    EXPECT_NE(refusal([] { parse_thread_list("99999999999999999999999", 8); }).find("is more than the 8 processing units"), std::string::npos);
+    EXPECT_NE(
+        refusal([] { parse_thread_list("99999999999999999999999", 8); }).find("is more than the 8 processing units"),
+        std::string::npos);
     // With a limit other than this machine's PUs, 'all' means nothing and the limit is named.
-    EXPECT_NE(refusal([] { parse_thread_list("2000", 1024, "the most blocks"); }).find("more than 1024: the most blocks"), std::string::npos);
+    EXPECT_NE(
+        refusal([] { parse_thread_list("2000", 1024, "the most blocks"); }).find("more than 1024: the most blocks"),
+        std::string::npos);
     EXPECT_NE(refusal([] { parse_thread_list("1,all", 1024, "the most blocks"); }).find("'all'"), std::string::npos);
 }
 

@@ -11,7 +11,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {
-        const suite::mesh::Mesh m = suite::mesh::read_msh(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.msh");
+        const suite::mesh::Mesh m =
+            suite::mesh::read_msh(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.msh");
         if (m.elements() == 0 || (m.dim != 2 && m.dim != 3) || (m.dim == 3) != !m.z.empty()) std::abort();
         for (auto v : m.conn)
             if (v >= m.vertices()) std::abort();

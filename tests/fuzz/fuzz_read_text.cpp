@@ -11,7 +11,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     try {
-        const suite::mesh::Mesh m = suite::mesh::read_text_mesh(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.txt");
+        const suite::mesh::Mesh m =
+            suite::mesh::read_text_mesh(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.txt");
         if (m.elements() == 0 || m.dim != 2) std::abort();
         for (auto v : m.conn)
             if (v >= m.vertices()) std::abort();

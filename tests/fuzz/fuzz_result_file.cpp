@@ -18,7 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (const auto& p : f.points) {
             if (p.measures.empty()) std::abort();
             for (const auto& m : p.measures)
-                if (!std::isfinite(m.median) || !std::isfinite(m.best) || !std::isfinite(m.noise) || m.noise < 0) std::abort();
+                if (!std::isfinite(m.median) || !std::isfinite(m.best) || !std::isfinite(m.noise) || m.noise < 0)
+                    std::abort();
             (void)p.key.label();
         }
         (void)f.machine_label();

@@ -3,9 +3,9 @@
 // Every input must either parse or throw UsageError; anything else (another exception, a crash,
 // a sanitizer report, a parse whose result breaks the parser's own promises) is a bug.
 // SOURCES: harness/common/units.cpp
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cmath>
 #include <cstdlib>
 #include <string>
 

@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "harness/instruments/counters.hpp"
 #include "harness/common/units.hpp"
+#include "harness/instruments/counters.hpp"
 
 using namespace suite;
 
@@ -61,7 +61,8 @@ TEST(CounterNames, UnknownDuplicateAndMixedNamesAreUsageErrors) {
         }
         return std::string("(accepted)");
     };
-    EXPECT_NE(message("cycles,not-an-event").find("unknown counter event 'not-an-event'"), std::string::npos) << message("cycles,not-an-event");
+    EXPECT_NE(message("cycles,not-an-event").find("unknown counter event 'not-an-event'"), std::string::npos)
+        << message("cycles,not-an-event");
     EXPECT_NE(message("cycles,cycles").find("names 'cycles' twice"), std::string::npos);
     EXPECT_NE(message("default,cycles").find("cannot be combined"), std::string::npos);
     EXPECT_NE(message("cycles,").find("empty event name"), std::string::npos);
@@ -73,7 +74,8 @@ TEST(CounterNames, DefaultKeepsSoftwareEventsAndExplainsWhatItLeftOut) {
     ASSERT_TRUE(sel.requested);
     std::vector<std::string> names;
     for (const auto& e : sel.events) names.push_back(e.name);
-    for (const char* sw : {"task-clock", "page-faults"}) EXPECT_NE(std::find(names.begin(), names.end(), sw), names.end()) << sw;
+    for (const char* sw : {"task-clock", "page-faults"})
+        EXPECT_NE(std::find(names.begin(), names.end(), sw), names.end()) << sw;
     EXPECT_EQ(sel.events.size() + sel.omitted.size(), 9u);
     for (const auto& [name, why] : sel.omitted) EXPECT_FALSE(why.empty()) << name;
     if (!hardware_reason().empty()) {
@@ -175,7 +177,8 @@ TEST(TeamCountersTest, MigrationsAreZeroWhenPinnedAndCountedWhenTheThreadMoves) 
 
 TEST(TeamCountersTest, HardwareEventsAreUnavailableWithTheReasonWithoutAPmu) {
     const std::string why = hardware_reason();
-    if (why.empty()) GTEST_SKIP() << "this machine has a PMU; the e2e test compares hardware counts with perf stat instead";
+    if (why.empty())
+        GTEST_SKIP() << "this machine has a PMU; the e2e test compares hardware counts with perf stat instead";
     const auto sel = parse_counters("cycles,instructions,page-faults", perf_access());
     TeamCounters c(sel.events, 2, perf_access());
     c.start();

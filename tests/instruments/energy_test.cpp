@@ -11,9 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/process.hpp"
 #include "harness/common/units.hpp"
 #include "rapl/energy.hpp"
+#include "tests/process.hpp"
 
 namespace fs = std::filesystem;
 using namespace suite;
@@ -170,7 +170,8 @@ TEST(EnergyMeterTest, AFrozenCounterSaysWhatItRead) {
     ASSERT_NE(p1, nullptr);
     EXPECT_FALSE(p1->available);
     EXPECT_NE(p1->reason.find("did not advance over 2 repetitions"), std::string::npos) << p1->reason;
-    EXPECT_NE(p1->reason.find(t.zone("intel-rapl:1") + " read 262143328850 µJ every time, the counter's maximum (max_energy_range_uj)"),
+    EXPECT_NE(p1->reason.find(t.zone("intel-rapl:1") +
+                              " read 262143328850 µJ every time, the counter's maximum (max_energy_range_uj)"),
               std::string::npos)
         << p1->reason;
     EXPECT_EQ(p1->reason.find("reads 0"), std::string::npos) << p1->reason;
@@ -188,7 +189,8 @@ TEST(Powercap, AFifoIsNotReadAndThatDomainSaysWhy) {
     ASSERT_EQ(sources.size(), 2u) << reason;
     const EnergySource* pkg = find(sources, "package", 0);
     ASSERT_NE(pkg, nullptr);
-    EXPECT_NE(pkg->reason.find("is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos) << pkg->reason;
+    EXPECT_NE(pkg->reason.find("is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos)
+        << pkg->reason;
     EXPECT_TRUE(find(sources, "core", 0)->reason.empty());
     // The same for the zone's name: that zone is listed, unavailable, with the reason.
     fs::remove(t.root + "/class/powercap/intel-rapl:0:0/name");
@@ -211,8 +213,10 @@ TEST(Powercap, ZoneAndSocketNumbersBeyondAnIntAreUnavailableWithTheReason) {
     ASSERT_EQ(sources.size(), 2u) << reason;
     EXPECT_EQ(sources[0].domain, "package");
     EXPECT_FALSE(sources[0].socket.has_value());
-    EXPECT_NE(sources[0].reason.find("'package-99999999999' gives a socket number above 2147483647"), std::string::npos) << sources[0].reason;
-    EXPECT_NE(sources[1].reason.find("powercap zone intel-rapl:0:99999999999 has a number above 2147483647"), std::string::npos)
+    EXPECT_NE(sources[0].reason.find("'package-99999999999' gives a socket number above 2147483647"), std::string::npos)
+        << sources[0].reason;
+    EXPECT_NE(sources[1].reason.find("powercap zone intel-rapl:0:99999999999 has a number above 2147483647"),
+              std::string::npos)
         << sources[1].reason;
     const EnergyMeter m = EnergyMeter::open(EnergyBackend::sysfs, t.root);
     EXPECT_FALSE(m.available());
@@ -292,8 +296,10 @@ TEST(EnergyMeterTest, IdleBaselineIsSubtracted) {
 
 TEST(EnergyMeterTest, PermissionDeniedIsUnavailableWithTheReason) {
     Tree t("intel-2socket");
-    fs::permissions(t.dir.path(), fs::perms::others_read | fs::perms::others_exec, fs::perm_options::add);  // mkdtemp made it 0700
-    for (const char* z : {"intel-rapl:0", "intel-rapl:0:0", "intel-rapl:1", "intel-rapl:1:0"}) fs::permissions(t.zone(z), fs::perms::owner_read);
+    fs::permissions(t.dir.path(), fs::perms::others_read | fs::perms::others_exec,
+                    fs::perm_options::add);  // mkdtemp made it 0700
+    for (const char* z : {"intel-rapl:0", "intel-rapl:0:0", "intel-rapl:1", "intel-rapl:1:0"})
+        fs::permissions(t.zone(z), fs::perms::owner_read);
     // Root reads any file; the check runs as an unprivileged user, like a user since Linux 5.10.
     const pid_t pid = fork();
     ASSERT_GE(pid, 0);
@@ -312,7 +318,8 @@ TEST(EnergyMeterTest, PermissionDeniedIsUnavailableWithTheReason) {
     waitpid(pid, &st, 0);
     ASSERT_TRUE(WIFEXITED(st));
     if (WEXITSTATUS(st) == 3) GTEST_SKIP() << "cannot drop to uid 65534 here to model an unprivileged user";
-    EXPECT_EQ(WEXITSTATUS(st), 0) << "1: not 4 sources, 5: a source without the root-only reason, 6: the meter did not say why";
+    EXPECT_EQ(WEXITSTATUS(st), 0)
+        << "1: not 4 sources, 5: a source without the root-only reason, 6: the meter did not say why";
 }
 
 TEST(PerfPower, EventsScaleAndSocketsAreReadFromTheTree) {

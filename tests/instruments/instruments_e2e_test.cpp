@@ -44,7 +44,8 @@ Outcome run_with_root(const std::string& root, const std::vector<std::string>& a
 
 TEST(InstrumentOptions, UnknownEventIsAUsageErrorBeforeAnythingRuns) {
     TempDir d;
-    const Outcome r = run_suite({"--kernel=triad", "--size=1MiB", "--counters=cycles,no-such-event", "--out=" + d.file("r.json")});
+    const Outcome r =
+        run_suite({"--kernel=triad", "--size=1MiB", "--counters=cycles,no-such-event", "--out=" + d.file("r.json")});
     EXPECT_EQ(r.status, 2) << describe(r);
     EXPECT_NE(r.err.find("unknown counter event 'no-such-event'"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -54,7 +55,8 @@ TEST(InstrumentOptions, UnknownEventIsAUsageErrorBeforeAnythingRuns) {
 TEST(InstrumentOptions, BadEnergyBackendAndBaselineAreUsageErrors) {
     Outcome r = run_suite({"--kernel=triad", "--size=1MiB", "--energy=msr"});
     EXPECT_EQ(r.status, 2) << describe(r);
-    EXPECT_NE(r.err.find("--energy=msr is not a backend; accepted: auto, sysfs, perf, none"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--energy=msr is not a backend; accepted: auto, sysfs, perf, none"), std::string::npos)
+        << r.err;
     r = run_suite({"--kernel=triad", "--size=1MiB", "--energy-baseline=-1"});
     EXPECT_EQ(r.status, 2) << describe(r);
     EXPECT_NE(r.err.find("--energy-baseline"), std::string::npos) << r.err;
@@ -62,8 +64,9 @@ TEST(InstrumentOptions, BadEnergyBackendAndBaselineAreUsageErrors) {
 
 TEST(InstrumentRun, PinnedRunCountsNoMigrationsAndNoFaultsInTheTimedRepetitions) {
     TempDir d;
-    const Outcome r = run_suite({"--kernel=triad", "--size=4MiB", "--threads=1,2", "--pin=compact", "--reps=20",
-                                 "--counters=page-faults,cpu-migrations,context-switches,task-clock", "--out=" + d.file("r.json")});
+    const Outcome r =
+        run_suite({"--kernel=triad", "--size=4MiB", "--threads=1,2", "--pin=compact", "--reps=20",
+                   "--counters=page-faults,cpu-migrations,context-switches,task-clock", "--out=" + d.file("r.json")});
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = load(d.file("r.json"));
     ASSERT_EQ(doc["results"].size(), 2u);
@@ -84,7 +87,9 @@ TEST(InstrumentRun, PinnedRunCountsNoMigrationsAndNoFaultsInTheTimedRepetitions)
         // now and then one or two inside a timed sample (more often on a busy machine): bounded
         // here at 2 per sample, far below the 1024 pages of the 4 MiB arrays, which is what
         // faulting on the arrays would show; exactly 0 in the plain build that make test runs.
-        EXPECT_LE((*event(rec, "page-faults"))["per_call"]["median"].get<double>() * rec["repetitions"]["batch"].get<double>(), 2.0);
+        EXPECT_LE((*event(rec, "page-faults"))["per_call"]["median"].get<double>() *
+                      rec["repetitions"]["batch"].get<double>(),
+                  2.0);
 #else
         EXPECT_EQ((*event(rec, "page-faults"))["per_call"]["median"].get<double>(), 0.0);
 #endif
@@ -108,8 +113,8 @@ TEST(InstrumentRun, EnergyFromAPowercapTreeIsMeasuredPerRepetitionExactly) {
     // has it, moved by a thread of the test): each repetition of several ms sees whole steps of
     // exactly 1 mJ, however many.
     MovingEnergyCounter pkg(root + "/class/powercap/intel-rapl:0/energy_uj", 4000000, 1000);
-    const Outcome r = run_with_root(root, {"--kernel=triad", "--size=64MiB", "--threads=1", "--reps=9", "--energy=sysfs", "--counters=none",
-                                           "--out=" + d.file("r.json")});
+    const Outcome r = run_with_root(root, {"--kernel=triad", "--size=64MiB", "--threads=1", "--reps=9",
+                                           "--energy=sysfs", "--counters=none", "--out=" + d.file("r.json")});
     pkg.stop();
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = load(d.file("r.json"));
@@ -126,7 +131,8 @@ TEST(InstrumentRun, EnergyFromAPowercapTreeIsMeasuredPerRepetitionExactly) {
     // Whole millijoules per repetition: the counter's µJ converted exactly, none lost or invented.
     // (A repetition between two steps measures 0 J; the median one, of several ms, does not.)
     auto whole_mj = [](double joules) { return std::abs(joules * 1e3 - std::round(joules * 1e3)) < 1e-6; };
-    const double min = p["joules_per_call"]["min"].get<double>() * batch, median = p["joules_per_call"]["median"].get<double>() * batch,
+    const double min = p["joules_per_call"]["min"].get<double>() * batch,
+                 median = p["joules_per_call"]["median"].get<double>() * batch,
                  max = p["joules_per_call"]["max"].get<double>() * batch, total = p["joules_total"].get<double>();
     for (double j : {min, median, max, total}) EXPECT_TRUE(whole_mj(j)) << j << " J\n" << p.dump();
     EXPECT_LE(min, median);
@@ -153,7 +159,7 @@ TEST(InstrumentRun, EnergyFromAPowercapTreeIsMeasuredPerRepetitionExactly) {
 TEST(InstrumentRun, NoRaplIsUnavailableWithTheReasonAndANote) {
     TempDir d;
     const Outcome r = run_with_root(kFixtures + "missing", {"--kernel=copy", "--size=1MiB", "--threads=1", "--reps=5",
-                                                          "--energy=sysfs", "--out=" + d.file("r.json")});
+                                                            "--energy=sysfs", "--out=" + d.file("r.json")});
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.err.find("note: energy cannot be measured here"), std::string::npos) << r.err;
     const json doc = load(d.file("r.json"));
@@ -178,19 +184,21 @@ TEST(InstrumentRun, AFifoEnergyFileHangsNothingAndIsUnavailableWithTheReason) {
     setenv("SUITE_SYSFS_ROOT", root.c_str(), 1);
     const Outcome dry = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--energy=sysfs", "--dry-run"}, 20);
     const Outcome info = run_suite({"info"}, 20);
-    const Outcome run = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=3", "--energy=sysfs", "--counters=none",
-                                   "--format=json", "--quiet"},
+    const Outcome run = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=3", "--energy=sysfs",
+                                   "--counters=none", "--format=json", "--quiet"},
                                   60);
     unsetenv("SUITE_SYSFS_ROOT");
     ASSERT_FALSE(dry.timed_out) << describe(dry);
     EXPECT_EQ(dry.status, 0) << describe(dry);
-    EXPECT_NE(dry.err.find("note: energy cannot be measured here: " + root + "/class/powercap/intel-rapl:0/energy_uj is a named pipe (FIFO)"),
+    EXPECT_NE(dry.err.find("note: energy cannot be measured here: " + root +
+                           "/class/powercap/intel-rapl:0/energy_uj is a named pipe (FIFO)"),
               std::string::npos)
         << dry.err;
     ASSERT_FALSE(info.timed_out) << describe(info);
     EXPECT_EQ(info.status, 0) << describe(info);
     EXPECT_NE(info.out.find("energy: not available ("), std::string::npos) << info.out;
-    EXPECT_NE(info.out.find("energy_uj is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos) << info.out;
+    EXPECT_NE(info.out.find("energy_uj is a named pipe (FIFO), which a sysfs attribute never is"), std::string::npos)
+        << info.out;
     ASSERT_FALSE(run.timed_out) << describe(run);
     ASSERT_EQ(run.status, 0) << describe(run);
     const json e = json::parse(run.out)["results"][0]["energy"];
@@ -209,8 +217,8 @@ TEST(InstrumentRun, HugeZoneNumbersLeaveThatMeterUnavailableNotTheRunFailed) {
     std::ofstream(base + "intel-rapl:0/name") << "package-99999999999\n";
     setenv("SUITE_SYSFS_ROOT", root.c_str(), 1);
     const Outcome info = run_suite({"info"}, 60);
-    const Outcome run = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=3", "--energy=sysfs", "--counters=none",
-                                   "--format=json", "--quiet"},
+    const Outcome run = run_suite({"--kernel=copy", "--size=64KiB", "--threads=1", "--reps=3", "--energy=sysfs",
+                                   "--counters=none", "--format=json", "--quiet"},
                                   60);
     unsetenv("SUITE_SYSFS_ROOT");
     EXPECT_EQ(info.status, 0) << describe(info);
@@ -227,8 +235,8 @@ TEST(InstrumentRun, HugeZoneNumbersLeaveThatMeterUnavailableNotTheRunFailed) {
 
 TEST(InstrumentRun, NoneMeansNotRequestedNotZero) {
     TempDir d;
-    const Outcome r = run_suite({"--kernel=copy", "--size=1MiB", "--threads=1", "--reps=5", "--counters=none", "--energy=none",
-                                 "--out=" + d.file("r.json")});
+    const Outcome r = run_suite({"--kernel=copy", "--size=1MiB", "--threads=1", "--reps=5", "--counters=none",
+                                 "--energy=none", "--out=" + d.file("r.json")});
     ASSERT_EQ(r.status, 0) << describe(r);
     const json rec = load(d.file("r.json"))["results"][0];
     EXPECT_EQ(rec["counters"], json({{"available", false}, {"reason", "not requested (--counters=none)"}}));
@@ -261,9 +269,9 @@ TEST(InstrumentHardware, InstructionsAgreeWithPerfStatWithinTwoPercent) {
     auto perf_count = [&](int reps, double& per_call) {
         const std::string n = std::to_string(reps);
         const std::string out = d.file(n + ".json"), stat = d.file(n + ".perf-stat");
-        const Outcome r = run_program({"/usr/bin/perf", "stat", "-x,", "-o", stat, "-e", "instructions:u", SUITE_BINARY, "--kernel=triad",
-                                       "--size=64MiB", "--threads=1", "--reps=" + n, "--counters=instructions:u",
-                                       "--energy=none", "--seed=3", "--out=" + out});
+        const Outcome r = run_program({"/usr/bin/perf", "stat", "-x,", "-o", stat, "-e", "instructions:u", SUITE_BINARY,
+                                       "--kernel=triad", "--size=64MiB", "--threads=1", "--reps=" + n,
+                                       "--counters=instructions:u", "--energy=none", "--seed=3", "--out=" + out});
         EXPECT_EQ(r.status, 0) << describe(r);
         const json rec = load(out)["results"][0];
         EXPECT_EQ(rec["repetitions"]["batch"], 1) << "64 MiB should take over a millisecond a call";
@@ -277,5 +285,6 @@ TEST(InstrumentHardware, InstructionsAgreeWithPerfStatWithinTwoPercent) {
     double per_call_a = 0, per_call_b = 0;
     const double a = perf_count(10, per_call_a), b = perf_count(50, per_call_b);
     const double perf_per_call = (b - a) / 40.0;
-    EXPECT_NEAR(per_call_b, perf_per_call, 0.02 * perf_per_call) << "suite " << per_call_b << ", perf stat " << perf_per_call;
+    EXPECT_NEAR(per_call_b, perf_per_call, 0.02 * perf_per_call)
+        << "suite " << per_call_b << ", perf stat " << perf_per_call;
 }

@@ -26,18 +26,22 @@ void write(const std::string& path, const std::string& text) {
 }
 
 // A /proc with two CPUs and two threads of this process.
-void fake_proc(const std::string& root, std::uint64_t busy0, std::uint64_t idle0, std::uint64_t steal0, double wait_ns) {
+void fake_proc(const std::string& root, std::uint64_t busy0, std::uint64_t idle0, std::uint64_t steal0,
+               double wait_ns) {
     write(root + "/stat",
           "cpu  900 0 300 5000 10 0 5 40 0 0\n"
-          "cpu0 " + std::to_string(busy0) + " 0 0 " + std::to_string(idle0) + " 0 0 0 " + std::to_string(steal0) + " 0 0\n"
-          "cpu1 100 10 20 3000 5 1 2 7 0 0\n"
-          "intr 12345 0 0\n");
+          "cpu0 " +
+              std::to_string(busy0) + " 0 0 " + std::to_string(idle0) + " 0 0 0 " + std::to_string(steal0) +
+              " 0 0\n"
+              "cpu1 100 10 20 3000 5 1 2 7 0 0\n"
+              "intr 12345 0 0\n");
     write(root + "/loadavg", "1.25 0.80 0.40 3/200 4242\n");
     write(root + "/self/task/10/schedstat", "5000000 " + std::to_string(static_cast<long long>(wait_ns)) + " 12\n");
     write(root + "/self/task/11/schedstat", "7000000 1000000 3\n");
 }
 
-LoadSnapshot snapshot(double wall, std::uint64_t busy, std::uint64_t idle, std::uint64_t steal, double process_cpu_s, double run_delay_s) {
+LoadSnapshot snapshot(double wall, std::uint64_t busy, std::uint64_t idle, std::uint64_t steal, double process_cpu_s,
+                      double run_delay_s) {
     LoadSnapshot s;
     s.have_stat = true;
     s.cpus = {busy, idle, steal};
@@ -123,7 +127,8 @@ TEST(MachineLoad, EachThresholdFlagsThePointWithItsReason) {
     EXPECT_NE(waited.reasons.at(0).text.find("waited for a CPU 20%"), std::string::npos) << waited.reasons[0].text;
 
     // Repetitions that spread: half of them 30 % slower.
-    const Stability spread = assess_stability(b, snapshot(11.0, 1195, 1005, 0, 6.9, 0.0), {1.0, 1.3, 1.0, 1.3, 1.0, 1.3}, 2);
+    const Stability spread =
+        assess_stability(b, snapshot(11.0, 1195, 1005, 0, 6.9, 0.0), {1.0, 1.3, 1.0, 1.3, 1.0, 1.3}, 2);
     ASSERT_TRUE(spread.unstable);
     EXPECT_GT(spread.spread, 0.10);
     EXPECT_NE(spread.reasons.at(0).text.find("the repetitions spread"), std::string::npos) << spread.reasons[0].text;

@@ -38,9 +38,7 @@ public:
             if (y_[i] != static_cast<double>(order_[i])) v.passed = false;
         return v;
     }
-    Work work() const override {
-        return {static_cast<double>(n_), 24.0 * n_, 24.0 * n_, 0, n_ * 24};
-    }
+    Work work() const override { return {static_cast<double>(n_), 24.0 * n_, 24.0 * n_, 0, n_ * 24}; }
 
 private:
     KernelConfig cfg_;

@@ -4,8 +4,8 @@
 
 #include <omp.h>
 
-#include "harness/measure/runner.hpp"
 #include "harness/common/units.hpp"
+#include "harness/measure/runner.hpp"
 
 using namespace suite;
 

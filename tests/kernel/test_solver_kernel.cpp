@@ -53,8 +53,8 @@ public:
         }
         if (iterations_ >= solver_max_iterations) {
             v.solver_failed = true;
-            v.detail = "no convergence after " + std::to_string(solver_max_iterations) + " iterations (delta=" + format_number(delta_) +
-                       ", which must be between -1 and 1)";
+            v.detail = "no convergence after " + std::to_string(solver_max_iterations) +
+                       " iterations (delta=" + format_number(delta_) + ", which must be between -1 and 1)";
             return v;
         }
         v.passed = true;
@@ -64,7 +64,8 @@ public:
             v.max_error = std::max(v.max_error, err);
             if (err > 10 * tol_ * std::fabs(b_[i]) && v.passed) {
                 v.passed = false;
-                v.detail += "; x[" + std::to_string(i) + "] = " + std::to_string(x_[i]) + ", expected " + std::to_string(expected);
+                v.detail += "; x[" + std::to_string(i) + "] = " + std::to_string(x_[i]) + ", expected " +
+                            std::to_string(expected);
             }
         }
         return v;
@@ -73,7 +74,9 @@ public:
     Work work() const override { return {static_cast<double>(n_), 16.0 * n_, 16.0 * n_, 2.0 * n_, n_ * 16}; }
 
     std::vector<Fact> facts() const override {
-        return {{"x0", n_ ? x_[0] : 0.0, ""}, {"iterations", static_cast<double>(iterations_), ""}, {"rows", static_cast<double>(n_), "rows"}};
+        return {{"x0", n_ ? x_[0] : 0.0, ""},
+                {"iterations", static_cast<double>(iterations_), ""},
+                {"rows", static_cast<double>(n_), "rows"}};
     }
 
 private:
@@ -104,7 +107,8 @@ private:
 void validate(const KernelConfig& cfg) {
     const double delta = cfg.param("delta"), tol = cfg.param("tol");
     if (!(delta > -1)) throw UsageError("--delta=" + format_number(delta) + ": test-solve needs delta above -1");
-    if (!(tol > 0 && tol < 1)) throw UsageError("--tol=" + format_number(tol) + ": test-solve needs a tolerance between 0 and 1");
+    if (!(tol > 0 && tol < 1))
+        throw UsageError("--tol=" + format_number(tol) + ": test-solve needs a tolerance between 0 and 1");
 }
 
 const bool registered = [] {

@@ -42,9 +42,11 @@ struct Global {
 Global global_problem(const std::string& spec, const std::string& ordering) {
     Global g;
     g.mesh = load_fem_mesh(spec, ordering, 1);
-    const std::int64_t nv = static_cast<std::int64_t>(g.mesh.vertices()), ne = static_cast<std::int64_t>(g.mesh.elements());
+    const std::int64_t nv = static_cast<std::int64_t>(g.mesh.vertices()),
+                       ne = static_cast<std::int64_t>(g.mesh.elements());
     g.csr = assemble_reference({nv, ne, g.mesh.x.data(), g.mesh.y.data(), g.mesh.conn.data()}, 0.05);
-    for (std::int64_t i = 0; i < nv; ++i) g.x.push_back(1.0 + 0.5 * g.mesh.x[static_cast<std::size_t>(i)] - 0.25 * g.mesh.y[static_cast<std::size_t>(i)]);
+    for (std::int64_t i = 0; i < nv; ++i)
+        g.x.push_back(1.0 + 0.5 * g.mesh.x[static_cast<std::size_t>(i)] - 0.25 * g.mesh.y[static_cast<std::size_t>(i)]);
     return g;
 }
 
@@ -53,7 +55,8 @@ struct Path {
     std::vector<std::uint32_t> row_ptr{0}, col;
     explicit Path(int n) {
         for (int i = 0; i < n; ++i) {
-            for (int j = std::max(0, i - 1); j <= std::min(n - 1, i + 1); ++j) col.push_back(static_cast<std::uint32_t>(j));
+            for (int j = std::max(0, i - 1); j <= std::min(n - 1, i + 1); ++j)
+                col.push_back(static_cast<std::uint32_t>(j));
             row_ptr.push_back(static_cast<std::uint32_t>(col.size()));
         }
     }
@@ -65,9 +68,12 @@ struct Rank {
     LocalMatrix lm;
     DistributedSolver solver;
     Rank(const Comm& comm, Global& g, PartitionScheme s)
-        : lm(local_matrix(g.pattern(), g.csr.a.data(), g.csr.m.data(), make_partition(s, g.pattern(), comm.size(), 1), comm.rank())),
+        : lm(local_matrix(g.pattern(), g.csr.a.data(), g.csr.m.data(), make_partition(s, g.pattern(), comm.size(), 1),
+                          comm.rank())),
           solver(comm, {lm.pattern(), lm.a.data(), lm.m.data(), lm.halo}, HaloExchange(lm.owned, lm.links)) {}
-    std::vector<double> vec(bool with_halo) const { return std::vector<double>(static_cast<std::size_t>(lm.owned + (with_halo ? lm.halo : 0))); }
+    std::vector<double> vec(bool with_halo) const {
+        return std::vector<double>(static_cast<std::size_t>(lm.owned + (with_halo ? lm.halo : 0)));
+    }
 };
 
 int serial_cg_iterations(Global& g, std::vector<double>& f) {
@@ -79,7 +85,8 @@ int serial_cg_iterations(Global& g, std::vector<double>& f) {
 #pragma omp parallel num_threads(1)
     {
         TeamSum sum(partial.data());
-        out = cg_team(g.pattern(), g.csr.a.data(), f.data(), x.data(), {r.data(), p.data(), q.data()}, 1e-10, 100000, sum, {0, static_cast<std::int64_t>(n)});
+        out = cg_team(g.pattern(), g.csr.a.data(), f.data(), x.data(), {r.data(), p.data(), q.data()}, 1e-10, 100000,
+                      sum, {0, static_cast<std::int64_t>(n)});
     }
     EXPECT_TRUE(out.converged);
     return out.iterations;
@@ -92,8 +99,9 @@ double serial_lambda(Global& g) {
 #pragma omp parallel num_threads(1)
     {
         TeamSum sum(partial.data());
-        out = inverse_iteration_team(g.pattern(), g.csr.a.data(), g.csr.m.data(), {u.data(), f.data(), au.data(), mu.data(), {r.data(), p.data(), q.data()}},
-                                     1e-8, 1e-10, 100000, sum, {0, static_cast<std::int64_t>(n)});
+        out = inverse_iteration_team(g.pattern(), g.csr.a.data(), g.csr.m.data(),
+                                     {u.data(), f.data(), au.data(), mu.data(), {r.data(), p.data(), q.data()}}, 1e-8,
+                                     1e-10, 100000, sum, {0, static_cast<std::int64_t>(n)});
     }
     EXPECT_TRUE(out.converged && !out.cg_failed);
     return out.lambda;
@@ -112,21 +120,30 @@ TEST(FemDistPartition, CurveAndMetisCoverEveryRowOnce) {
             std::vector<int> seen(static_cast<std::size_t>(p.n), 0);
             for (int q = 0; q < parts; ++q) {
                 EXPECT_GT(part.rows_of(q), 0) << what << " part " << q;
-                for (std::int64_t at = part.offsets[static_cast<std::size_t>(q)]; at < part.offsets[static_cast<std::size_t>(q) + 1]; ++at) {
+                for (std::int64_t at = part.offsets[static_cast<std::size_t>(q)];
+                     at < part.offsets[static_cast<std::size_t>(q) + 1]; ++at) {
                     const std::uint32_t row = part.order[static_cast<std::size_t>(at)];
                     ++seen[row];
                     EXPECT_EQ(part.part_of[row], q) << what << " row " << row;
                     // Rows keep their relative order inside a part; the curve keeps the numbering itself.
-                    if (at > part.offsets[static_cast<std::size_t>(q)]) { EXPECT_LT(part.order[static_cast<std::size_t>(at) - 1], row) << what; }
-                    if (s == PartitionScheme::curve) { EXPECT_EQ(row, at) << what; }
+                    if (at > part.offsets[static_cast<std::size_t>(q)]) {
+                        EXPECT_LT(part.order[static_cast<std::size_t>(at) - 1], row) << what;
+                    }
+                    if (s == PartitionScheme::curve) {
+                        EXPECT_EQ(row, at) << what;
+                    }
                 }
             }
             EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; })) << what;
             // Both balance nonzeros: the curve to a row (about 7 entries), METIS to its 3 % tolerance.
             const PartitionQuality qual = partition_quality(p, part);
-            EXPECT_EQ(std::accumulate(qual.nnz.begin(), qual.nnz.end(), std::int64_t{0}), static_cast<std::int64_t>(p.nnz())) << what;
+            EXPECT_EQ(std::accumulate(qual.nnz.begin(), qual.nnz.end(), std::int64_t{0}),
+                      static_cast<std::int64_t>(p.nnz()))
+                << what;
             EXPECT_LT(qual.imbalance_nnz, s == PartitionScheme::curve ? 1.02 : 1.06) << what;
-            if (parts == 1) { EXPECT_EQ(qual.edge_cut, 0) << what; }
+            if (parts == 1) {
+                EXPECT_EQ(qual.edge_cut, 0) << what;
+            }
             // Every rank's local matrix holds its rows and nothing else.
             std::int64_t owned = 0;
             for (int q = 0; q < parts; ++q) owned += local_matrix(p, nullptr, nullptr, part, q).owned;
@@ -141,8 +158,8 @@ TEST(FemDistPartition, QualityOfAPathCountedByHand) {
     const Partition three = curve_partition(p, 3);
     EXPECT_EQ(three.offsets, (std::vector<std::int64_t>{0, 2, 4, 6}));
     const PartitionQuality q3 = partition_quality(p, three);
-    EXPECT_EQ(q3.edge_cut, 2);                                       // 1-2 and 3-4
-    EXPECT_EQ(q3.halo, (std::vector<std::int64_t>{1, 2, 1}));        // {2}, {1, 4}, {3}
+    EXPECT_EQ(q3.edge_cut, 2);                                 // 1-2 and 3-4
+    EXPECT_EQ(q3.halo, (std::vector<std::int64_t>{1, 2, 1}));  // {2}, {1, 4}, {3}
     EXPECT_EQ(q3.neighbours, (std::vector<std::int64_t>{1, 2, 1}));
     EXPECT_EQ(q3.nnz, (std::vector<std::int64_t>{5, 6, 5}));
     EXPECT_DOUBLE_EQ(q3.imbalance_rows, 1.0);
@@ -191,12 +208,14 @@ TEST(FemDistSpmv, EqualsTheSerialProductBitForBit) {
         spmv_rows(g.pattern(), g.csr.a.data(), g.x.data(), y.data(), 0, g.pattern().n);
         for (PartitionScheme s : {PartitionScheme::curve, PartitionScheme::metis})
             for (int ranks = 1; ranks <= 4; ++ranks) {
-                std::vector<std::int64_t> mismatches(static_cast<std::size_t>(ranks), -1), wrong_halo(static_cast<std::size_t>(ranks), -1);
+                std::vector<std::int64_t> mismatches(static_cast<std::size_t>(ranks), -1),
+                    wrong_halo(static_cast<std::size_t>(ranks), -1);
                 run_ranks(ranks, [&](const Comm& comm) {
                     omp_set_num_threads(1 + comm.rank() % 2);  // the team inside a rank must not matter either
                     Rank r(comm, g, s);
                     std::vector<double> x = r.vec(true), yd = r.vec(false);
-                    for (std::int64_t i = 0; i < r.lm.owned; ++i) x[static_cast<std::size_t>(i)] = g.x[r.lm.global[static_cast<std::size_t>(i)]];
+                    for (std::int64_t i = 0; i < r.lm.owned; ++i)
+                        x[static_cast<std::size_t>(i)] = g.x[r.lm.global[static_cast<std::size_t>(i)]];
                     r.solver.spmv(r.lm.a.data(), x.data(), yd.data());
                     std::int64_t bad = 0, halo = 0;
                     for (std::size_t i = 0; i < yd.size(); ++i) bad += yd[i] != y[r.lm.global[i]];
@@ -205,8 +224,10 @@ TEST(FemDistSpmv, EqualsTheSerialProductBitForBit) {
                     wrong_halo[static_cast<std::size_t>(comm.rank())] = halo;
                 });
                 for (int q = 0; q < ranks; ++q) {
-                    EXPECT_EQ(mismatches[static_cast<std::size_t>(q)], 0) << ordering << " " << partition_scheme_name(s) << " ranks=" << ranks << " rank " << q;
-                    EXPECT_EQ(wrong_halo[static_cast<std::size_t>(q)], 0) << ordering << " " << partition_scheme_name(s) << " ranks=" << ranks << " rank " << q;
+                    EXPECT_EQ(mismatches[static_cast<std::size_t>(q)], 0)
+                        << ordering << " " << partition_scheme_name(s) << " ranks=" << ranks << " rank " << q;
+                    EXPECT_EQ(wrong_halo[static_cast<std::size_t>(q)], 0)
+                        << ordering << " " << partition_scheme_name(s) << " ranks=" << ranks << " rank " << q;
                 }
             }
     }
@@ -223,13 +244,16 @@ TEST(FemDistCg, ConvergesInTheSerialCountWithinOne) {
             run_ranks(ranks, [&](const Comm& comm) {
                 omp_set_num_threads(1);
                 Rank r(comm, g, s);
-                std::vector<double> x = r.vec(true), fd = r.vec(false), rv = r.vec(false), p = r.vec(true), q = r.vec(false), ax = r.vec(false);
-                for (std::int64_t i = 0; i < r.lm.owned; ++i) fd[static_cast<std::size_t>(i)] = f[r.lm.global[static_cast<std::size_t>(i)]];
+                std::vector<double> x = r.vec(true), fd = r.vec(false), rv = r.vec(false), p = r.vec(true),
+                                    q = r.vec(false), ax = r.vec(false);
+                for (std::int64_t i = 0; i < r.lm.owned; ++i)
+                    fd[static_cast<std::size_t>(i)] = f[r.lm.global[static_cast<std::size_t>(i)]];
                 const CgResult out = r.solver.cg(fd.data(), x.data(), {rv.data(), p.data(), q.data()}, 1e-10, 100000);
                 // The true residual, by another distributed product.
                 r.solver.spmv(r.lm.a.data(), x.data(), ax.data());
                 std::array<double, 2> s2{0, 0};
-                for (std::size_t i = 0; i < ax.size(); ++i) s2[0] += (fd[i] - ax[i]) * (fd[i] - ax[i]), s2[1] += fd[i] * fd[i];
+                for (std::size_t i = 0; i < ax.size(); ++i)
+                    s2[0] += (fd[i] - ax[i]) * (fd[i] - ax[i]), s2[1] += fd[i] * fd[i];
                 comm.sum(s2);
                 its[static_cast<std::size_t>(comm.rank())] = out.converged ? out.iterations : -1;
                 residual[static_cast<std::size_t>(comm.rank())] = std::sqrt(s2[0] / s2[1]);
@@ -248,19 +272,24 @@ TEST(FemDistEigen, LambdaEqualsTheSerialInverseIteration) {
     const double serial = serial_lambda(g);
     for (PartitionScheme s : {PartitionScheme::curve, PartitionScheme::metis})
         for (int ranks = 1; ranks <= 4; ++ranks) {
-            if (s == PartitionScheme::metis && ranks != 3) continue;  // one METIS case: the curve's cover the rank counts
+            if (s == PartitionScheme::metis && ranks != 3)
+                continue;  // one METIS case: the curve's cover the rank counts
             std::vector<double> lambda(static_cast<std::size_t>(ranks), 0);
             run_ranks(ranks, [&](const Comm& comm) {
                 omp_set_num_threads(1);
                 Rank r(comm, g, s);
-                std::vector<double> u = r.vec(true), f = r.vec(false), au = r.vec(false), mu = r.vec(false), rv = r.vec(false), p = r.vec(true), q = r.vec(false);
-                const EigenResult e = r.solver.inverse_iteration({u.data(), f.data(), au.data(), mu.data(), {rv.data(), p.data(), q.data()}}, 1e-8, 1e-10, 100000);
-                lambda[static_cast<std::size_t>(comm.rank())] = e.converged && !e.cg_failed && e.residual < 1e-3 ? e.lambda : NAN;
+                std::vector<double> u = r.vec(true), f = r.vec(false), au = r.vec(false), mu = r.vec(false),
+                                    rv = r.vec(false), p = r.vec(true), q = r.vec(false);
+                const EigenResult e = r.solver.inverse_iteration(
+                    {u.data(), f.data(), au.data(), mu.data(), {rv.data(), p.data(), q.data()}}, 1e-8, 1e-10, 100000);
+                lambda[static_cast<std::size_t>(comm.rank())] =
+                    e.converged && !e.cg_failed && e.residual < 1e-3 ? e.lambda : NAN;
             });
             for (int q = 0; q < ranks; ++q) {
                 EXPECT_EQ(lambda[static_cast<std::size_t>(q)], lambda[0]) << "the ranks' λ must agree to the bit";
                 EXPECT_LE(std::fabs(lambda[static_cast<std::size_t>(q)] - serial), 1e-7 * std::fabs(serial))
-                    << partition_scheme_name(s) << " ranks=" << ranks << ": λ " << lambda[static_cast<std::size_t>(q)] << ", serial " << serial;
+                    << partition_scheme_name(s) << " ranks=" << ranks << ": λ " << lambda[static_cast<std::size_t>(q)]
+                    << ", serial " << serial;
             }
         }
 }
@@ -313,7 +342,9 @@ TEST(FemDistKernel, EveryKernelVerifiesOnTwoRanksAndFailsBeforeItRan) {
         EXPECT_EQ(ranks_fact, (std::vector<double>{2, 2})) << name;
         const Global g = global_problem(disk, "hilbert");
         EXPECT_EQ(rows[0] + rows[1], static_cast<double>(g.mesh.vertices())) << name;
-        if (std::string(name) == "fem-spmv-dist") { EXPECT_EQ(units[0] + units[1], static_cast<double>(g.csr.col.size())) << name; }
+        if (std::string(name) == "fem-spmv-dist") {
+            EXPECT_EQ(units[0] + units[1], static_cast<double>(g.csr.col.size())) << name;
+        }
     }
 }
 

@@ -49,13 +49,17 @@ TEST(FemCli, MeshesTheProblemCannotUseAreRefused) {
     const std::string isolated = dir.file("isolated.txt"), folded = dir.file("folded.txt");
     const std::string head = " 5 vertices in the domain\n header\n 0 0 0\n 1 1 0\n 2 1 1\n 3 0 1\n 4 5 5\n";
     write_file(isolated, head + " 2 faces in the domain\n header\n 0 1 2\n 0 2 3\n");
-    write_file(folded, " 4 vertices in the domain\n header\n 0 0 0\n 1 1 0\n 2 1 1\n 3 0 1\n 2 faces in the domain\n header\n 0 1 2\n 0 3 2\n");
+    write_file(folded,
+               " 4 vertices in the domain\n header\n 0 0 0\n 1 1 0\n 2 1 1\n 3 0 1\n 2 faces in the domain\n header\n "
+               "0 1 2\n 0 3 2\n");
     expect_usage_error(run_suite({"--kernel=fem-assembly", "--mesh=file:" + isolated, out}),
                        "--mesh=file:" + isolated +
-                           ": vertex 4 belongs to no triangle (an isolated vertex leaves the mass matrix singular); remove it from the mesh");
+                           ": vertex 4 belongs to no triangle (an isolated vertex leaves the mass matrix singular); "
+                           "remove it from the mesh");
     expect_usage_error(run_suite({"--kernel=fem-spmv", "--mesh=file:" + folded, out}),
                        "--mesh=file:" + folded +
-                           ": triangle 1 is inverted (clockwise, triangle 0 the other way round); every triangle must have the same orientation");
+                           ": triangle 1 is inverted (clockwise, triangle 0 the other way round); every triangle must "
+                           "have the same orientation");
     const Outcome tets = run_suite({"--kernel=fem-pattern", "--mesh=box:2,2,2", out});
     EXPECT_EQ(tets.status, 2) << describe(tets);
     EXPECT_NE(tets.err.find("need a triangle mesh"), std::string::npos) << describe(tets);
@@ -65,10 +69,12 @@ TEST(FemCli, MeshesTheProblemCannotUseAreRefused) {
 TEST(FemCli, CgStoppedByItsLimitIsASolverFailureWithStatus3) {
     TempDir dir;
     const std::string file = dir.file("r.json");
-    const Outcome r = run_suite({"--kernel=fem-cg", circle, "--cg-max=3", "--threads=1", "--reps=1", "--quiet", "--out=" + file});
+    const Outcome r =
+        run_suite({"--kernel=fem-cg", circle, "--cg-max=3", "--threads=1", "--reps=1", "--quiet", "--out=" + file});
     EXPECT_EQ(r.status, 3) << describe(r);
     EXPECT_NE(r.err.find("solver failed: "), std::string::npos) << describe(r);
-    EXPECT_NE(r.err.find("did not reach --cg-tol=1e-10 within --cg-max=3 iterations"), std::string::npos) << describe(r);
+    EXPECT_NE(r.err.find("did not reach --cg-tol=1e-10 within --cg-max=3 iterations"), std::string::npos)
+        << describe(r);
     const Outcome valid = validate_against_schema(file);
     EXPECT_EQ(valid.status, 0) << describe(valid);
     const auto doc = nlohmann::json::parse(slurp(file));

@@ -33,10 +33,11 @@ struct Problem {
 Problem problem(const std::string& ordering) {
     Problem p;
     p.mesh = load_fem_mesh(circle, ordering, 1);
-    const MeshArrays arrays{static_cast<std::int64_t>(p.mesh.vertices()), static_cast<std::int64_t>(p.mesh.elements()), p.mesh.x.data(),
-                            p.mesh.y.data(), p.mesh.conn.data()};
+    const MeshArrays arrays{static_cast<std::int64_t>(p.mesh.vertices()), static_cast<std::int64_t>(p.mesh.elements()),
+                            p.mesh.x.data(), p.mesh.y.data(), p.mesh.conn.data()};
     p.csr = assemble_reference(arrays, 0.05);
-    for (std::size_t i = 0; i < p.mesh.vertices(); ++i) p.x.push_back(1.0 + 0.5 * p.mesh.x[i] - 0.25 * p.mesh.y[i] + 0.01 * static_cast<double>(i % 7));
+    for (std::size_t i = 0; i < p.mesh.vertices(); ++i)
+        p.x.push_back(1.0 + 0.5 * p.mesh.x[i] - 0.25 * p.mesh.y[i] + 0.01 * static_cast<double>(i % 7));
     return p;
 }
 
@@ -46,7 +47,8 @@ std::vector<double> team_product(const SymmetricMatrix& s, const std::vector<dou
     std::vector<int> rows_seen(x.size(), 0);
 #pragma omp parallel num_threads(threads)
     {
-        symmetric_product_team(s.pattern, s.values(), x.data(), y.data(), [&](std::int64_t i, double) { ++rows_seen[static_cast<std::size_t>(i)]; });
+        symmetric_product_team(s.pattern, s.values(), x.data(), y.data(),
+                               [&](std::int64_t i, double) { ++rows_seen[static_cast<std::size_t>(i)]; });
     }
     for (std::size_t i = 0; i < x.size(); ++i) EXPECT_EQ(rows_seen[i], 1) << "on_row must be called once for row " << i;
     return y;
@@ -75,7 +77,8 @@ TEST(FemSymmetric, EveryEntryIsAppliedOnceWhateverTheWindow) {
     std::int64_t fit = 0, fit_one_less = 0;
     for (std::int64_t i = 0; i < full.n; ++i) {
         std::int64_t upper = 0;
-        for (std::uint32_t k = full.row_ptr[i]; k < full.row_ptr[i + 1]; ++k) upper += full.col[k] > i && full.col[k] - i < 256;
+        for (std::uint32_t k = full.row_ptr[i]; k < full.row_ptr[i + 1]; ++k)
+            upper += full.col[k] > i && full.col[k] - i < 256;
         near += 1 + std::min<std::int64_t>(upper, c.slots);
         fit += upper <= c.slots;
         fit_one_less += upper <= c.slots - 1;
@@ -88,7 +91,8 @@ TEST(FemSymmetric, EveryEntryIsAppliedOnceWhateverTheWindow) {
     // In Hilbert order nearly every entry is near: the structure well below CSR's (padding included).
     const SymmetricCounts wide = count_symmetric(full, 1, 1 << 30);
     EXPECT_LT(static_cast<double>(wide.far_nnz), 0.05 * static_cast<double>(full.nnz()));
-    EXPECT_LT(wide.matrix_bytes(), 0.85 * (12.0 * static_cast<double>(full.nnz()) + 4.0 * static_cast<double>(full.n + 1)));
+    EXPECT_LT(wide.matrix_bytes(),
+              0.85 * (12.0 * static_cast<double>(full.nnz()) + 4.0 * static_cast<double>(full.n + 1)));
 }
 
 TEST(FemSymmetric, TheWindowFitsTheSmallestThreadBlock) {
@@ -97,7 +101,8 @@ TEST(FemSymmetric, TheWindowFitsTheSmallestThreadBlock) {
     for (int threads : {1, 2, 3, 7, 64}) {
         const SymmetricCounts c = count_symmetric(full, threads, 1 << 30);
         std::int64_t smallest = full.n;
-        for (int t = 0; t < threads; ++t) smallest = std::min(smallest, static_block(full.n, t, threads).hi - static_block(full.n, t, threads).lo);
+        for (int t = 0; t < threads; ++t)
+            smallest = std::min(smallest, static_block(full.n, t, threads).hi - static_block(full.n, t, threads).lo);
         EXPECT_LE(c.window, smallest) << threads << " threads";
         EXPECT_GT(2 * c.window, smallest) << "the largest power of two that fits, " << threads << " threads";
     }
@@ -110,15 +115,20 @@ TEST(FemSymmetric, ProductEqualsTheFullCsrProductOnEveryOrderingTeamAndWindow) {
         std::vector<double> ref(p.x.size());
         spmv_rows(full, p.csr.a.data(), p.x.data(), ref.data(), 0, full.n);
         for (int threads : {1, 2, 3, 4})
-            for (const auto& [w, slots] : std::vector<std::pair<std::int64_t, int>>{{8, -1}, {64, -1}, {4096, -1}, {4096, 0}, {4096, 1}, {4096, 3}, {4096, 4}, {4096, 8}}) {
-                SCOPED_TRACE(std::string(ordering) + ", " + std::to_string(threads) + " threads, window " + std::to_string(w) + ", slots " +
-                             std::to_string(slots));
+            for (const auto& [w, slots] : std::vector<std::pair<std::int64_t, int>>{
+                     {8, -1}, {64, -1}, {4096, -1}, {4096, 0}, {4096, 1}, {4096, 3}, {4096, 4}, {4096, 8}}) {
+                SCOPED_TRACE(std::string(ordering) + ", " + std::to_string(threads) + " threads, window " +
+                             std::to_string(w) + ", slots " + std::to_string(slots));
                 const SymmetricMatrix s = make_symmetric(full, p.csr.a.data(), threads, w, slots);
                 const std::vector<double> y = team_product(s, p.x, threads);
                 std::string detail;
-                EXPECT_EQ(check_symmetric_product(full, p.csr.a.data(), s.pattern, s.values(), p.x.data(), y.data(), detail), "") << detail;
+                EXPECT_EQ(
+                    check_symmetric_product(full, p.csr.a.data(), s.pattern, s.values(), p.x.data(), y.data(), detail),
+                    "")
+                    << detail;
                 double worst = 0;
-                for (std::size_t i = 0; i < y.size(); ++i) worst = std::max(worst, std::fabs(y[i] - ref[i]) / std::max(1.0, std::fabs(ref[i])));
+                for (std::size_t i = 0; i < y.size(); ++i)
+                    worst = std::max(worst, std::fabs(y[i] - ref[i]) / std::max(1.0, std::fabs(ref[i])));
                 EXPECT_LT(worst, 1e-12);
                 for (double r : s.ring) ASSERT_EQ(r, 0.0) << "the ring must be left zero for the next product";
                 // A second product on the same ring gives the same y to the bit.
@@ -138,13 +148,18 @@ TEST(FemSymmetric, TheCheckCatchesARaceAndAWrongValue) {
     const std::size_t first = static_cast<std::size_t>(static_block(full.n, 1, 2).lo);
     SymmetricMatrix copy = s;  // its pointers then aimed at its own arrays
     copy.pattern.col = copy.col.data(), copy.pattern.ring = copy.ring.data();
-    copy.pattern.far_row = copy.far_row.data(), copy.pattern.far_ptr = copy.far_ptr.data(), copy.pattern.far_col = copy.far_col.data();
+    copy.pattern.far_row = copy.far_row.data(), copy.pattern.far_ptr = copy.far_ptr.data(),
+    copy.pattern.far_col = copy.far_col.data();
     y[first] *= 1 + 1e-9;
-    EXPECT_NE(check_symmetric_product(full, p.csr.a.data(), s.pattern, s.values(), p.x.data(), y.data(), detail).find("serial replay"), std::string::npos);
+    EXPECT_NE(check_symmetric_product(full, p.csr.a.data(), s.pattern, s.values(), p.x.data(), y.data(), detail)
+                  .find("serial replay"),
+              std::string::npos);
     // A value stored wrong: the replay agrees with the team, the full product does not.
-    copy.near[static_cast<std::size_t>(copy.pattern.counts.slots + 1) * first + 1] *= 1.001;  // its first near upper value
+    copy.near[static_cast<std::size_t>(copy.pattern.counts.slots + 1) * first + 1] *=
+        1.001;  // its first near upper value
     const std::vector<double> y2 = team_product(copy, p.x, 2);
-    EXPECT_NE(check_symmetric_product(full, p.csr.a.data(), copy.pattern, copy.values(), p.x.data(), y2.data(), detail).find("full CSR product"),
+    EXPECT_NE(check_symmetric_product(full, p.csr.a.data(), copy.pattern, copy.values(), p.x.data(), y2.data(), detail)
+                  .find("full CSR product"),
               std::string::npos);
 }
 
@@ -184,7 +199,8 @@ TEST(FemSymmetric, CgAndTheInverseIterationAgreeWithCsr) {
 #pragma omp parallel num_threads(threads)
             {
                 TeamSum sum(partial.data());
-                const CgResult res = cg_team(a, f.data(), x.data(), {r.data(), pp.data(), q.data()}, 1e-10, 100000, sum, my_block(full.n));
+                const CgResult res = cg_team(a, f.data(), x.data(), {r.data(), pp.data(), q.data()}, 1e-10, 100000, sum,
+                                             my_block(full.n));
 #pragma omp master
                 out = res;
             }
@@ -199,20 +215,23 @@ TEST(FemSymmetric, CgAndTheInverseIterationAgreeWithCsr) {
         EXPECT_EQ(check_cg_solution(full, p.csr.a.data(), f.data(), x_sym.data(), s, 1e-10, detail), "") << detail;
 
         auto eigen = [&](const Operator& a, const Operator& m) {
-            std::vector<double> u(n), ff(n), au(n), mu(n), r(n), pp(n), q(n), partial(16 * static_cast<std::size_t>(threads));
+            std::vector<double> u(n), ff(n), au(n), mu(n), r(n), pp(n), q(n),
+                partial(16 * static_cast<std::size_t>(threads));
             EigenResult out;
 #pragma omp parallel num_threads(threads)
             {
                 TeamSum sum(partial.data());
-                const EigenResult res = inverse_iteration_team(a, m, {u.data(), ff.data(), au.data(), mu.data(), {r.data(), pp.data(), q.data()}}, 1e-10,
-                                                               1e-10, 100000, sum, my_block(full.n));
+                const EigenResult res = inverse_iteration_team(
+                    a, m, {u.data(), ff.data(), au.data(), mu.data(), {r.data(), pp.data(), q.data()}}, 1e-10, 1e-10,
+                    100000, sum, my_block(full.n));
 #pragma omp master
                 out = res;
             }
             return out;
         };
         const EigenResult ec = eigen(Operator::of_csr(full, p.csr.a.data()), Operator::of_csr(full, p.csr.m.data()));
-        const EigenResult es = eigen(Operator::of_symmetric(sa.pattern, sa.values()), Operator::of_symmetric(sm.pattern, sm.values()));
+        const EigenResult es =
+            eigen(Operator::of_symmetric(sa.pattern, sa.values()), Operator::of_symmetric(sm.pattern, sm.values()));
         ASSERT_TRUE(ec.converged && es.converged);
         EXPECT_NEAR(es.lambda, ec.lambda, 1e-9 * ec.lambda);
     }

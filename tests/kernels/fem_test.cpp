@@ -25,7 +25,8 @@ namespace {
 const std::string circle = "file:" + std::string(SUITE_SOURCE_DIR) + "/../shared/meshes/unit_circle.txt";
 
 MeshArrays arrays(const mesh::Mesh& m) {
-    return {static_cast<std::int64_t>(m.vertices()), static_cast<std::int64_t>(m.elements()), m.x.data(), m.y.data(), m.conn.data()};
+    return {static_cast<std::int64_t>(m.vertices()), static_cast<std::int64_t>(m.elements()), m.x.data(), m.y.data(),
+            m.conn.data()};
 }
 
 // The team size for the parallel strategies, restored afterwards.
@@ -58,9 +59,9 @@ EigenResult eigen(const Matrices& mats, int threads, double tol = 1e-8) {
     {
         const Block b = my_block(mats.pattern.n);
         TeamSum sum(partial.data());
-        const EigenResult e =
-            inverse_iteration_team(mats.pattern, mats.a, mats.m, {u.data(), f.data(), au.data(), mu.data(), {r.data(), p.data(), q.data()}}, tol, 1e-10,
-                                   100000, sum, b);
+        const EigenResult e = inverse_iteration_team(
+            mats.pattern, mats.a, mats.m, {u.data(), f.data(), au.data(), mu.data(), {r.data(), p.data(), q.data()}},
+            tol, 1e-10, 100000, sum, b);
 #pragma omp master
         result = e;
     }
@@ -108,7 +109,8 @@ TEST(FemAssembly, EveryStrategyEqualsTheSerialMatrixUnderEveryOrdering) {
         for (Strategy s : {Strategy::colour, Strategy::partition, Strategy::atomic})
             for (int threads : {1, 2, 3}) {
                 Assembled a = assemble_with(m, 0.05, s, threads);
-                EXPECT_EQ(check_against(a.mats, ref, 1e-12), "") << ordering << " " << strategy_name(s) << " threads=" << threads;
+                EXPECT_EQ(check_against(a.mats, ref, 1e-12), "")
+                    << ordering << " " << strategy_name(s) << " threads=" << threads;
             }
     }
 }
@@ -145,7 +147,8 @@ TEST(FemSolver, CgStopsAtItsLimitAndSaysSo) {
 #pragma omp parallel
         {
             TeamSum sum(partial.data());
-            result = cg_team(p, ref.a.data(), f.data(), x.data(), {r.data(), pp.data(), q.data()}, 1e-10, limit, sum, {0, p.n});
+            result = cg_team(p, ref.a.data(), f.data(), x.data(), {r.data(), pp.data(), q.data()}, 1e-10, limit, sum,
+                             {0, p.n});
         }
         if (limit == 3) {
             EXPECT_FALSE(result.converged);
@@ -180,7 +183,8 @@ TEST(FemSolver, ACgSolutionIsHeldToTheRequestedToleranceNotTenTimesIt) {
 #pragma omp parallel
         {
             TeamSum sum(partial.data());
-            result = cg_team(p, ref.a.data(), f.data(), x.data(), {r.data(), pp.data(), q.data()}, tol, 100000, sum, {0, p.n});
+            result = cg_team(p, ref.a.data(), f.data(), x.data(), {r.data(), pp.data(), q.data()}, tol, 100000, sum,
+                             {0, p.n});
         }
         return result;
     };
@@ -193,7 +197,8 @@ TEST(FemSolver, ACgSolutionIsHeldToTheRequestedToleranceNotTenTimesIt) {
     // Claiming to have reached 1e-8 does not help: the recomputed residual says otherwise.
     CgResult lie = early;
     lie.relative_residual = 1e-9;
-    EXPECT_NE(check_cg_solution(p, ref.a.data(), f.data(), x.data(), lie, 1e-8, detail).find("recomputed"), std::string::npos);
+    EXPECT_NE(check_cg_solution(p, ref.a.data(), f.data(), x.data(), lie, 1e-8, detail).find("recomputed"),
+              std::string::npos);
     const CgResult full = solve(1e-8);
     EXPECT_EQ(check_cg_solution(p, ref.a.data(), f.data(), x.data(), full, 1e-8, detail), "") << detail;
     // The margin rounding needs, on this system: || |A| |x| || over ||f|| times 2u(k + w + 2).
@@ -248,7 +253,8 @@ TEST(FemSolver, LambdaConvergesAtSecondOrderUnderRefinement) {
     for (int k = 1; k <= 3; ++k) EXPECT_LT(lambda[k], lambda[k - 1]) << "refinement " << k;
     for (int k = 2; k <= 3; ++k) {
         const double ratio = (lambda[k - 2] - lambda[k - 1]) / (lambda[k - 1] - lambda[k]);
-        EXPECT_GT(ratio, 3.0) << "refinement " << k << ": λ = " << lambda[k - 2] << ", " << lambda[k - 1] << ", " << lambda[k];
+        EXPECT_GT(ratio, 3.0) << "refinement " << k << ": λ = " << lambda[k - 2] << ", " << lambda[k - 1] << ", "
+                              << lambda[k];
         EXPECT_LT(ratio, 5.0) << "refinement " << k;
     }
 }

@@ -45,7 +45,8 @@ double at(const Csr& a, std::uint32_t i, std::uint32_t j) {
 
 Csr disk_matrix(int refine, double delta = 0.05) {
     const suite::mesh::Mesh m = suite::mesh::disk_mesh(refine);
-    const MeshArrays arrays{static_cast<std::int64_t>(m.vertices()), static_cast<std::int64_t>(m.elements()), m.x.data(), m.y.data(), m.conn.data()};
+    const MeshArrays arrays{static_cast<std::int64_t>(m.vertices()), static_cast<std::int64_t>(m.elements()),
+                            m.x.data(), m.y.data(), m.conn.data()};
     AssembledCsr r = assemble_reference(arrays, delta);
     Csr a;
     a.n = arrays.nv;
@@ -67,21 +68,24 @@ TEST(MatrixStudy, SymmetricPermutationRenumbersRowsAndColumnsAlike) {
     const Csr b = permute_symmetric(a, perm);
     for (std::uint32_t i = 0; i < 4; ++i)
         for (std::uint32_t j = 0; j < 4; ++j) EXPECT_EQ(at(b, i, j), at(a, perm[i], perm[j])) << i << "," << j;
-    for (std::int64_t i = 0; i < 4; ++i) EXPECT_TRUE(std::is_sorted(b.col.begin() + b.row_ptr[i], b.col.begin() + b.row_ptr[i + 1]));
+    for (std::int64_t i = 0; i < 4; ++i)
+        EXPECT_TRUE(std::is_sorted(b.col.begin() + b.row_ptr[i], b.col.begin() + b.row_ptr[i + 1]));
     EXPECT_EQ(inverse_permutation(perm), (std::vector<std::uint32_t>{1, 3, 0, 2}));
 }
 
 TEST(MatrixStudy, BandwidthProfileSpyAndMatrixMarketOfAKnownMatrix) {
     const Csr a = small();
     const Structure s = structure(a);
-    EXPECT_EQ(s.bandwidth, 3u);           // the (0,3) entry
+    EXPECT_EQ(s.bandwidth, 3u);            // the (0,3) entry
     EXPECT_EQ(s.profile, 0u + 1 + 1 + 3);  // rows start at columns 0, 0, 1, 0
     int bins = 0;
     const auto grid = spy_grid(a, 2, &bins);
     ASSERT_EQ(bins, 2);
     EXPECT_EQ(grid, (std::vector<std::uint64_t>{4, 2, 2, 2}));  // rows 0-1 x cols 0-1 hold 1,2,2,4; ...
     const std::string mm = matrix_market(a, {"a test"});
-    EXPECT_EQ(mm, "%%MatrixMarket matrix coordinate real symmetric\n% a test\n4 4 7\n1 1 1\n2 1 2\n2 2 4\n3 2 5\n3 3 6\n4 1 3\n4 4 7\n");
+    EXPECT_EQ(mm,
+              "%%MatrixMarket matrix coordinate real symmetric\n% a test\n4 4 7\n1 1 1\n2 1 2\n2 2 4\n3 2 5\n3 3 6\n4 "
+              "1 3\n4 4 7\n");
 }
 
 TEST(MatrixStudy, MeshOrderingsArePermutationsAndShrinkTheProfile) {
@@ -106,7 +110,8 @@ TEST(MatrixStudy, FillReducingOrderingsFromTheLibrariesBeatTheBandedOnes) {
     const auto amd = amd_order(a), nd = nested_dissection_order(a);
     ASSERT_TRUE(is_permutation(amd, a.n));
     ASSERT_TRUE(is_permutation(nd, a.n));
-    const double fill_amd = analyse(permute_symmetric(a, amd)).factor_nnz, fill_nd = analyse(permute_symmetric(a, nd)).factor_nnz;
+    const double fill_amd = analyse(permute_symmetric(a, amd)).factor_nnz,
+                 fill_nd = analyse(permute_symmetric(a, nd)).factor_nnz;
     // On a 2D mesh minimum degree and nested dissection leave far less fill than a band: this is
     // also what tells METIS's two output arrays apart (the other one fills like a random order).
     EXPECT_LT(fill_amd, rcm / 2) << "amd " << fill_amd << " rcm " << rcm;
@@ -148,7 +153,8 @@ TEST(MatrixCli, WritesTheTableFiguresAndExportsThatSciPyReadsBack) {
         for (const auto& c : o["spy"]["counts"]) total += c.get<std::uint64_t>();
         EXPECT_EQ(total, doc["nonzeros"].get<std::uint64_t>());
     }
-    const Outcome py = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/tests/check_mtx.py", out, "natural", "random", "morton", "hilbert", "rcm", "amd", "nd"});
+    const Outcome py = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/tests/check_mtx.py", out, "natural",
+                                    "random", "morton", "hilbert", "rcm", "amd", "nd"});
     if (py.status == 3) GTEST_SKIP() << py.out;
     EXPECT_EQ(py.status, 0) << describe(py);
 }
@@ -167,13 +173,19 @@ TEST(MatrixCli, BadInputIsOneLineExitTwoAndNothingWritten) {
         EXPECT_TRUE(r.out.empty()) << describe(r);
         EXPECT_FALSE(std::filesystem::exists(out)) << describe(r);
     };
-    refused({"--ordering=hilbrt"}, "unknown ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert, rcm, amd, nd");
+    refused({"--ordering=hilbrt"},
+            "unknown ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert, rcm, "
+            "amd, nd");
     refused({"--delta=-1"}, "--delta=-1: δ must be >= 0 (the waveguide's k² = (100 + δ) exp(-50 r²) - 100)");
     refused({"--export=csv"}, "--export=csv: the one export format is mtx (Matrix Market)");
     refused({"--export=mtx"}, "--export=mtx writes into the --out directory: give --out=DIR", false);
     if (sparse_libs_missing().empty())
-        refused({"--delta=10000"}, "--mesh=disk:refine=3 --delta=10000: A is not positive definite (CHOLMOD met a non-positive pivot), so it has no Cholesky "
-                                   "factor; δ deepens the well, and at this one the lowest eigenvalue is negative: give a smaller δ (the default 0.05 gives 88.3)");
+        refused({"--delta=10000"},
+                "--mesh=disk:refine=3 --delta=10000: A is not positive definite (CHOLMOD met a non-positive pivot), so "
+                "it has no Cholesky "
+                "factor; δ deepens the well, and at this one the lowest eigenvalue is negative: give a smaller δ (the "
+                "default 0.05 gives 88.3)");
     else
-        refused({}, "suite matrix needs " + sparse_libs_missing() + ", which this build did not find; install (scripts/install-deps.sh does) and rebuild");
+        refused({}, "suite matrix needs " + sparse_libs_missing() +
+                        ", which this build did not find; install (scripts/install-deps.sh does) and rebuild");
 }

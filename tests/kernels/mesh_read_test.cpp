@@ -22,7 +22,9 @@ void expect_same(const Mesh& a, const Mesh& b) {
     EXPECT_EQ(a.conn, b.conn);
 }
 
-Mesh read(const MeshFixture& f) { return f.format == "text" ? read_text_mesh(f.text, f.name) : read_msh(f.text, f.name); }
+Mesh read(const MeshFixture& f) {
+    return f.format == "text" ? read_text_mesh(f.text, f.name) : read_msh(f.text, f.name);
+}
 
 class BadMesh : public testing::TestWithParam<BadMeshCase> {};
 
@@ -52,8 +54,9 @@ TEST(MeshRead, Msh41BlocksAndParametricNodes) {
 
 TEST(MeshRead, SparseNodeTagsMapToIndices) {
     // Tags 10, 1000000, 7: too sparse for a dense table.
-    const std::string text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n10 0 0 0\n1000000 1 0 0\n7 0 1 0\n$EndNodes\n"
-                             "$Elements\n1\n1 2 0 7 10 1000000\n$EndElements\n";
+    const std::string text =
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n10 0 0 0\n1000000 1 0 0\n7 0 1 0\n$EndNodes\n"
+        "$Elements\n1\n1 2 0 7 10 1000000\n$EndElements\n";
     const Mesh m = read_msh(text, "sparse.msh");
     EXPECT_EQ((m.conn), (std::vector<std::uint32_t>{2, 0, 1}));
 }
@@ -87,4 +90,5 @@ TEST_P(BadMesh, RefusedWithNameLineAndReason) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BadMesh, testing::ValuesIn(bad_mesh_cases()), [](const auto& info) { return info.param.id; });
+INSTANTIATE_TEST_SUITE_P(Cases, BadMesh, testing::ValuesIn(bad_mesh_cases()),
+                         [](const auto& info) { return info.param.id; });

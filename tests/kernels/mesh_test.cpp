@@ -52,7 +52,8 @@ void expect_children_split_parent(const Mesh& parent, const Mesh& child) {
     for (std::size_t e = 0; e < parent.elements(); ++e) {
         const double whole = signed_measure(parent.view(), e);
         for (std::size_t c = 0; c < per; ++c)
-            ASSERT_NEAR(signed_measure(child.view(), per * e + c), whole / static_cast<double>(per), 1e-12 * std::fabs(whole))
+            ASSERT_NEAR(signed_measure(child.view(), per * e + c), whole / static_cast<double>(per),
+                        1e-12 * std::fabs(whole))
                 << "child " << c << " of element " << e;
     }
 }
@@ -189,7 +190,8 @@ TEST(MeshSpecs, ParsedOrRefusedWithWhatIsAccepted) {
     EXPECT_EQ(b.refine, 1);
     EXPECT_EQ(parse_mesh_spec("file:/a:b/c.msh:refine=2").path, "/a:b/c.msh");
     EXPECT_EQ(parse_mesh_spec("file:/a:b/c.msh").path, "/a:b/c.msh");
-    for (const char* bad : {"disk", "disk:refine=x", "box:4,5", "box:0,1,1", "file:", "sphere:refine=2", "disk:refine=31", "box:1,1,1:refine=-1"}) {
+    for (const char* bad : {"disk", "disk:refine=x", "box:4,5", "box:0,1,1", "file:", "sphere:refine=2",
+                            "disk:refine=31", "box:1,1,1:refine=-1"}) {
         try {
             parse_mesh_spec(bad);
             ADD_FAILURE() << bad << " was accepted";

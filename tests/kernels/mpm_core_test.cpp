@@ -38,7 +38,7 @@ std::array<double, 4> barycentric(const Grid& g, std::size_t e, const double* x)
         const std::uint32_t v = m.conn[4 * e + i];
         c[i][0] = m.x[v], c[i][1] = m.y[v], c[i][2] = m.z[v];
     }
-    auto volume = [](const double (*p)[3]) {
+    auto volume = [](const double(*p)[3]) {
         double a[3][3];
         for (int r = 0; r < 3; ++r)
             for (int k = 0; k < 3; ++k) a[r][k] = p[r + 1][k] - p[0][k];
@@ -90,14 +90,17 @@ std::size_t expect_symmetric_neighbours(const Grid& g) {
             EXPECT_LT(static_cast<std::size_t>(b), g.elements());
             if (static_cast<std::size_t>(b) >= g.elements()) continue;
             int back = 0, shared = 0;
-            for (int j = 0; j < 4; ++j) back += g.neighbour[4 * static_cast<std::size_t>(b) + j] == static_cast<std::int32_t>(a) ? 1 : 0;
+            for (int j = 0; j < 4; ++j)
+                back += g.neighbour[4 * static_cast<std::size_t>(b) + j] == static_cast<std::int32_t>(a) ? 1 : 0;
             EXPECT_EQ(back, 1) << "element " << a << " face " << i;
             for (int j = 0; j < 4; ++j) {
                 const std::uint32_t v = g.mesh.conn[4 * a + j];
-                const bool in_b = std::count(&g.mesh.conn[4 * static_cast<std::size_t>(b)], &g.mesh.conn[4 * static_cast<std::size_t>(b)] + 4, v) == 1;
+                const bool in_b = std::count(&g.mesh.conn[4 * static_cast<std::size_t>(b)],
+                                             &g.mesh.conn[4 * static_cast<std::size_t>(b)] + 4, v) == 1;
                 shared += in_b ? 1 : 0;
                 if (j == i) {
-                    EXPECT_FALSE(in_b) << "element " << a << " face " << i << ": the opposite corner is in the neighbour";
+                    EXPECT_FALSE(in_b) << "element " << a << " face " << i
+                                       << ": the opposite corner is in the neighbour";
                 }
             }
             EXPECT_EQ(shared, 3) << "element " << a << " face " << i;
@@ -129,7 +132,8 @@ TEST(MpmGrid, ShapeFunctionsSumToOneAndTheirGradientsToZero) {
             for (int i = 0; i < 4; ++i)
                 for (int k = 1; k < 4; ++k) gmax = std::max(gmax, std::fabs(s[4 * i + k]));
             EXPECT_NEAR(s[0] + s[4] + s[8] + s[12], 1, 1e-12) << ordering << " element " << e;
-            for (int k = 1; k < 4; ++k) EXPECT_NEAR(s[k] + s[4 + k] + s[8 + k] + s[12 + k], 0, 1e-14 * gmax) << ordering << " element " << e;
+            for (int k = 1; k < 4; ++k)
+                EXPECT_NEAR(s[k] + s[4 + k] + s[8 + k] + s[12 + k], 0, 1e-14 * gmax) << ordering << " element " << e;
         }
     }
 }
@@ -218,7 +222,8 @@ TEST(MpmReorder, SortParticlesOrdersThemAlongTheCurveAndKeepsEachOne) {
     sort_particles(st);
     const Particles& p = st.particles;
     ASSERT_EQ(p.size(), before.size());
-    for (std::size_t i = 1; i < p.size(); ++i) ASSERT_LE(st.grid.curve[p.elem[i - 1]], st.grid.curve[p.elem[i]]) << "at " << i;
+    for (std::size_t i = 1; i < p.size(); ++i)
+        ASSERT_LE(st.grid.curve[p.elem[i - 1]], st.grid.curve[p.elem[i]]) << "at " << i;
     std::vector<std::uint32_t> ids = p.id, old_ids = before.id;
     std::sort(ids.begin(), ids.end());
     std::sort(old_ids.begin(), old_ids.end());
@@ -247,7 +252,8 @@ TEST(MpmReorder, RenumberActivePutsTheOccupiedElementsFirst) {
     // Nodes by first touch: the occupied elements use the lowest numbers.
     std::uint32_t highest = 0;
     std::vector<char> used(nodes, 0);
-    for (std::size_t k = 0; k < 4 * active; ++k) highest = std::max(highest, st.grid.mesh.conn[k]), used[st.grid.mesh.conn[k]] = 1;
+    for (std::size_t k = 0; k < 4 * active; ++k)
+        highest = std::max(highest, st.grid.mesh.conn[k]), used[st.grid.mesh.conn[k]] = 1;
     EXPECT_EQ(highest + 1u, static_cast<std::uint32_t>(std::count(used.begin(), used.end(), 1)));
     EXPECT_EQ(p.id, before.id);  // particles stay where they were stored
     for (std::size_t i = 0; i < p.size(); ++i) expect_same_particle(p, i, before, i);
@@ -273,7 +279,8 @@ TEST(MpmReorder, PermuteLeavesTheNextStepUnchanged) {
     step(b);
     EXPECT_LE(testing::max_position_difference(a.particles, b.particles), 1e-14);  // measured: 0
     for (std::size_t i = 0; i < a.particles.size(); ++i)
-        for (int k = 0; k < 6; ++k) EXPECT_NEAR(a.particles.stress[k][i], b.particles.stress[k][i], 1e-9) << "particle " << i;
+        for (int k = 0; k < 6; ++k)
+            EXPECT_NEAR(a.particles.stress[k][i], b.particles.stress[k][i], 1e-9) << "particle " << i;
 }
 
 TEST(MpmP2G, NodalMassAndMomentumSumToTheParticles) {
@@ -324,7 +331,10 @@ TEST(MpmKernelWork, EveryPhaseDeclaresItsCountedFlopsAParticle) {
         const char* variant;
         double case_index;  // --case: 0 dam-collapse (elastic), 1 dam-break (fluid)
         double flops;       // a particle (a particle-step)
-    } points[] = {{"mpm-p2g", "serial", 0, 159}, {"mpm-g2p", "seeded", 0, 64}, {"mpm-step", "seeded", 0, 583}, {"mpm-step", "seeded", 1, 446}};
+    } points[] = {{"mpm-p2g", "serial", 0, 159},
+                  {"mpm-g2p", "seeded", 0, 64},
+                  {"mpm-step", "seeded", 0, 583},
+                  {"mpm-step", "seeded", 1, 446}};
     for (const auto& pt : points) {
         const std::string where = std::string(pt.kernel) + " --case=" + std::to_string(static_cast<int>(pt.case_index));
         const KernelEntry* k = find_kernel(pt.kernel);
@@ -344,8 +354,10 @@ TEST(MpmKernelWork, EveryPhaseDeclaresItsCountedFlopsAParticle) {
         ASSERT_GT(w.units, 0) << where;
         EXPECT_GT(w.flops, 0) << where;
         EXPECT_DOUBLE_EQ(w.flops / w.units, pt.flops) << where;
-        if (pt.case_index == 0) EXPECT_DOUBLE_EQ(k->info.flops_per_unit, pt.flops) << where;
-        else EXPECT_NE(k->info.flops_per_unit, pt.flops) << where << ": the fluid's step is not the default case's";
+        if (pt.case_index == 0)
+            EXPECT_DOUBLE_EQ(k->info.flops_per_unit, pt.flops) << where;
+        else
+            EXPECT_NE(k->info.flops_per_unit, pt.flops) << where << ": the fluid's step is not the default case's";
     }
 }
 

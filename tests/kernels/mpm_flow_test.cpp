@@ -64,7 +64,8 @@ TEST(MpmDamBreak, ReachesTheFarWallBehindRittersFrontConservingMassWithoutMaking
     run.vtk_every = 0;
     const Outcome r = simulate(st, s, run, {});
     ASSERT_TRUE(r.passed()) << r.failure;
-    for (const char* name : {"total energy", "Ritter front", "mass", "nodal mass"}) EXPECT_NE(find_check(r, name), nullptr) << name;
+    for (const char* name : {"total energy", "Ritter front", "mass", "nodal mass"})
+        EXPECT_NE(find_check(r, name), nullptr) << name;
     EXPECT_EQ(r.mass_final, r.mass_initial);
     // The water ran 0.3 m to 1 m: a flow, not a sag (the elastic column's front moves 2 cm).
     double reached = 0;
@@ -111,7 +112,8 @@ TEST(MpmParticleOrders, SeededIsTheElementLoopsOrderAndShuffledIsNone) {
     const Locality a = locality(seeded);
     EXPECT_NEAR(a.same_element, 0.75, 0.001);
     EXPECT_LT(a.mean_gap, 1.0);
-    for (std::size_t i = 1; i < seeded.particles.size(); ++i) ASSERT_LE(seeded.particles.elem[i - 1], seeded.particles.elem[i]);
+    for (std::size_t i = 1; i < seeded.particles.size(); ++i)
+        ASSERT_LE(seeded.particles.elem[i - 1], seeded.particles.elem[i]);
     s.particles = "shuffled";
     const Locality b = locality(build(s));
     EXPECT_LT(b.same_element, 0.01);
@@ -121,7 +123,9 @@ TEST(MpmParticleOrders, SeededIsTheElementLoopsOrderAndShuffledIsNone) {
         build(s);
         ADD_FAILURE() << "the old name was accepted";
     } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("'unsorted' (now called 'shuffled'); particle orders: seeded, shuffled, sorted, dynamic"), std::string::npos)
+        EXPECT_NE(std::string(e.what()).find(
+                      "'unsorted' (now called 'shuffled'); particle orders: seeded, shuffled, sorted, dynamic"),
+                  std::string::npos)
             << e.what();
     }
 }

@@ -168,10 +168,12 @@ Outcome static_column(int n, bool large) {
 TEST(MpmImplicit, StaticColumnConvergesToTheOneDimensionalSettlement) {
     const Outcome c8 = static_column(8, false), c16 = static_column(16, false);
     const Outcome l16 = static_column(16, true);
-    std::printf("static column, small strain: box:8 %.3f %%, box:16 %.3f %% (stress RMS %.3f %%, %.3f %%; layer means %.3f %%, %.3f %%); "
-                "large strain box:16 %.3f %%\n",
-                100 * c8.settlement_error, 100 * c16.settlement_error, 100 * c8.stress_rms, 100 * c16.stress_rms, 100 * c8.stress_profile,
-                100 * c16.stress_profile, 100 * l16.settlement_error);
+    std::printf(
+        "static column, small strain: box:8 %.3f %%, box:16 %.3f %% (stress RMS %.3f %%, %.3f %%; layer means %.3f %%, "
+        "%.3f %%); "
+        "large strain box:16 %.3f %%\n",
+        100 * c8.settlement_error, 100 * c16.settlement_error, 100 * c8.stress_rms, 100 * c16.stress_rms,
+        100 * c8.stress_profile, 100 * c16.stress_profile, 100 * l16.settlement_error);
     ASSERT_TRUE(c8.passed()) << c8.failure;
     ASSERT_TRUE(c16.passed()) << c16.failure;
     EXPECT_LT(std::fabs(c16.settlement_error), 0.02);
@@ -212,14 +214,18 @@ TEST(MpmImplicit, AgreesWithTheExplicitRunAtTheExplicitStep) {
             step(fine);
             step(ex_fine);
         }
-        ASSERT_TRUE(im.implicit.failure.empty() && fine.implicit.failure.empty()) << im.implicit.failure << fine.implicit.failure;
+        ASSERT_TRUE(im.implicit.failure.empty() && fine.implicit.failure.empty())
+            << im.implicit.failure << fine.implicit.failure;
         deepest = std::max(deepest, z0 - mean_z(ex));
         apart = std::max(apart, std::fabs(mean_z(ex) - mean_z(im)));
         refined = std::max(refined, std::fabs(mean_z(fine) - mean_z(im)));
         apart_fine = std::max(apart_fine, std::fabs(mean_z(fine) - mean_z(ex_fine)));
     }
-    std::printf("first fall (%.3f s): mean height fell %.4g m; explicit and implicit apart by at most %.3g m (%.2f %%), implicit at dt/4 by %.3g m (%.2f %%); both at dt/4 apart by %.3g m (%.2f %%)\n",
-                ex.time, deepest, apart, 100 * apart / deepest, refined, 100 * refined / deepest, apart_fine, 100 * apart_fine / deepest);
+    std::printf(
+        "first fall (%.3f s): mean height fell %.4g m; explicit and implicit apart by at most %.3g m (%.2f %%), "
+        "implicit at dt/4 by %.3g m (%.2f %%); both at dt/4 apart by %.3g m (%.2f %%)\n",
+        ex.time, deepest, apart, 100 * apart / deepest, refined, 100 * refined / deepest, apart_fine,
+        100 * apart_fine / deepest);
     EXPECT_GT(deepest, 0.03);
     EXPECT_LT(apart, 0.08 * deepest);
     EXPECT_LT(apart_fine, apart);
@@ -246,8 +252,10 @@ double energy_rise(double multiple, const std::string& solver = "cg") {
         rise = std::max(rise, e.total() - e0.total());
         lowest = std::min(lowest, e.potential);
     }
-    std::printf("%gx the stable step (%d steps of %.3g s): total energy at most %.3g J above its start; the potential fell by %.3g J\n", multiple, steps,
-                st.dt, rise, e0.potential - lowest);
+    std::printf(
+        "%gx the stable step (%d steps of %.3g s): total energy at most %.3g J above its start; the potential fell by "
+        "%.3g J\n",
+        multiple, steps, st.dt, rise, e0.potential - lowest);
     return rise / (e0.potential - lowest);
 }
 
@@ -257,7 +265,8 @@ TEST(MpmImplicit, StaysStableAtTenAndFiftyTimesTheExplicitStep) {
 }
 
 // The first `steps` implicit steps of the dam collapse under one order and strategy.
-State run_order(const std::string& ordering, const std::string& particles, Strategy strategy, int threads, const std::string& solver = "cg") {
+State run_order(const std::string& ordering, const std::string& particles, Strategy strategy, int threads,
+                const std::string& solver = "cg") {
     Team team(threads);
     mpm::Setup s = implicit_setup("box:6,6,6", Integrator::implicit, 10);
     s.ordering = ordering;
@@ -276,12 +285,21 @@ State run_order(const std::string& ordering, const std::string& particles, Strat
 
 TEST(MpmImplicit, EveryOrderStrategyAndSolverGivesTheSameMotion) {
     const State ref = run_order("natural", "seeded", Strategy::serial, 1);
-    struct Case { const char* ordering; const char* particles; Strategy strategy; int threads; const char* solver; };
-    const Case cases[] = {{"hilbert", "sorted", Strategy::serial, 1, "cg"},     {"morton", "dynamic", Strategy::colour, 2, "cg"},
-                          {"random", "shuffled", Strategy::atomic, 2, "cg"},   {"hilbert", "dynamic", Strategy::partition, 2, "cg"},
+    struct Case {
+        const char* ordering;
+        const char* particles;
+        Strategy strategy;
+        int threads;
+        const char* solver;
+    };
+    const Case cases[] = {{"hilbert", "sorted", Strategy::serial, 1, "cg"},
+                          {"morton", "dynamic", Strategy::colour, 2, "cg"},
+                          {"random", "shuffled", Strategy::atomic, 2, "cg"},
+                          {"hilbert", "dynamic", Strategy::partition, 2, "cg"},
                           {"natural", "seeded", Strategy::serial, 1, "cholmod"}};
     for (const Case& c : cases) {
-        if (std::string(c.solver) == "cholmod" && !fem::sparse_libs_missing().empty()) continue;  // built without it: CG alone
+        if (std::string(c.solver) == "cholmod" && !fem::sparse_libs_missing().empty())
+            continue;  // built without it: CG alone
         const State st = run_order(c.ordering, c.particles, c.strategy, c.threads, c.solver);
         const double d = testing::max_position_difference(ref.particles, st.particles);
         EXPECT_LT(d, 1e-9) << c.ordering << " " << c.particles << " " << strategy_name(c.strategy) << " " << c.solver;
@@ -348,7 +366,8 @@ TEST(MpmImplicit, SaysWhenNewtonOrTheSolveFails) {
     State st = build(s);
     const State before = st;
     step(st);
-    EXPECT_NE(st.implicit.failure.find("Newton did not converge in 1 iterations"), std::string::npos) << st.implicit.failure;
+    EXPECT_NE(st.implicit.failure.find("Newton did not converge in 1 iterations"), std::string::npos)
+        << st.implicit.failure;
     EXPECT_EQ(st.steps, 0u);
     EXPECT_EQ(st.time, 0);
     EXPECT_EQ(st.implicit.failed_steps, 1u);
@@ -356,8 +375,9 @@ TEST(MpmImplicit, SaysWhenNewtonOrTheSolveFails) {
     const Particles& a = st.particles;
     const Particles& b = before.particles;
     for (std::size_t i = 0; i < a.size(); ++i) {
-        ASSERT_TRUE(a.x[i] == b.x[i] && a.y[i] == b.y[i] && a.z[i] == b.z[i] && a.vx[i] == b.vx[i] && a.vy[i] == b.vy[i] && a.vz[i] == b.vz[i] &&
-                    a.volume[i] == b.volume[i] && a.elem[i] == b.elem[i] && a.id[i] == b.id[i])
+        ASSERT_TRUE(a.x[i] == b.x[i] && a.y[i] == b.y[i] && a.z[i] == b.z[i] && a.vx[i] == b.vx[i] &&
+                    a.vy[i] == b.vy[i] && a.vz[i] == b.vz[i] && a.volume[i] == b.volume[i] && a.elem[i] == b.elem[i] &&
+                    a.id[i] == b.id[i])
             << "particle " << i;
         for (int k = 0; k < 6; ++k) ASSERT_EQ(a.stress[k][i], b.stress[k][i]) << "particle " << i;
         for (int k = 0; k < 3; ++k) ASSERT_EQ(a.accel[k][i], b.accel[k][i]) << "particle " << i;
@@ -380,7 +400,8 @@ TEST(MpmImplicit, SaysWhenNewtonOrTheSolveFails) {
     floating.settings.region = Region{{0.3, 0.3, 0.3}, {0.7, 0.7, 0.7}};
     State f = build(floating);
     step(f);
-    EXPECT_NE(f.implicit.failure.find("singular: no wall holds the material in x"), std::string::npos) << f.implicit.failure;
+    EXPECT_NE(f.implicit.failure.find("singular: no wall holds the material in x"), std::string::npos)
+        << f.implicit.failure;
     // The same through the simulation: a failed Newton check, marked as the solver's.
     SimulationSettings run;
     run.steps = 3;

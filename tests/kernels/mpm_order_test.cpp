@@ -31,8 +31,8 @@ struct ParticleOrder {
     const char* name;
     int sort_every;
 };
-const std::vector<ParticleOrder> particle_orders = {{"shuffled", 0}, {"seeded", 0}, {"sorted", 1}, {"sorted", 5}, {"sorted", 0},
-                                                    {"dynamic", 1},  {"dynamic", 5}, {"dynamic", 0}};
+const std::vector<ParticleOrder> particle_orders = {{"shuffled", 0}, {"seeded", 0},  {"sorted", 1},  {"sorted", 5},
+                                                    {"sorted", 0},   {"dynamic", 1}, {"dynamic", 5}, {"dynamic", 0}};
 const std::vector<std::string> orderings = {"natural", "random", "morton", "hilbert"};
 
 mpm::Setup dam(const std::string& ordering, const ParticleOrder& po, Strategy strategy, int threads) {
@@ -76,7 +76,8 @@ TEST(MpmOrderEquivalence, TheReferenceMovedAndStayedSane) {
 TEST(MpmOrderEquivalence, EveryGridOrderingAndParticleOrderGivesTheSamePositions) {
     Team team(1);
     const State& ref = reference();
-    const std::vector<std::uint32_t> shuffled = build(dam("natural", particle_orders[0], Strategy::serial, 1)).particles.id;
+    const std::vector<std::uint32_t> shuffled =
+        build(dam("natural", particle_orders[0], Strategy::serial, 1)).particles.id;
     for (const std::string& ordering : orderings)
         for (const ParticleOrder& po : particle_orders) {
             SCOPED_TRACE(ordering + " grid, " + po.name + " particles, sort_every " + std::to_string(po.sort_every));
@@ -109,8 +110,8 @@ TEST(MpmOrderEquivalence, EveryScatterStrategyOnTwoThreadsGivesTheSamePositions)
     for (Strategy strategy : strategies)
         for (const std::string& ordering : orderings) {
             const ParticleOrder& po = particle_orders[k++ % particle_orders.size()];
-            SCOPED_TRACE(std::string(strategy_name(strategy)) + " on 2 threads, " + ordering + " grid, " + po.name + " particles, sort_every " +
-                         std::to_string(po.sort_every));
+            SCOPED_TRACE(std::string(strategy_name(strategy)) + " on 2 threads, " + ordering + " grid, " + po.name +
+                         " particles, sort_every " + std::to_string(po.sort_every));
             State st = run(dam(ordering, po, strategy, 2));
             EXPECT_LE(max_position_difference(st.particles, ref.particles), tolerance);
             EXPECT_EQ(st.clamped, ref.clamped);

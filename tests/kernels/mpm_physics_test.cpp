@@ -260,14 +260,17 @@ TEST(MpmDamCollapse, ThousandStepsSettleAboutTheStaticShape) {
     const double g = std::fabs(setup.settings.gravity[2]);
     const double mass = mass_in_id_order(st.particles), e0 = total_energy(st);
     const double f0 = front(st.particles), z0 = mass_centre_z(st.particles), L = 2 * z0;
-    const double sag = mat.density * g * L * L / (3 * mat.young), bulge = mat.poisson * mat.density * g * L * f0 / mat.young;
+    const double sag = mat.density * g * L * L / (3 * mat.young),
+                 bulge = mat.poisson * mat.density * g * L * f0 / mat.young;
     double early = 0, late = 0, sunk = 0, highest = 0, lowest_z = 1;
     for (int n = 1; n <= 1000; ++n) {
         advance(st, setup);
         const Particles& p = st.particles;
         for (std::size_t i = 0; i < p.size(); ++i) {
-            ASSERT_TRUE(std::isfinite(p.x[i] + p.y[i] + p.z[i] + p.vx[i] + p.vy[i] + p.vz[i])) << "step " << n << " particle " << p.id[i];
-            ASSERT_TRUE(p.x[i] >= 0 && p.x[i] <= 1 && p.y[i] >= 0 && p.y[i] <= 1 && p.z[i] >= 0 && p.z[i] <= 1) << "step " << n;
+            ASSERT_TRUE(std::isfinite(p.x[i] + p.y[i] + p.z[i] + p.vx[i] + p.vy[i] + p.vz[i]))
+                << "step " << n << " particle " << p.id[i];
+            ASSERT_TRUE(p.x[i] >= 0 && p.x[i] <= 1 && p.y[i] >= 0 && p.y[i] <= 1 && p.z[i] >= 0 && p.z[i] <= 1)
+                << "step " << n;
             lowest_z = std::min(lowest_z, p.z[i]);
         }
         const double f = front(p);
@@ -321,7 +324,8 @@ TEST(MpmBadInput, MakeStateRefusesWhatCannotRun) {
     Settings rho = s;
     rho.material.density = 0;
     EXPECT_TRUE(refused(rho, "--density"));
-    for (const Region& r : {Region{{0, 0, 0}, {0.4, 0.4, 1.2}}, Region{{-0.1, 0, 0}, {0.4, 0.4, 0.8}}, Region{{1.5, 1.5, 1.5}, {2, 2, 2}}}) {
+    for (const Region& r : {Region{{0, 0, 0}, {0.4, 0.4, 1.2}}, Region{{-0.1, 0, 0}, {0.4, 0.4, 0.8}},
+                            Region{{1.5, 1.5, 1.5}, {2, 2, 2}}}) {
         Settings bad = s;
         bad.region = r;
         EXPECT_TRUE(refused(bad, "region"));

@@ -55,7 +55,8 @@ void expect_all_present(const std::vector<ArrayPlacement>& pages, const Topology
         EXPECT_EQ(a.pages_not_present, 0u) << where << ": array " << a.name << " " << a.error;
         std::uint64_t counted = 0;
         for (const auto& [node, count] : a.pages_per_node) {
-            EXPECT_NE(topo.find_node(node), nullptr) << where << ": array " << a.name << " has pages on unknown node " << node;
+            EXPECT_NE(topo.find_node(node), nullptr)
+                << where << ": array " << a.name << " has pages on unknown node " << node;
             counted += count;
         }
         EXPECT_EQ(counted, a.pages) << where << ": array " << a.name;
@@ -103,9 +104,10 @@ void expect_same_state(const State& a, const State& b, const std::string& where)
 // The data pointers of the placed arrays: the reorderings must keep every one.
 std::vector<const void*> pointers(const State& st) {
     const Particles& p = st.particles;
-    std::vector<const void*> out = {p.x.data(),  p.y.data(),           p.z.data(),           p.vx.data(),     p.vy.data(),
-                                    p.vz.data(), p.mass.data(),        p.volume.data(),      p.w.data(),      p.elem.data(),
-                                    p.id.data(), p.scratch.buf.data(), st.bins.order.data(), st.nodes.data(), st.element_volume.data()};
+    std::vector<const void*> out = {
+        p.x.data(),  p.y.data(),           p.z.data(),           p.vx.data(),     p.vy.data(),
+        p.vz.data(), p.mass.data(),        p.volume.data(),      p.w.data(),      p.elem.data(),
+        p.id.data(), p.scratch.buf.data(), st.bins.order.data(), st.nodes.data(), st.element_volume.data()};
     for (const auto& s : p.stress) out.push_back(s.data());
     return out;
 }
@@ -134,7 +136,11 @@ TEST(MpmPlacement, EveryKernelRecordsEachArrayWithItsPagesPresent) {
     const struct {
         const char* kernel;
         const char* variant;
-    } points[] = {{"mpm-p2g", "partition"}, {"mpm-p2g", "atomic"}, {"mpm-g2p", "shuffled"}, {"mpm-step", "dynamic"}, {"mpm-step", "sorted"}};
+    } points[] = {{"mpm-p2g", "partition"},
+                  {"mpm-p2g", "atomic"},
+                  {"mpm-g2p", "shuffled"},
+                  {"mpm-step", "dynamic"},
+                  {"mpm-step", "sorted"}};
     for (const auto& pt : points) {
         const KernelEntry* k = find_kernel(pt.kernel);
         ASSERT_NE(k, nullptr) << pt.kernel;
@@ -144,14 +150,17 @@ TEST(MpmPlacement, EveryKernelRecordsEachArrayWithItsPagesPresent) {
         EXPECT_TRUE(r.verification.passed) << where << ": " << r.verification.detail;
         // mpm-g2p and mpm-step scatter with the partition strategy on more than one thread.
         const std::string variant = pt.variant;
-        const bool bins = variant == "partition" || variant == "colour" || (std::string(pt.kernel) != "mpm-p2g" && threads > 1);
+        const bool bins =
+            variant == "partition" || variant == "colour" || (std::string(pt.kernel) != "mpm-p2g" && threads > 1);
         EXPECT_EQ(names_of(r.pages), expected_arrays(bins)) << where;
         expect_all_present(r.pages, topo, where);
         // The particle arrays' lengths: x is 8 B per particle, w 32 B, elem 4 B.
         const double particles = r.facts.empty() ? 0 : r.facts.front().value;
         ASSERT_GT(particles, 0) << where;
         for (const auto& a : r.pages) {
-            const double per = a.name == "w" || a.name == "reorder-scratch" ? 32 : a.name == "elem" || a.name == "id" || a.name == "bins-order" ? 4 : 8;
+            const double per = a.name == "w" || a.name == "reorder-scratch"                   ? 32
+                               : a.name == "elem" || a.name == "id" || a.name == "bins-order" ? 4
+                                                                                              : 8;
             if (a.name == "nodes" || a.name == "element-volume") continue;
             EXPECT_GE(static_cast<double>(a.bytes), per * particles) << where << ": " << a.name;
             EXPECT_LT(static_cast<double>(a.bytes), per * particles + 4096) << where << ": " << a.name;
@@ -184,8 +193,11 @@ TEST(MpmPlacement, TheImplicitKernelsPlaceTheAccelerationsAndTheSolveItsWholeSys
         const bool solve = std::string(kernel) == "mpm-implicit-solve";
         for (const auto& a : r.pages) {
             // The solve's matrix and vectors at their lengths; the step keeps its system on the heap.
-            const double expected = a.name == "system-val" ? 8 * nnz : a.name == "system-col" ? 4 * nnz : a.name == "system-row-ptr" ? 4 * (rows + 1)
-                                    : a.name.rfind("cg-", 0) == 0 ? 8 * rows : -1;
+            const double expected = a.name == "system-val"        ? 8 * nnz
+                                    : a.name == "system-col"      ? 4 * nnz
+                                    : a.name == "system-row-ptr"  ? 4 * (rows + 1)
+                                    : a.name.rfind("cg-", 0) == 0 ? 8 * rows
+                                                                  : -1;
             if (expected < 0) continue;
             EXPECT_TRUE(solve) << kernel << " places " << a.name;
             EXPECT_GE(static_cast<double>(a.bytes), expected) << a.name;
@@ -213,7 +225,8 @@ TEST(MpmPlacement, ReorderingsKeepTheArenaPagesAndMatchTheHeapStateBitForBit) {
                           {two_or_one(topo), Strategy::partition, Integration::particle, "dynamic"},
                           {two_or_one(topo), Strategy::partition, Integration::particle, "shuffled"}};
     for (const Case& c : cases) {
-        const std::string where = std::to_string(c.threads) + " thread(s), " + strategy_name(c.strategy) + ", " + c.particles;
+        const std::string where =
+            std::to_string(c.threads) + " thread(s), " + strategy_name(c.strategy) + ", " + c.particles;
         Team team(c.threads);
         const mpm::Setup setup = small(c.particles, c.strategy, c.threads, c.integration);
         Arena arena(MemoryPolicy{});
@@ -308,13 +321,14 @@ TEST(MpmPlacement, TheCommandLineTakesEveryPlacementForTheMpmKernels) {
         EXPECT_EQ(valid.status, 0) << suite::test::describe(valid);
     }
     // A dry run takes it too.
-    const suite::test::Outcome dry =
-        suite::test::run_suite({"--kernel=mpm-p2g,mpm-g2p,mpm-step", "--mesh=box:4,4,4", "--placement=interleave", "--dry-run"}, 60);
+    const suite::test::Outcome dry = suite::test::run_suite(
+        {"--kernel=mpm-p2g,mpm-g2p,mpm-step", "--mesh=box:4,4,4", "--placement=interleave", "--dry-run"}, 60);
     EXPECT_EQ(dry.status, 0) << suite::test::describe(dry);
     // One NUMA node: remote is refused as for every kernel (no node is remote), not for the MPM
     // kernels' sake.
     if (topo.nodes.size() == 1) {
-        const suite::test::Outcome remote = suite::test::run_suite({"--kernel=mpm-step", "--mesh=box:4,4,4", "--placement=remote", "--dry-run"}, 60);
+        const suite::test::Outcome remote =
+            suite::test::run_suite({"--kernel=mpm-step", "--mesh=box:4,4,4", "--placement=remote", "--dry-run"}, 60);
         EXPECT_EQ(remote.status, 2) << suite::test::describe(remote);
         EXPECT_NE(remote.err.find("at least 2 NUMA nodes"), std::string::npos) << remote.err;
         EXPECT_EQ(remote.err.find("heap memory"), std::string::npos) << remote.err;
@@ -354,11 +368,14 @@ public:
     Verification verify() override {
         Verification v;
         // The registry walk runs it too, and expects a kernel that never ran to fail.
-        v.passed = calls_ > 0 && std::all_of(v_.begin(), v_.end(), [&](double x) { return x == 1.0 + static_cast<double>(calls_); });
+        v.passed = calls_ > 0 &&
+                   std::all_of(v_.begin(), v_.end(), [&](double x) { return x == 1.0 + static_cast<double>(calls_); });
         v.detail = calls_ > 0 ? "every element 1 + calls" : "no repetition ran";
         return v;
     }
-    Work work() const override { return {static_cast<double>(n_), 16.0 * static_cast<double>(n_), 24.0 * static_cast<double>(n_), 0, n_ * 8}; }
+    Work work() const override {
+        return {static_cast<double>(n_), 16.0 * static_cast<double>(n_), 24.0 * static_cast<double>(n_), 0, n_ * 8};
+    }
 
 private:
     std::uint64_t n_;

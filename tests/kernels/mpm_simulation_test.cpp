@@ -46,7 +46,8 @@ TEST(MpmSimulation, SnapshotsAtZeroEveryKAndTheLastStepWithTheChecksPassed) {
     EXPECT_TRUE(r.passed()) << r.failure;
     EXPECT_EQ(r.steps_done, 12u);
     EXPECT_EQ(st.steps, 12u);
-    EXPECT_EQ(names, (std::vector<std::string>{"particles_000000.vtu", "particles_000005.vtu", "particles_000010.vtu", "particles_000012.vtu"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"particles_000000.vtu", "particles_000005.vtu", "particles_000010.vtu",
+                                               "particles_000012.vtu"}));
     EXPECT_EQ(r.snapshot_steps, (std::vector<std::uint64_t>{0, 5, 10, 12}));
     EXPECT_EQ(snapshot_count(12, 5), 4u);
     EXPECT_EQ(snapshot_count(10, 5), 3u);

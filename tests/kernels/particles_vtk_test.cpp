@@ -80,7 +80,8 @@ TEST(ParticlesVtk, ArraysDecodeToTheParticlesExactly) {
     Particles p;
     p.resize(3);
     for (std::size_t i = 0; i < 3; ++i) {
-        p.x[i] = 0.1 * static_cast<double>(i) + 1.0 / 3, p.y[i] = std::nextafter(0.5, 1.0), p.z[i] = 1e-300 * static_cast<double>(i);
+        p.x[i] = 0.1 * static_cast<double>(i) + 1.0 / 3, p.y[i] = std::nextafter(0.5, 1.0),
+        p.z[i] = 1e-300 * static_cast<double>(i);
         p.vx[i] = -1.5, p.vy[i] = 2.0 / 7, p.vz[i] = static_cast<double>(i);
         for (int k = 0; k < 6; ++k) p.stress[k][i] = 10.0 * k + static_cast<double>(i) / 9;
         p.volume[i] = 1e-6 / 3, p.mass[i] = 1e-3 / 3;
@@ -91,7 +92,8 @@ TEST(ParticlesVtk, ArraysDecodeToTheParticlesExactly) {
     EXPECT_NE(vtu.find("ComponentName0=\"xx\""), std::string::npos);
     EXPECT_NE(vtu.find("ComponentName5=\"zx\""), std::string::npos);
     const auto a = arrays(vtu);
-    EXPECT_EQ(values<double>(a.at("position")), (std::vector<double>{p.x[0], p.y[0], p.z[0], p.x[1], p.y[1], p.z[1], p.x[2], p.y[2], p.z[2]}));
+    EXPECT_EQ(values<double>(a.at("position")),
+              (std::vector<double>{p.x[0], p.y[0], p.z[0], p.x[1], p.y[1], p.z[1], p.x[2], p.y[2], p.z[2]}));
     EXPECT_EQ(values<double>(a.at("velocity"))[7], p.vy[2]);
     EXPECT_EQ(values<double>(a.at("stress"))[6 * 2 + 4], p.stress[4][2]);
     EXPECT_EQ(values<std::uint32_t>(a.at("id")), p.id);
@@ -106,7 +108,9 @@ TEST(ParticlesVtk, CollectionListsTheSnapshotsWithTimesThatReadBack) {
     const double t = 0.1 + 0.2;  // 0.30000000000000004
     const std::string pvd = collection_pvd({{"particles_000000.vtu", 0}, {"particles_000050.vtu", t}});
     EXPECT_NE(pvd.find("type=\"Collection\""), std::string::npos);
-    EXPECT_NE(pvd.find("<DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"particles_000000.vtu\"/>"), std::string::npos) << pvd;
+    EXPECT_NE(pvd.find("<DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"particles_000000.vtu\"/>"),
+              std::string::npos)
+        << pvd;
     const std::size_t at = pvd.find("timestep=\"", pvd.find("particles_000000")) + 10;
     EXPECT_EQ(std::stod(pvd.substr(at)), t) << pvd;
 }

@@ -26,20 +26,20 @@ void expect_one_line_usage_error(const Outcome& r, const std::vector<std::string
     EXPECT_TRUE(r.out.empty()) << describe(r);
     EXPECT_EQ(r.err.rfind("suite: error: ", 0), 0u) << describe(r);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
-    for (const auto& s : expected) EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks \"" << s << "\"\n" << describe(r);
+    for (const auto& s : expected)
+        EXPECT_NE(r.err.find(s), std::string::npos) << "stderr lacks \"" << s << "\"\n" << describe(r);
 }
 
-bool python_has_matplotlib() {
-    return run_program({SUITE_PYTHON, "-c", "import matplotlib, numpy"}, 60).status == 0;
-}
+bool python_has_matplotlib() { return run_program({SUITE_PYTHON, "-c", "import matplotlib, numpy"}, 60).status == 0; }
 
 class BadMeshFile : public testing::TestWithParam<BadMeshCase> {};
 
 }  // namespace
 
 TEST(SfcBuildCli, DryRunPlansOnePointPerMeshOrderingPhaseAndThreadCount) {
-    const Outcome r = run_suite({"--kernel=sfc-build", "--mesh=file:" + shared_meshes + "/unit_circle_fine.txt:refine=3",
-                                 "--ordering=morton,rcm", "--phase=keys,all", "--threads=1,2", "--dry-run"});
+    const Outcome r =
+        run_suite({"--kernel=sfc-build", "--mesh=file:" + shared_meshes + "/unit_circle_fine.txt:refine=3",
+                   "--ordering=morton,rcm", "--phase=keys,all", "--threads=1,2", "--dry-run"});
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.out.find("8 point(s)"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("sfc-build-keys morton 1539968 threads=2 mesh=file:"), std::string::npos) << r.out;
@@ -54,8 +54,9 @@ TEST(SfcBuildCli, DryRunPlansOnePointPerMeshOrderingPhaseAndThreadCount) {
 TEST(SfcBuildCli, TinyRunVerifiesAndValidatesAgainstTheSchema) {
     TempDir dir;
     const std::string out = dir.file("r.json");
-    const Outcome r = run_suite({"--kernel=sfc-build", "--mesh=box:3,3,2", "--ordering=morton,hilbert,morton-recursive,rcm",
-                                 "--phase=all,keys,sort,renumber", "--threads=1,2", "--reps=2", "--quiet", "--out=" + out});
+    const Outcome r =
+        run_suite({"--kernel=sfc-build", "--mesh=box:3,3,2", "--ordering=morton,hilbert,morton-recursive,rcm",
+                   "--phase=all,keys,sort,renumber", "--threads=1,2", "--reps=2", "--quiet", "--out=" + out});
     ASSERT_EQ(r.status, 0) << describe(r);
     const Outcome v = validate_against_schema(out);
     EXPECT_EQ(v.status, 0) << describe(v);
@@ -78,16 +79,25 @@ TEST(SfcBuildCli, TinyRunVerifiesAndValidatesAgainstTheSchema) {
 TEST(SfcBuildCli, BadOptionsAreOneLineUsageErrors) {
     TempDir dir;
     const std::string out = "--out=" + dir.file("r.json");
-    expect_one_line_usage_error(run_suite({"--kernel=add", "--mesh=disk:refine=2", out}), {"'add'", "does not run on a mesh", "sfc-build"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=disk:refine=2", "--size=1000", out}), {"--mesh", "--size", "together"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--phase=kys", out}), {"'kys'", "did you mean 'keys'?", "keys, sort, renumber"});
+    expect_one_line_usage_error(run_suite({"--kernel=add", "--mesh=disk:refine=2", out}),
+                                {"'add'", "does not run on a mesh", "sfc-build"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=disk:refine=2", "--size=1000", out}),
+                                {"--mesh", "--size", "together"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--phase=kys", out}),
+                                {"'kys'", "did you mean 'keys'?", "keys, sort, renumber"});
     expect_one_line_usage_error(run_suite({"--kernel=add", "--phase=keys", out}), {"'add'", "no phases"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--ordering=natural", out}), {"'natural'", "morton, hilbert, morton-recursive, rcm"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=sphere:3", out}), {"'sphere:3'", "disk:refine=K", "box:NX,NY,NZ"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=disk:refine=14", out}), {"1073741823", "refine 13 times at most"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=box:4096,4096,4096", out}), {"412316860416 elements", "1073741823"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=box:600,600,490", "--dry-run", out}), {"1058400000 elements", "memory available", "use a smaller mesh"});
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=file:" + dir.file("none.msh"), out}), {"none.msh", "cannot open"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--ordering=natural", out}),
+                                {"'natural'", "morton, hilbert, morton-recursive, rcm"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=sphere:3", out}),
+                                {"'sphere:3'", "disk:refine=K", "box:NX,NY,NZ"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=disk:refine=14", out}),
+                                {"1073741823", "refine 13 times at most"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=box:4096,4096,4096", out}),
+                                {"412316860416 elements", "1073741823"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=box:600,600,490", "--dry-run", out}),
+                                {"1058400000 elements", "memory available", "use a smaller mesh"});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=file:" + dir.file("none.msh"), out}),
+                                {"none.msh", "cannot open"});
     EXPECT_EQ(dir.entries().size(), 0u);
 }
 
@@ -97,18 +107,21 @@ TEST_P(BadMeshFile, RefusedByNameAndLineWithNothingWritten) {
     const std::string path = dir.file(c.file.name);
     write(path, c.file.text);
     const std::string where = path + ":" + std::to_string(c.line) + ": ";
-    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=file:" + path, "--out=" + dir.file("r.json")}), {where, c.expected});
-    expect_one_line_usage_error(run_suite({"traverse", "--mesh=file:" + path + ":refine=1", "--out=" + dir.file("t")}), {where, c.expected});
+    expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=file:" + path, "--out=" + dir.file("r.json")}),
+                                {where, c.expected});
+    expect_one_line_usage_error(run_suite({"traverse", "--mesh=file:" + path + ":refine=1", "--out=" + dir.file("t")}),
+                                {where, c.expected});
     EXPECT_EQ(dir.entries(), std::vector<std::string>{c.file.name});
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BadMeshFile, testing::ValuesIn(bad_mesh_cases()), [](const auto& info) { return info.param.id; });
+INSTANTIATE_TEST_SUITE_P(Cases, BadMeshFile, testing::ValuesIn(bad_mesh_cases()),
+                         [](const auto& info) { return info.param.id; });
 
 TEST(Traverse, WritesVtuPngAndTheNumbers) {
     TempDir dir;
     const std::string out = dir.file("tr");
-    const Outcome r = run_suite({"traverse", "--mesh=file:" + shared_meshes + "/unit_circle.txt", "--ordering=natural,morton,hilbert",
-                                 "--threads=1,4", "--out=" + out});
+    const Outcome r = run_suite({"traverse", "--mesh=file:" + shared_meshes + "/unit_circle.txt",
+                                 "--ordering=natural,morton,hilbert", "--threads=1,4", "--out=" + out});
     ASSERT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.out.find("1976 triangles, 1039 vertices"), std::string::npos) << r.out;
     const json s = json::parse(slurp(out + "/summary.json"));
@@ -123,9 +136,11 @@ TEST(Traverse, WritesVtuPngAndTheNumbers) {
         for (int t : {1, 4}) {
             const std::string vtu = slurp(out + "/" + name + "-t" + std::to_string(t) + ".vtu");
             EXPECT_NE(vtu.find("NumberOfPoints=\"1039\" NumberOfCells=\"1976\""), std::string::npos);
-            for (const char* field : {"visit", "thread", "step"}) EXPECT_NE(vtu.find(std::string("Name=\"") + field + "\""), std::string::npos);
+            for (const char* field : {"visit", "thread", "step"})
+                EXPECT_NE(vtu.find(std::string("Name=\"") + field + "\""), std::string::npos);
             // The last element belongs to the last thread, at the end of its block.
-            EXPECT_NE(vtu.find(t == 1 ? "Name=\"thread\" format=\"ascii\">\n0\n" : "\n3\n</DataArray>"), std::string::npos);
+            EXPECT_NE(vtu.find(t == 1 ? "Name=\"thread\" format=\"ascii\">\n0\n" : "\n3\n</DataArray>"),
+                      std::string::npos);
         }
     }
     // The file's natural order is scattered; a curve keeps each thread's elements together.
@@ -153,11 +168,15 @@ TEST(Traverse, BadUsageWritesNothing) {
     write(file, "x");
     expect_one_line_usage_error(run_suite({"traverse", "--mesh=disk:refine=2"}), {"--out=DIR"});
     expect_one_line_usage_error(run_suite({"traverse", "--out=" + file}), {"not a directory"});
-    expect_one_line_usage_error(run_suite({"traverse", "--ordering=natural,mortn", "--out=" + dir.file("t")}), {"'mortn'", "did you mean 'morton'?"});
+    expect_one_line_usage_error(run_suite({"traverse", "--ordering=natural,mortn", "--out=" + dir.file("t")}),
+                                {"'mortn'", "did you mean 'morton'?"});
     expect_one_line_usage_error(run_suite({"traverse", "--threads=all", "--out=" + dir.file("t")}), {"--threads=all"});
-    expect_one_line_usage_error(run_suite({"traverse", "--threads=2000", "--out=" + dir.file("t")}), {"thread count 2000", "1 to 1024 static blocks"});
-    expect_one_line_usage_error(run_suite({"traverse", "--depth=33", "--out=" + dir.file("t")}), {"--depth=33", "from 1 to 32"});
-    expect_one_line_usage_error(run_suite({"traverse", "--mesh=disk:refine=11", "--out=" + dir.file("t")}), {"at most 4000000"});
+    expect_one_line_usage_error(run_suite({"traverse", "--threads=2000", "--out=" + dir.file("t")}),
+                                {"thread count 2000", "1 to 1024 static blocks"});
+    expect_one_line_usage_error(run_suite({"traverse", "--depth=33", "--out=" + dir.file("t")}),
+                                {"--depth=33", "from 1 to 32"});
+    expect_one_line_usage_error(run_suite({"traverse", "--mesh=disk:refine=11", "--out=" + dir.file("t")}),
+                                {"at most 4000000"});
     expect_one_line_usage_error(run_suite({"traverse", "--out=" + dir.file("no/such/t")}), {"does not exist"});
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"f"});
 }

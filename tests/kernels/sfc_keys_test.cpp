@@ -37,7 +37,9 @@ std::uint64_t hilbert_classic(std::uint32_t x, std::uint32_t y, int depth) {
 }
 
 template <int Dim>
-std::uint64_t hilbert(std::uint32_t const* q, int depth) { return hilbert_key<Dim, false>(q, depth); }
+std::uint64_t hilbert(std::uint32_t const* q, int depth) {
+    return hilbert_key<Dim, false>(q, depth);
+}
 
 std::vector<std::array<std::uint32_t, 3>> random_cells(int dim, int depth, std::size_t n, std::uint64_t seed) {
     std::mt19937_64 rng(seed);
@@ -45,7 +47,8 @@ std::vector<std::array<std::uint32_t, 3>> random_cells(int dim, int depth, std::
     std::vector<std::array<std::uint32_t, 3>> out(n);
     for (auto& q : out)
         for (int a = 0; a < dim; ++a) q[a] = static_cast<std::uint32_t>(rng() & mask);
-    out.push_back({static_cast<std::uint32_t>(mask), static_cast<std::uint32_t>(mask), dim == 3 ? static_cast<std::uint32_t>(mask) : 0});
+    out.push_back({static_cast<std::uint32_t>(mask), static_cast<std::uint32_t>(mask),
+                   dim == 3 ? static_cast<std::uint32_t>(mask) : 0});
     out.push_back({0, 0, 0});
     return out;
 }
@@ -66,11 +69,16 @@ TEST(SfcKeys, MortonKnownValues) {
 }
 
 TEST(SfcKeys, PdepAndPortableGiveIdenticalKeys) {
-    if (!have_pdep) GTEST_SKIP() << "this build's -march has no BMI2, so the pdep path is not compiled (the portable one is used)";
-    for (const auto& q : random_cells(2, 32, 200000, 1)) ASSERT_EQ(morton_pdep<2>(q.data()), morton_portable<2>(q.data()));
-    for (const auto& q : random_cells(3, 21, 200000, 2)) ASSERT_EQ(morton_pdep<3>(q.data()), morton_portable<3>(q.data()));
-    for (const auto& q : random_cells(2, 32, 20000, 3)) ASSERT_EQ((hilbert_key<2, true>(q.data(), 32)), (hilbert_key<2, false>(q.data(), 32)));
-    for (const auto& q : random_cells(3, 21, 20000, 4)) ASSERT_EQ((hilbert_key<3, true>(q.data(), 21)), (hilbert_key<3, false>(q.data(), 21)));
+    if (!have_pdep)
+        GTEST_SKIP() << "this build's -march has no BMI2, so the pdep path is not compiled (the portable one is used)";
+    for (const auto& q : random_cells(2, 32, 200000, 1))
+        ASSERT_EQ(morton_pdep<2>(q.data()), morton_portable<2>(q.data()));
+    for (const auto& q : random_cells(3, 21, 200000, 2))
+        ASSERT_EQ(morton_pdep<3>(q.data()), morton_portable<3>(q.data()));
+    for (const auto& q : random_cells(2, 32, 20000, 3))
+        ASSERT_EQ((hilbert_key<2, true>(q.data(), 32)), (hilbert_key<2, false>(q.data(), 32)));
+    for (const auto& q : random_cells(3, 21, 20000, 4))
+        ASSERT_EQ((hilbert_key<3, true>(q.data(), 21)), (hilbert_key<3, false>(q.data(), 21)));
 }
 
 TEST(SfcKeys, RecursiveHalvingEqualsQuantizeAndInterleave) {
@@ -87,7 +95,8 @@ TEST(SfcKeys, RecursiveHalvingEqualsQuantizeAndInterleave) {
         for (std::size_t i = 0; i < ts.size(); ++i) {
             const double t2[3] = {ts[i], ts[(i * 7 + 3) % ts.size()], 0};
             const std::uint32_t q2[3] = {quantize(t2[0], depth), quantize(t2[1], depth), 0};
-            ASSERT_EQ(morton_recursive<2>(t2, depth), morton_portable<2>(q2)) << "depth " << depth << " t " << t2[0] << " " << t2[1];
+            ASSERT_EQ(morton_recursive<2>(t2, depth), morton_portable<2>(q2))
+                << "depth " << depth << " t " << t2[0] << " " << t2[1];
             if (depth > 21) continue;
             const double t3[3] = {ts[i], ts[(i * 5 + 1) % ts.size()], ts[(i * 11 + 2) % ts.size()]};
             const std::uint32_t q3[3] = {quantize(t3[0], depth), quantize(t3[1], depth), quantize(t3[2], depth)};
@@ -103,9 +112,11 @@ TEST(SfcKeys, HilbertKnownValuesAndClassicAlgorithm) {
         for (std::uint32_t x = 0; x < (1u << depth); ++x)
             for (std::uint32_t y = 0; y < (1u << depth); ++y) {
                 const std::uint32_t q[3] = {x, y, 0};
-                ASSERT_EQ(hilbert<2>(q, depth), hilbert_classic(x, y, depth)) << "depth " << depth << " (" << x << ", " << y << ")";
+                ASSERT_EQ(hilbert<2>(q, depth), hilbert_classic(x, y, depth))
+                    << "depth " << depth << " (" << x << ", " << y << ")";
             }
-    for (const auto& q : random_cells(2, 32, 10000, 6)) ASSERT_EQ(hilbert<2>(q.data(), 32), hilbert_classic(q[0], q[1], 32));
+    for (const auto& q : random_cells(2, 32, 10000, 6))
+        ASSERT_EQ(hilbert<2>(q.data(), 32), hilbert_classic(q[0], q[1], 32));
 }
 
 TEST(SfcKeys, HilbertTablesGiveTheDefiningTransformsKeysAtEveryDepth) {
@@ -135,7 +146,8 @@ TEST(SfcKeys, HilbertRunsOfKeysEqualKeysOneAtATime) {
             std::vector<std::uint64_t> run(n);
             for (std::size_t i = 0; i < n; ++i) run[i] = morton_portable<2>(cells[i].data());
             hilbert_from_morton_run<2>(run.data(), n, d);
-            for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(run[i], hilbert_key_reference<2>(cells[i].data(), d)) << "n " << n << " i " << i;
+            for (std::size_t i = 0; i < n; ++i)
+                ASSERT_EQ(run[i], hilbert_key_reference<2>(cells[i].data(), d)) << "n " << n << " i " << i;
         }
     }
     const auto cells = random_cells(3, 20, 9, 400);
@@ -205,8 +217,10 @@ TEST(SfcKeys, MeshKeysAgreeAcrossEncodersAndTheRecursiveReference) {
         const auto v = m.view();
         const KeyFrame f = key_frame(v, max_depth(m.dim));
         EXPECT_DOUBLE_EQ(f.lo[0], *std::min_element(m.x.begin(), m.x.end()));
-        EXPECT_DOUBLE_EQ(1 / f.scale[1], *std::max_element(m.y.begin(), m.y.end()) - *std::min_element(m.y.begin(), m.y.end()));
-        std::vector<std::uint64_t> best(m.elements()), portable(m.elements()), recursive(m.elements()), hb(m.elements()), hp(m.elements());
+        EXPECT_DOUBLE_EQ(1 / f.scale[1],
+                         *std::max_element(m.y.begin(), m.y.end()) - *std::min_element(m.y.begin(), m.y.end()));
+        std::vector<std::uint64_t> best(m.elements()), portable(m.elements()), recursive(m.elements()),
+            hb(m.elements()), hp(m.elements());
         compute_keys(v, f, Curve::morton, best.data(), Encoder::best);
         compute_keys(v, f, Curve::morton, portable.data(), Encoder::portable);
         compute_keys(v, f, Curve::morton_recursive, recursive.data());
@@ -216,8 +230,10 @@ TEST(SfcKeys, MeshKeysAgreeAcrossEncodersAndTheRecursiveReference) {
         EXPECT_EQ(best, recursive);
         EXPECT_EQ(hb, hp);
         EXPECT_NE(best, hb);
-        EXPECT_GT(std::set<std::uint64_t>(best.begin(), best.end()).size(), m.elements() * 99 / 100);  // deep keys tell elements apart
-        for (std::size_t e = 0; e < m.elements(); e += 37) EXPECT_EQ(element_key(v, f, Curve::hilbert, e, Encoder::portable), hb[e]);
+        EXPECT_GT(std::set<std::uint64_t>(best.begin(), best.end()).size(),
+                  m.elements() * 99 / 100);  // deep keys tell elements apart
+        for (std::size_t e = 0; e < m.elements(); e += 37)
+            EXPECT_EQ(element_key(v, f, Curve::hilbert, e, Encoder::portable), hb[e]);
     }
 }
 

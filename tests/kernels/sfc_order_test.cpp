@@ -98,10 +98,12 @@ TEST(SfcRenumber, FirstTouchMatchesTheSerialLoop) {
     const auto expect = first_touch_serial(m, perm);
     EXPECT_EQ(expect.back(), m.vertices() - 1);
     with_threads([&] {
-        std::vector<std::uint32_t> id(m.vertices()), first(m.vertices()), conn(m.conn.size()), rank(rank_words(m.elements(), 3));
+        std::vector<std::uint32_t> id(m.vertices()), first(m.vertices()), conn(m.conn.size()),
+            rank(rank_words(m.elements(), 3));
         std::vector<std::uint64_t> bits(rank.size());
         std::vector<double> x(m.vertices()), y(m.vertices());
-        renumber_first_touch(m.view(), perm.data(), id.data(), {first.data(), bits.data(), rank.data()}, {conn.data(), x.data(), y.data(), nullptr});
+        renumber_first_touch(m.view(), perm.data(), id.data(), {first.data(), bits.data(), rank.data()},
+                             {conn.data(), x.data(), y.data(), nullptr});
         EXPECT_EQ(id, expect);
         for (std::size_t v = 0; v < m.vertices(); ++v) ASSERT_EQ(x[id[v]], m.x[v]);
         for (std::size_t p = 0; p < conn.size(); ++p) ASSERT_EQ(conn[p], id[m.conn[perm[p / 3] * 3 + p % 3]]);
@@ -159,7 +161,8 @@ TEST(SfcQuality, NumbersOfHandMadeMeshes) {
     EXPECT_EQ(s2.vertices, 2u);
     EXPECT_EQ(s2.elements, 4u);
     EXPECT_EQ(thread_sharing(strip.view(), 1).elements, 0u);
-    EXPECT_EQ(thread_block(10, 0, 3), (std::pair<std::uint64_t, std::uint64_t>{0, 4}));  // the first n % threads blocks are longer
+    EXPECT_EQ(thread_block(10, 0, 3),
+              (std::pair<std::uint64_t, std::uint64_t>{0, 4}));  // the first n % threads blocks are longer
     EXPECT_EQ(thread_block(10, 2, 3), (std::pair<std::uint64_t, std::uint64_t>{7, 10}));
 }
 
@@ -167,10 +170,15 @@ TEST(SfcChecks, CatchWrongAnswersNotJustMissingOnes) {
     const Mesh m = suite::mesh::disk_mesh(3);
     const std::size_t ne = m.elements(), nv = m.vertices();
     std::vector<std::uint64_t> keys(ne), ka(ne), kb(ne);
-    std::vector<std::uint32_t> perm(ne), ia(ne), ib(ne), id(nv), first(nv), conn(m.conn.size()), rank(rank_words(ne, 3));
+    std::vector<std::uint32_t> perm(ne), ia(ne), ib(ne), id(nv), first(nv), conn(m.conn.size()),
+        rank(rank_words(ne, 3));
     std::vector<std::uint64_t> bits(rank.size());
     std::vector<double> x(nv), y(nv);
-    const PipelineArrays a{keys.data(), perm.data(), {ka.data(), kb.data(), ia.data(), ib.data()}, id.data(), {first.data(), bits.data(), rank.data()},
+    const PipelineArrays a{keys.data(),
+                           perm.data(),
+                           {ka.data(), kb.data(), ia.data(), ib.data()},
+                           id.data(),
+                           {first.data(), bits.data(), rank.data()},
                            {conn.data(), x.data(), y.data(), nullptr}};
     Pipeline p(m.view(), Method::hilbert, 32, Encoder::best, a);
     p.keys();

@@ -24,8 +24,12 @@ namespace suite::testing_comm {
 class ThreadWorld {
 public:
     explicit ThreadWorld(int size)
-        : size_(size), barrier_(size), sums_(static_cast<std::size_t>(size)), maxima_(static_cast<std::size_t>(size)),
-          boxes_(static_cast<std::size_t>(size) * static_cast<std::size_t>(size)), locks_(static_cast<std::size_t>(size)),
+        : size_(size),
+          barrier_(size),
+          sums_(static_cast<std::size_t>(size)),
+          maxima_(static_cast<std::size_t>(size)),
+          boxes_(static_cast<std::size_t>(size) * static_cast<std::size_t>(size)),
+          locks_(static_cast<std::size_t>(size)),
           ready_(static_cast<std::size_t>(size)) {}
     int size() const { return size_; }
 
@@ -53,7 +57,8 @@ public:
 
     void exchange(int rank, std::span<const HaloPeer> peers) {
         for (const HaloPeer& p : peers) {
-            if (p.rank < 0 || p.rank >= size_ || p.rank == rank) throw std::logic_error("exchange with rank " + std::to_string(p.rank));
+            if (p.rank < 0 || p.rank >= size_ || p.rank == rank)
+                throw std::logic_error("exchange with rank " + std::to_string(p.rank));
             const std::size_t to = static_cast<std::size_t>(p.rank);
             {
                 const std::lock_guard<std::mutex> hold(locks_[to]);
@@ -70,14 +75,17 @@ public:
             from.pop_front();
             hold.unlock();
             if (static_cast<std::int64_t>(got.size()) != p.recv_count)
-                throw std::logic_error("rank " + std::to_string(rank) + " expected " + std::to_string(p.recv_count) + " values from rank " +
-                                       std::to_string(p.rank) + ", which sent " + std::to_string(got.size()));
+                throw std::logic_error("rank " + std::to_string(rank) + " expected " + std::to_string(p.recv_count) +
+                                       " values from rank " + std::to_string(p.rank) + ", which sent " +
+                                       std::to_string(got.size()));
             std::copy(got.begin(), got.end(), p.recv);
         }
     }
 
 private:
-    std::deque<std::vector<double>>& box(int from, int to) { return boxes_[static_cast<std::size_t>(from * size_ + to)]; }
+    std::deque<std::vector<double>>& box(int from, int to) {
+        return boxes_[static_cast<std::size_t>(from * size_ + to)];
+    }
 
     int size_;
     std::barrier<> barrier_;

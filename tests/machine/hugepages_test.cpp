@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "harness/machine/placement.hpp"
 #include "harness/common/units.hpp"
+#include "harness/machine/placement.hpp"
 #include "tests/process.hpp"
 
 using namespace suite;
@@ -49,7 +49,8 @@ ArrayPlacement touched_array(HugePages h, std::size_t bytes) {
     Arena arena(policy);
     auto* p = static_cast<char*>(arena.allocate_bytes("x", bytes));
     if (h == HugePages::thp && bytes >= (2u << 20)) {
-        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(p) % (2u << 20), 0u) << "an array asked to use huge pages starts on 2 MiB";
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(p) % (2u << 20), 0u)
+            << "an array asked to use huge pages starts on 2 MiB";
     }
     std::memset(p, 1, bytes);
     auto seen = arena.observe();
@@ -70,7 +71,8 @@ void expect_whole_histogram(const ArrayPlacement& a, std::size_t bytes) {
 }  // namespace
 
 TEST(HugePagesSmaps, ReadsTheMappingWithExactlyTheseBounds) {
-    EXPECT_EQ(anon_huge_bytes_in_smaps(smaps_text, 0x7f1200000000, 0x7f1200800000), std::optional<std::uint64_t>(6144u * 1024));
+    EXPECT_EQ(anon_huge_bytes_in_smaps(smaps_text, 0x7f1200000000, 0x7f1200800000),
+              std::optional<std::uint64_t>(6144u * 1024));
     EXPECT_EQ(anon_huge_bytes_in_smaps(smaps_text, 0x55d0c0a00000, 0x55d0c0a21000), std::optional<std::uint64_t>(0));
     // Bounds that are not a mapping's (a merged or partial range) are not guessed at.
     EXPECT_FALSE(anon_huge_bytes_in_smaps(smaps_text, 0x7f1200000000, 0x7f1200400000));
@@ -137,7 +139,8 @@ TEST(HugePagesE2E, TheRecordSaysWhatWasAskedAndWhatHappenedAndValidates) {
     for (const std::string mode : {"system", "none", "thp"}) {
         if (mode == "thp" && !thp_possible) continue;
         const std::string out = dir.file(mode + ".json");
-        Outcome r = run_suite({"--kernel=triad,load", "--size=24MiB", "--threads=1", "--reps=1", "--quiet", "--hugepages=" + mode, "--out=" + out});
+        Outcome r = run_suite({"--kernel=triad,load", "--size=24MiB", "--threads=1", "--reps=1", "--quiet",
+                               "--hugepages=" + mode, "--out=" + out});
         ASSERT_EQ(r.status, 0) << describe(r);
         const json doc = json::parse(slurp(out));
         for (const auto& rec : doc["results"]) {

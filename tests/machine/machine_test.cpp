@@ -104,7 +104,8 @@ TEST(Topology, TheCpuModelIsTheSameEveryTime) {
     for (int i = 0; i < 20; ++i) ASSERT_EQ(Topology::load().cpu_model, first) << "load " << i;
 #if defined(__x86_64__)
     unsigned regs[12] = {};
-    for (unsigned i = 0; i < 3; ++i) __get_cpuid(0x80000002 + i, &regs[4 * i], &regs[4 * i + 1], &regs[4 * i + 2], &regs[4 * i + 3]);
+    for (unsigned i = 0; i < 3; ++i)
+        __get_cpuid(0x80000002 + i, &regs[4 * i], &regs[4 * i + 1], &regs[4 * i + 2], &regs[4 * i + 3]);
     char brand[49] = {};
     std::memcpy(brand, regs, 48);
     EXPECT_EQ(first, std::string(brand));

@@ -73,7 +73,8 @@ TEST(RankShare, MoreRanksThanCoresIsRefused) {
         share_of(t, 3, 0);
         FAIL() << "3 ranks on 2 cores were given CPUs";
     } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("3 ranks were started on one host with 2 core(s)"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("3 ranks were started on one host with 2 core(s)"), std::string::npos)
+            << e.what();
     }
     EXPECT_THROW(share_of(t, 2, 2), std::logic_error);
 }

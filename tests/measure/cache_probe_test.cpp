@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "harness/measure/plan.hpp"
 #include "harness/machine/topology.hpp"
+#include "harness/measure/plan.hpp"
 #include "tests/process.hpp"
 
 using namespace suite::test;
@@ -35,7 +35,8 @@ TEST(CacheProbe, InfoProbeFindsTheFirstLevelWhereHwlocSaysItIs) {
         const json& l1 = m["levels"][0];
         EXPECT_EQ(l1["level"], 1);
         EXPECT_FALSE(l1["partial"].get<bool>());
-        if (!reported || !l1["capacity_bytes"].is_number()) GTEST_SKIP() << "hwloc reports no L1 here, or the sweep ended in it";
+        if (!reported || !l1["capacity_bytes"].is_number())
+            GTEST_SKIP() << "hwloc reports no L1 here, or the sweep ended in it";
         // Every L1 data cache is seen by a pointer chase, whatever a VM does to the last level.
         const double ratio = l1["capacity_bytes"].get<double>() / static_cast<double>(reported->size_bytes);
         if (ratio > 0.5 && ratio < 2.0) return;
@@ -47,7 +48,8 @@ TEST(CacheProbe, InfoProbeFindsTheFirstLevelWhereHwlocSaysItIs) {
 TEST(CacheProbe, RunWithProbeCachesRecordsThemAndSizesTheDramPointByThem) {
     TempDir dir;
     const std::string out = dir.file("r.json");
-    Outcome r = run_suite({"--probe-caches", "--kernel=load", "--threads=1", "--reps=1", "--quiet", "--out=" + out}, 300);
+    Outcome r =
+        run_suite({"--probe-caches", "--kernel=load", "--threads=1", "--reps=1", "--quiet", "--out=" + out}, 300);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(out));
     const json& m = doc["context"]["caches_measured"];

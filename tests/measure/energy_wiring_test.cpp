@@ -88,7 +88,9 @@ TEST(EnergyWiring, WithoutAnOpenerNothingIsMeasuredAndTheReasonSaysWhy) {
         make_instruments("none", "sysfs", {});
         FAIL() << "--energy=sysfs accepted by a program with no energy instrument";
     } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("--energy=sysfs: this program reads no energy; accepted: auto, none"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("--energy=sysfs: this program reads no energy; accepted: auto, none"),
+                  std::string::npos)
+            << e.what();
     }
 }
 
@@ -103,7 +105,8 @@ TEST(EnergyWiring, TheOpenerGetsTheOptionAndItsRefusalIsAUsageError) {
     EXPECT_THROW(make_plan(o, Topology::load(), refuse), UsageError);
     EXPECT_EQ(asked, std::vector<std::string>{"perf"});
     const EnergyOpener null_opener = [](const std::string&) { return std::unique_ptr<EnergyInstrument>(); };
-    EXPECT_THROW(make_plan(o, Topology::load(), null_opener), std::logic_error) << "an opener must return an instrument";
+    EXPECT_THROW(make_plan(o, Topology::load(), null_opener), std::logic_error)
+        << "an opener must return an instrument";
 }
 
 TEST(EnergyWiring, TheRunnerBracketsEveryRepetitionAndTakesThePointOnce) {
@@ -123,7 +126,8 @@ TEST(EnergyWiring, TheRunnerBracketsEveryRepetitionAndTakesThePointOnce) {
     EXPECT_EQ(meter->stops, rec.repetitions);
     ASSERT_EQ(meter->stop_seconds.size(), rec.samples_s.size());
     for (std::size_t i = 0; i < rec.samples_s.size(); ++i)
-        EXPECT_DOUBLE_EQ(meter->stop_seconds[i], rec.samples_s[i] * rec.batch) << "stop gets the clock's interval of repetition " << i;
+        EXPECT_DOUBLE_EQ(meter->stop_seconds[i], rec.samples_s[i] * rec.batch)
+            << "stop gets the clock's interval of repetition " << i;
     EXPECT_EQ(meter->takes, 1);
     EXPECT_EQ(meter->take_batch, rec.batch);
     EXPECT_DOUBLE_EQ(meter->take_median, rec.time.median);

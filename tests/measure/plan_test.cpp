@@ -63,12 +63,15 @@ TEST(Plan, DefaultSweepFitsAManyThreadMachine) {
     Topology t;
     t.packages = 2;
     t.cores = 128;
-    for (int cpu = 0; cpu < 256; ++cpu) t.pus.push_back({cpu, cpu % 128, cpu / 128, (cpu % 128) / 64, (cpu % 128) / 64});
+    for (int cpu = 0; cpu < 256; ++cpu)
+        t.pus.push_back({cpu, cpu % 128, cpu / 128, (cpu % 128) / 64, (cpu % 128) / 64});
     t.nodes = {{0, 1ull << 40, {}}, {1, 1ull << 40, {}}};
-    t.caches = {{1, "data", 32 << 10, 64, 128, 2}, {2, "unified", 1 << 20, 64, 128, 2}, {3, "unified", 32 << 20, 64, 16, 16}};
+    t.caches = {
+        {1, "data", 32 << 10, 64, 128, 2}, {2, "unified", 1 << 20, 64, 128, 2}, {3, "unified", 32 << 20, 64, 16, 16}};
     if (omp_get_thread_limit() < 256) GTEST_SKIP() << "OMP_THREAD_LIMIT is below 256";
     Plan plan = make_plan(RunOptions{}, t);
     EXPECT_FALSE(plan.points.empty());
     for (const auto& p : plan.points)
-        if (p.threads == 256 && p.size < (1u << 20)) ADD_FAILURE() << "an L1 point of " << p.size << " B for 256 threads";
+        if (p.threads == 256 && p.size < (1u << 20))
+            ADD_FAILURE() << "an L1 point of " << p.size << " B for 256 threads";
 }

@@ -52,7 +52,8 @@ void expect_usage_error(const RunOptions& o, const std::vector<std::string>& nee
 TEST(PlanVariants, DefaultVariantsRunAndSingleThreadOnesOnlyOnOneThread) {
     // default_variants {jacobi, serial}; serial is a single-thread variant: not planned for 2.
     const Plan plan = make_plan(solver_options(), two_socket());
-    EXPECT_EQ(variants_and_threads(plan), (std::multiset<std::pair<std::string, int>>{{"jacobi", 1}, {"jacobi", 2}, {"serial", 1}}));
+    EXPECT_EQ(variants_and_threads(plan),
+              (std::multiset<std::pair<std::string, int>>{{"jacobi", 1}, {"jacobi", 2}, {"serial", 1}}));
 }
 
 TEST(PlanVariants, StrategyPicksVariantsInTheOrderGiven) {
@@ -66,27 +67,32 @@ TEST(PlanVariants, StrategyPicksVariantsInTheOrderGiven) {
     // (1 and all) it runs on the one thread.
     o.strategies = "serial";
     o.threads = "1";
-    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())), (std::multiset<std::pair<std::string, int>>{{"serial", 1}}));
+    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())),
+              (std::multiset<std::pair<std::string, int>>{{"serial", 1}}));
     o.threads = "";
-    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())), (std::multiset<std::pair<std::string, int>>{{"serial", 1}}));
+    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())),
+              (std::multiset<std::pair<std::string, int>>{{"serial", 1}}));
 }
 
 TEST(PlanVariants, ASingleThreadStrategyNamedWithMoreThreadsIsRefused) {
     RunOptions o = solver_options();
     o.strategies = "jacobi,serial";
-    expect_usage_error(o, {"--strategy=jacobi,serial", "'serial'", "runs on one thread", "--threads=1-2", "--threads=1"});
+    expect_usage_error(o,
+                       {"--strategy=jacobi,serial", "'serial'", "runs on one thread", "--threads=1-2", "--threads=1"});
     // Defaulted, the single-thread variants are left out; when nothing is left, that is said.
     o.strategies = "serial";
     o.threads = "2";
     expect_usage_error(o, {"'serial'", "one thread"});
     o.strategies = "";
-    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())), (std::multiset<std::pair<std::string, int>>{{"jacobi", 2}}));
+    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())),
+              (std::multiset<std::pair<std::string, int>>{{"jacobi", 2}}));
 }
 
 TEST(PlanVariants, StrategyErrorsNameTheKernelAndWhatIsAccepted) {
     RunOptions o = solver_options();
     o.strategies = "jacobbi";
-    expect_usage_error(o, {"kernel 'test-solve' has no strategy 'jacobbi'", "did you mean 'jacobi'?", "strategies: jacobi, serial, atomic"});
+    expect_usage_error(o, {"kernel 'test-solve' has no strategy 'jacobbi'", "did you mean 'jacobi'?",
+                           "strategies: jacobi, serial, atomic"});
     o.strategies = "jacobi,jacobi";
     expect_usage_error(o, {"--strategy=jacobi,jacobi", "'jacobi' twice"});
     o.strategies = "jacobi,";
@@ -95,7 +101,8 @@ TEST(PlanVariants, StrategyErrorsNameTheKernelAndWhatIsAccepted) {
     o.strategies = "jacobi";
     o.kernels = "add";
     o.size = "64KiB";
-    expect_usage_error(o, {"kernel 'add' has no strategies, so --strategy does not apply", "kernels with strategies:", "test-solve"});
+    expect_usage_error(
+        o, {"kernel 'add' has no strategies, so --strategy does not apply", "kernels with strategies:", "test-solve"});
     o.kernels = "sfc-build";
     o.size = "1536";
     expect_usage_error(o, {"kernel 'sfc-build' has no strategies", "(it takes --phase)"});
@@ -104,7 +111,8 @@ TEST(PlanVariants, StrategyErrorsNameTheKernelAndWhatIsAccepted) {
     o.phases = "keys";
     o.kernels = suite::test::solver_kernel;
     o.size = "1000";
-    expect_usage_error(o, {"kernel 'test-solve' has no phases", "(it takes --strategy)", "kernels with phases: sfc-build"});
+    expect_usage_error(
+        o, {"kernel 'test-solve' has no phases", "(it takes --strategy)", "kernels with phases: sfc-build"});
 }
 
 TEST(PlanVariants, PhaseStillPicksSfcBuildPhases) {
@@ -142,14 +150,17 @@ TEST(PlanParams, DefaultsAreFilledAndGivenValuesOverrideThem) {
     plan = make_plan(o, two_socket());
     ASSERT_EQ(plan.points.size(), 3u);  // sfc-build; test-solve jacobi and serial
     for (const auto& p : plan.points) {
-        if (p.kernel->info.name == "sfc-build") EXPECT_TRUE(p.params.empty());
-        else EXPECT_EQ(p.params.at("delta"), 0.1);
+        if (p.kernel->info.name == "sfc-build")
+            EXPECT_TRUE(p.params.empty());
+        else
+            EXPECT_EQ(p.params.at("delta"), 0.1);
     }
 }
 
 TEST(PlanParams, BadValuesAreOneLineNamingTheOption) {
     RunOptions o = solver_options();
-    for (const char* bad : {"abc", "", "inf", "-inf", "nan", "NaN", "1e999", "0x10", " 1", "1 ", "1.5.2", "1e", ".", "+", "5%", "1,5"}) {
+    for (const char* bad :
+         {"abc", "", "inf", "-inf", "nan", "NaN", "1e999", "0x10", " 1", "1 ", "1.5.2", "1e", ".", "+", "5%", "1,5"}) {
         SCOPED_TRACE(bad);
         o.params = {{"delta", bad}};
         expect_usage_error(o, {"--delta=" + std::string(bad) + ":", "finite number"});
@@ -179,8 +190,10 @@ TEST(RunOptionsCli, ParameterAndStrategyOptionsAreDeclared) {
     CLI::App app;
     RunOptions o;
     setup_run_options(app, o);
-    for (const char* name : {"--delta", "--tol", "--wrong", "--strategy", "--phase"}) EXPECT_NE(app.get_option_no_throw(name), nullptr) << name;
-    ASSERT_TRUE(parse_command_line(app, "suite", {"--kernel=test-solve", "--strategy=jacobi", "--delta=0.125", "--tol", "1e-9"}));
+    for (const char* name : {"--delta", "--tol", "--wrong", "--strategy", "--phase"})
+        EXPECT_NE(app.get_option_no_throw(name), nullptr) << name;
+    ASSERT_TRUE(parse_command_line(app, "suite",
+                                   {"--kernel=test-solve", "--strategy=jacobi", "--delta=0.125", "--tol", "1e-9"}));
     EXPECT_EQ(o.strategies, "jacobi");
     EXPECT_EQ(o.params, (std::map<std::string, std::string>{{"delta", "0.125"}, {"tol", "1e-9"}}));
     // An empty value is refused before parsing, as for every option.
@@ -198,7 +211,8 @@ TEST(ParseFinite, AcceptsDecimalNumbersOnly) {
     EXPECT_EQ(parse_finite("2.5E+3", "--x"), 2500.0);
     EXPECT_EQ(parse_finite(".5", "--x"), 0.5);
     EXPECT_EQ(parse_finite("5.", "--x"), 5.0);
-    for (const char* bad : {"", "-", "e5", "1e+", "infinity", "0x1p3", "1_000", "1e400"}) EXPECT_THROW(parse_finite(bad, "--x"), UsageError) << bad;
+    for (const char* bad : {"", "-", "e5", "1e+", "infinity", "0x1p3", "1_000", "1e400"})
+        EXPECT_THROW(parse_finite(bad, "--x"), UsageError) << bad;
     EXPECT_EQ(format_number(0.05), "0.05");
     EXPECT_EQ(format_number(1e-8), "1e-08");
     EXPECT_EQ(format_number(12), "12");
@@ -216,7 +230,9 @@ TEST(PlanVariants, APlainKernelNamedUnderTheOptionIsPlannedAsThePlainKernel) {
     o.mesh = "disk:refine=2";
     EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())), (std::multiset<std::pair<std::string, int>>{{"", 1}}));
     o.strategies = "symmetric,csr";
-    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())), (std::multiset<std::pair<std::string, int>>{{"symmetric", 1}, {"", 1}}));
+    EXPECT_EQ(variants_and_threads(make_plan(o, two_socket())),
+              (std::multiset<std::pair<std::string, int>>{{"symmetric", 1}, {"", 1}}));
     o.strategies = "csv";
-    expect_usage_error(o, {"kernel 'fem-spmv' has no strategy 'csv'", "did you mean 'csr'?", "strategies: csr, symmetric"});
+    expect_usage_error(
+        o, {"kernel 'fem-spmv' has no strategy 'csv'", "did you mean 'csr'?", "strategies: csr, symmetric"});
 }

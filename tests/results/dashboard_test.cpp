@@ -45,8 +45,8 @@ json embedded_data(const std::string& page) {
 // A steady series of `runs` made-up runs (history_fixtures.hpp's commits, a seeded 1 % noise
 // between runs) on machine `fingerprint`; the runs listed in `unstable` are flagged, and their
 // medians three times the level, far outside any band fitted from the others.
-Series steady_band_series(const std::string& fingerprint, const std::string& kernel, std::size_t runs, std::vector<std::size_t> unstable,
-                          std::uint64_t seed) {
+Series steady_band_series(const std::string& fingerprint, const std::string& kernel, std::size_t runs,
+                          std::vector<std::size_t> unstable, std::uint64_t seed) {
     Series s;
     s.machine = "vm-" + fingerprint + " (made up, 4 cores)";
     s.fingerprint = fingerprint;
@@ -94,7 +94,8 @@ TEST(Dashboard, PageNamesEverySeriesAndStepAndCopiesTheLibrary) {
     EXPECT_NE(page.find("<script src=\"chart.min.js\"></script>"), std::string::npos);
     EXPECT_EQ(page.find("http://"), std::string::npos);
     EXPECT_EQ(page.find("https://"), std::string::npos);
-    EXPECT_NE(page.find("5 series on 2 machines, 120 runs of 24 commits, 4 steps (2 worse)"), std::string::npos) << page.substr(0, 4000);
+    EXPECT_NE(page.find("5 series on 2 machines, 120 runs of 24 commits, 4 steps (2 worse)"), std::string::npos)
+        << page.substr(0, 4000);
     // The lock is released: nothing but the two files is left.
     EXPECT_FALSE(std::filesystem::exists(out + "/.suite.lock"));
 }
@@ -195,7 +196,8 @@ TEST(Dashboard, ASeriesOfFiveRunsOrMoreShowsTheGatesBandOfItsLastStableRuns) {
     options.window = 7;
     // Two series of one machine and build (so each at 2 · 0.01 / 2, the gate's Bonferroni rule);
     // the first has an unstable run inside its last seven, which the window passes over.
-    const std::vector<Series> history = {steady_band_series("f1", "triad", 16, {13}, 7), steady_band_series("f1", "add", 16, {}, 8)};
+    const std::vector<Series> history = {steady_band_series("f1", "triad", 16, {13}, 7),
+                                         steady_band_series("f1", "add", 16, {}, 8)};
     const json data = embedded_data(slurp(write_dashboard(history, tmp.file("page"), options)));
     EXPECT_EQ(data["window"], 7);
     const json& band = data["series"][0]["band"];
@@ -208,7 +210,8 @@ TEST(Dashboard, ASeriesOfFiveRunsOrMoreShowsTheGatesBandOfItsLastStableRuns) {
         if (i != 13) window.push_back(history[0].entries[i].median);
     std::vector<double> sorted = window;
     std::sort(sorted.begin(), sorted.end());
-    const double centre = band["centre"].get<double>(), low = band["low"].get<double>(), high = band["high"].get<double>();
+    const double centre = band["centre"].get<double>(), low = band["low"].get<double>(),
+                 high = band["high"].get<double>();
     EXPECT_NEAR(centre, sorted[3], 1e-12 * sorted[3]) << "the centre is the median of the window's medians";
     for (double m : window) {
         EXPECT_LT(low, m);
@@ -222,7 +225,8 @@ TEST(Dashboard, ASeriesOfFiveRunsOrMoreShowsTheGatesBandOfItsLastStableRuns) {
 
     // The synthetic history: 24 runs a series, run 9 unstable, so every window is runs 14 to 23;
     // machine A's three series share 2 · alpha, machine B's two differ in context and do not.
-    const json synthetic = embedded_data(slurp(write_dashboard(synthetic_history(), tmp.file("synthetic"), stand_in_library(tmp))));
+    const json synthetic =
+        embedded_data(slurp(write_dashboard(synthetic_history(), tmp.file("synthetic"), stand_in_library(tmp))));
     EXPECT_EQ(synthetic["window"], 10);
     const double alphas[] = {0.02 / 3, 0.02 / 3, 0.02 / 3, 0.02, 0.02};
     for (std::size_t i = 0; i < 5; ++i) {
@@ -241,7 +245,8 @@ TEST(Dashboard, ASeriesOfFourRunsHasNoBandAndSaysWhy) {
     EXPECT_EQ(DashboardOptions{}.window, 10u);
     EXPECT_DOUBLE_EQ(DashboardOptions{}.alpha, 0.01);
     // Four runs; and six of which two are unstable, four stable: neither has runs enough.
-    const std::vector<Series> history = {steady_band_series("f1", "triad", 4, {}, 11), steady_band_series("f2", "add", 6, {1, 4}, 12)};
+    const std::vector<Series> history = {steady_band_series("f1", "triad", 4, {}, 11),
+                                         steady_band_series("f2", "add", 6, {1, 4}, 12)};
     const std::string page = slurp(write_dashboard(history, tmp.file("page"), stand_in_library(tmp)));
     const json data = embedded_data(page);
     for (const json& s : data["series"]) {

@@ -22,24 +22,39 @@ using nlohmann::json;
 
 namespace {
 
-std::string fixture(const std::string& name) { return slurp(std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/" + name); }
+std::string fixture(const std::string& name) {
+    return slurp(std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/" + name);
+}
 
 // One mutation of `text`, chosen by `rng`: a truncation, a few bytes changed, or a JSON value
 // replaced or removed (which gets past the parser into the field checks).
-std::string mutate(const std::string& text, const json& doc, const std::vector<std::string>& leaves, std::mt19937_64& rng) {
+std::string mutate(const std::string& text, const json& doc, const std::vector<std::string>& leaves,
+                   std::mt19937_64& rng) {
     auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
     switch (pick(3)) {
         case 0:
             return text.substr(0, pick(text.size()));
         case 1: {
-            static const char bytes[] = {'{', '}', '[', ']', '"', ',', ':', '0', '-', 'e', 'n', 'x', '\\', '\0', '\xff', ' ', '9'};
+            static const char bytes[] = {'{', '}', '[', ']',  '"',  ',',    ':', '0', '-',
+                                         'e', 'n', 'x', '\\', '\0', '\xff', ' ', '9'};
             std::string t = text;
             for (std::size_t k = 0, n = 1 + pick(4); k < n; ++k) t[pick(t.size())] = bytes[pick(sizeof bytes)];
             return t;
         }
         default: {
-            static const json replacements[] = {nullptr, -1, 0, 1e308, -0.0, "", "x", json::array(), json::object(), true,
-                                                18446744073709551615ULL, -9223372036854775807LL, json::array({1, "a"})};
+            static const json replacements[] = {nullptr,
+                                                -1,
+                                                0,
+                                                1e308,
+                                                -0.0,
+                                                "",
+                                                "x",
+                                                json::array(),
+                                                json::object(),
+                                                true,
+                                                18446744073709551615ULL,
+                                                -9223372036854775807LL,
+                                                json::array({1, "a"})};
             json d = doc;
             // A leaf, or one of its ancestors, so that whole objects and arrays change too.
             json::json_pointer p(leaves[pick(leaves.size())]);
@@ -47,8 +62,10 @@ std::string mutate(const std::string& text, const json& doc, const std::vector<s
             if (p.empty()) return d.dump();
             if (pick(3) == 0) {
                 json& parent = d[p.parent_pointer()];
-                if (parent.is_object()) parent.erase(p.back());
-                else if (parent.is_array() && !parent.empty()) parent.erase(parent.begin());
+                if (parent.is_object())
+                    parent.erase(p.back());
+                else if (parent.is_array() && !parent.empty())
+                    parent.erase(parent.begin());
             } else {
                 d[p] = replacements[pick(std::size(replacements))];
             }

@@ -21,7 +21,6 @@ using nlohmann::json;
 
 namespace {
 
-
 Measure bandwidth(std::vector<double> samples) {
     Measure m{"bandwidth", "GB/s", Direction::higher_is_better, 0, 0, 0, std::move(samples), NAN};
     std::vector<double> s = m.samples;
@@ -86,12 +85,16 @@ TEST(GateRule, AChangeTheRepetitionsCannotTellFromNoiseIsInconclusive) {
 
 TEST(GateRule, CountsNearZeroAreNotGatedByRatio) {
     // 0 -> 1 context switch a repetition was "infinitely worse" under a plain ratio.
-    const Finding f = judge(count("counter context-switches", 0, 0), count("counter context-switches", 9.5e-7, 1), GateRule{});
+    const Finding f =
+        judge(count("counter context-switches", 0, 0), count("counter context-switches", 9.5e-7, 1), GateRule{});
     EXPECT_EQ(f.verdict, Verdict::unchanged);
     EXPECT_NE(f.note.find("not gated by ratio"), std::string::npos);
     // Enough events to mean something: gated as before, from 0 too.
-    EXPECT_EQ(judge(count("counter cache-misses", 0, 0), count("counter cache-misses", 0.5, 5000), GateRule{}).verdict, Verdict::regressed);
-    EXPECT_EQ(judge(count("counter cache-misses", 0.1, 1000), count("counter cache-misses", 0.2, 2000), GateRule{}).verdict, Verdict::regressed);
+    EXPECT_EQ(judge(count("counter cache-misses", 0, 0), count("counter cache-misses", 0.5, 5000), GateRule{}).verdict,
+              Verdict::regressed);
+    EXPECT_EQ(
+        judge(count("counter cache-misses", 0.1, 1000), count("counter cache-misses", 0.2, 2000), GateRule{}).verdict,
+        Verdict::regressed);
     // A figure that is not a count (no count_per_call) is never exempted.
     const Measure lat{"latency", "ns/load", Direction::lower_is_better, 1, 1, 0, {}, NAN};
     Measure lat2 = lat;
@@ -134,16 +137,19 @@ TEST(GateRule, CheckRefusesAnotherBuildOrHugePageSettingUnlessForced) {
     for (auto& r : run["results"]) r["hugepages"] = {{"requested", "thp"}};
     save(base, dir.file("none.json"));
     save(run, dir.file("thp.json"));
-    expect_one_line_error(run_suite({"check", "--baseline", dir.file("none.json"), dir.file("thp.json")}), "hugepages 'none' -> 'thp'");
+    expect_one_line_error(run_suite({"check", "--baseline", dir.file("none.json"), dir.file("thp.json")}),
+                          "hugepages 'none' -> 'thp'");
     Outcome forced = run_suite({"check", "--baseline", dir.file("none.json"), dir.file("thp.json"), "--force"});
     EXPECT_EQ(forced.status, 0) << describe(forced);
     EXPECT_NE(forced.out.find("compared anyway, --force): hugepages"), std::string::npos) << forced.out;
-    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), fixture("vm-x86-64-v3.json")}), "compiler_flags");
+    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), fixture("vm-x86-64-v3.json")}),
+                          "compiler_flags");
     // compare lists the difference (it used to say "none") and, one kind of change only, compares.
     Outcome cmp = run_suite({"compare", dir.file("none.json"), dir.file("thp.json")});
     EXPECT_EQ(cmp.status, 0) << describe(cmp);
     EXPECT_NE(cmp.out.find("hugepages  build/setting  none"), std::string::npos) << cmp.out;
-    expect_one_line_error(run_suite({"check", "--baseline", dir.file("none.json"), dir.file("none.json"), "--alpha=2"}), "--alpha");
+    expect_one_line_error(run_suite({"check", "--baseline", dir.file("none.json"), dir.file("none.json"), "--alpha=2"}),
+                          "--alpha");
 }
 
 TEST(GateRule, CompareMatchesAllThreadsAcrossCoreCountsAndRefusesTwoChangesAtOnce) {
@@ -168,6 +174,7 @@ TEST(GateRule, CompareMatchesAllThreadsAcrossCoreCountsAndRefusesTwoChangesAtOnc
     // Another machine and another build at once: which made the difference? Refused.
     big["context"]["compiler_flags"] = "-O2";
     save(big, dir.file("big-o2.json"));
-    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), dir.file("big-o2.json")}), "differ both as machines (cpu_model, cores, pus)");
+    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), dir.file("big-o2.json")}),
+                          "differ both as machines (cpu_model, cores, pus)");
     EXPECT_EQ(run_suite({"compare", fixture("vm-native.json"), dir.file("big-o2.json"), "--force"}).status, 0);
 }

@@ -19,10 +19,12 @@ namespace {
 // The fields Google Benchmark's JSON reporter writes for every run, with their types.
 void expect_gbench_entry(const json& b) {
     ASSERT_TRUE(b.is_object());
-    for (const char* k : {"name", "run_name", "run_type", "time_unit"}) EXPECT_TRUE(b.contains(k) && b[k].is_string()) << k << " in " << b.dump();
+    for (const char* k : {"name", "run_name", "run_type", "time_unit"})
+        EXPECT_TRUE(b.contains(k) && b[k].is_string()) << k << " in " << b.dump();
     for (const char* k : {"family_index", "per_family_instance_index", "repetitions", "threads", "iterations"})
         EXPECT_TRUE(b.contains(k) && b[k].is_number_integer()) << k << " in " << b.dump();
-    for (const char* k : {"real_time", "cpu_time"}) EXPECT_TRUE(b.contains(k) && b[k].is_number()) << k << " in " << b.dump();
+    for (const char* k : {"real_time", "cpu_time"})
+        EXPECT_TRUE(b.contains(k) && b[k].is_number()) << k << " in " << b.dump();
     EXPECT_TRUE(b["run_type"] == "iteration" || b["run_type"] == "aggregate") << b.dump();
     if (b["run_type"] == "aggregate") {
         EXPECT_TRUE(b.contains("aggregate_name")) << b.dump();
@@ -35,12 +37,14 @@ void expect_gbench_entry(const json& b) {
 
 TEST(GbenchFormat, ASuiteRunInGoogleBenchmarksJson) {
     TempDir dir;
-    Outcome r = run_suite({"--kernel=triad,latency", "--sizes=64KiB,1MiB", "--threads=1", "--reps=4", "--format=gbench", "--out=" + dir.file("gb.json")});
+    Outcome r = run_suite({"--kernel=triad,latency", "--sizes=64KiB,1MiB", "--threads=1", "--reps=4", "--format=gbench",
+                           "--out=" + dir.file("gb.json")});
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(dir.file("gb.json")));
     ASSERT_TRUE(doc.contains("context") && doc.contains("benchmarks")) << doc.dump().substr(0, 500);
     const json& ctx = doc["context"];
-    for (const char* k : {"date", "host_name", "executable", "library_build_type"}) EXPECT_TRUE(ctx[k].is_string()) << k;
+    for (const char* k : {"date", "host_name", "executable", "library_build_type"})
+        EXPECT_TRUE(ctx[k].is_string()) << k;
     EXPECT_GE(ctx["num_cpus"].get<int>(), 1);
     ASSERT_TRUE(ctx["caches"].is_array());
     for (const auto& c : ctx["caches"])
@@ -57,7 +61,7 @@ TEST(GbenchFormat, ASuiteRunInGoogleBenchmarksJson) {
         names.insert(b["run_name"].get<std::string>());
     }
     EXPECT_EQ(names, (std::set<std::string>{"triad/sequential/64KiB/1/real_time", "triad/sequential/1MiB/1/real_time",
-                                             "latency/random/64KiB/1/real_time", "latency/random/1MiB/1/real_time"}));
+                                            "latency/random/64KiB/1/real_time", "latency/random/1MiB/1/real_time"}));
     // The numbers are the run's own: the same run in suite's JSON would hold these samples.
     const json& first = bs[0];
     EXPECT_EQ(first["run_type"], "iteration");
@@ -111,10 +115,11 @@ TEST(SuiteGbench, EveryKernelAndPatternIsABenchmark) {
 
 TEST(SuiteGbench, FilterRepetitionsAndJsonWork) {
     TempDir dir;
-    Outcome r = run_program({SUITE_GBENCH_BINARY, "--sizes=256KiB", "--threads=1", "--benchmark_filter=^add/(sequential|random)/",
-                             "--benchmark_repetitions=2", "--benchmark_min_time=0.01", "--benchmark_format=json",
-                             "--benchmark_out=" + dir.file("gb.json")},
-                            120);
+    Outcome r =
+        run_program({SUITE_GBENCH_BINARY, "--sizes=256KiB", "--threads=1",
+                     "--benchmark_filter=^add/(sequential|random)/", "--benchmark_repetitions=2",
+                     "--benchmark_min_time=0.01", "--benchmark_format=json", "--benchmark_out=" + dir.file("gb.json")},
+                    120);
     ASSERT_EQ(r.status, 0) << describe(r);
     const json doc = json::parse(slurp(dir.file("gb.json")));
     std::set<std::string> runs;
@@ -124,7 +129,8 @@ TEST(SuiteGbench, FilterRepetitionsAndJsonWork) {
         if (b["run_type"] == "iteration") {
             ASSERT_TRUE(b.contains("bytes_per_second") && b.contains("items_per_second")) << b.dump();
             // bytes per second over items per second is add's 24 B per element.
-            EXPECT_NEAR(b["bytes_per_second"].get<double>() / b["items_per_second"].get<double>(), 24.0, 0.01) << b.dump();
+            EXPECT_NEAR(b["bytes_per_second"].get<double>() / b["items_per_second"].get<double>(), 24.0, 0.01)
+                << b.dump();
             EXPECT_FALSE(b.value("error_occurred", false)) << b.dump();
         }
     }

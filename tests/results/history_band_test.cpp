@@ -48,7 +48,8 @@ struct BandHistory {
     Gauss g{2026};
     void add(std::size_t first, std::size_t n, double between, double slower = 1.0, const std::string& commit = "") {
         History h = History::open_for_adding(db);
-        for (std::size_t i = first; i < first + n; ++i) h.add({band_file(drifting_run(i, g, between, slower), "run.json")}, commit, "main");
+        for (std::size_t i = first; i < first + n; ++i)
+            h.add({band_file(drifting_run(i, g, between, slower), "run.json")}, commit, "main");
     }
     std::vector<Series> all() const { return History::open_for_reading(db).series(); }
 };
@@ -96,7 +97,8 @@ TEST(HistoryBand, IsTheStudentTPredictionIntervalOfTheLogMedians) {
     // Too few runs, or a median that is not positive: no band.
     EXPECT_FALSE(fit_band({10, 10.4, 9.7, 10.1}, {}, 0.05, 5).usable());
     EXPECT_FALSE(fit_band({10, 10.4, 9.7, 0, 10.1}, {}, 0.05, 5).usable());
-    EXPECT_NEAR(fit_band({10, 10.4, 9.7, 10.1}, {}, 0.05, 5).centre, std::sqrt(10 * 10.1), 1e-12) << "the centre is known all the same";
+    EXPECT_NEAR(fit_band({10, 10.4, 9.7, 10.1}, {}, 0.05, 5).centre, std::sqrt(10 * 10.1), 1e-12)
+        << "the centre is known all the same";
 }
 
 TEST(HistoryBand, AlphaIsSharedAmongTheFiguresTheRunGates) {
@@ -146,7 +148,8 @@ TEST(HistoryBand, AutoToleranceFollowsEachSeriesSpreadWithAFloor) {
     EXPECT_EQ(judge_with_band(base, slow, tight, rule).verdict, Verdict::unchanged);
     // Without a band, under auto: check's rule at the fallback tolerance, said in the note.
     parse_history_tolerance("auto", rule);
-    const Finding none = judge_with_band(base, rate(80, {80, 80.1, 79.9, 80.05, 79.95}), fit_band({100, 101}, {}, 0.01, 5), rule);
+    const Finding none =
+        judge_with_band(base, rate(80, {80, 80.1, 79.9, 80.05, 79.95}), fit_band({100, 101}, {}, 0.01, 5), rule);
     EXPECT_EQ(none.verdict, Verdict::unchanged) << "20 % is within the fallback's 25 %";
     EXPECT_NE(none.note.find("no band; check's rule at 25.0%"), std::string::npos) << none.note;
     EXPECT_THROW(parse_history_tolerance("automatic", rule), UsageError);
@@ -162,7 +165,8 @@ TEST(HistoryBand, LeaveOneOutOnADriftingMachineFalseAlarmsUnderTheOldRuleAndNotU
     parse_history_tolerance("auto", rule);
     const NoiseReport automatic = measure_noise(series, 10, rule, true);
     EXPECT_EQ(old_rule.runs_tried.size(), 20u);
-    EXPECT_GE(old_rule.runs_alarmed.size(), 2u) << "a 10 % drift falls past 10 % in about one run in six, each confirmed by tight repetitions";
+    EXPECT_GE(old_rule.runs_alarmed.size(), 2u)
+        << "a 10 % drift falls past 10 % in about one run in six, each confirmed by tight repetitions";
     EXPECT_EQ(band.runs_alarmed.size(), 0u);
     EXPECT_EQ(automatic.runs_alarmed.size(), 0u);
     // The drifting series' spread is measured as about 10 %; the steady ones' as about 1 %.
@@ -213,7 +217,8 @@ TEST(HistoryBandCli, AutoNeedsRunsBaseCommitNeedsItsRunsAndTheSummaryStaysShort)
     Outcome unknown = run_suite({"history", "check", run, "--db", h.db, "--base-commit", "0123456789abcdef"});
     EXPECT_EQ(unknown.status, 2) << describe(unknown);
     expect_one_line_error(unknown, "no run of --base-commit 0123456789abcdef");
-    expect_one_line_error(run_suite({"history", "check", run, "--db", h.db, "--base-commit", "main"}), "give a commit's hash");
+    expect_one_line_error(run_suite({"history", "check", run, "--db", h.db, "--base-commit", "main"}),
+                          "give a commit's hash");
     // The base's runs, with all 40 digits of a hash whose first 12 the history stores.
     const std::string base12 = made_up_commit(4), base40 = base12 + std::string(28, '0');
     Outcome based = run_suite({"history", "check", run, "--db", h.db, "--base-commit", base40, "--tolerance=auto"});
@@ -224,13 +229,15 @@ TEST(HistoryBandCli, AutoNeedsRunsBaseCommitNeedsItsRunsAndTheSummaryStaysShort)
     other["context"]["compiler_flags"] = "-O0";
     other["context"]["git_revision"] = "abcdef1234567";
     History::open_for_adding(h.db).add({band_file(other, "other.json")}, "", "main");
-    expect_one_line_error(run_suite({"history", "check", run, "--db", h.db, "--base-commit", "abcdef1234567"}), "are of another build");
+    expect_one_line_error(run_suite({"history", "check", run, "--db", h.db, "--base-commit", "abcdef1234567"}),
+                          "are of another build");
     // The summary for a pull request: every point 40 % slower than a history that stepped to
     // faster runs, 30 lines at most.
     h.add(8, 6, 0.01, 0.7);
     const std::string slow = h.tmp.file("slow.json"), md = h.tmp.file("gate.md");
     save_json(drifting_run(60, h.g, 0.01, 1.4), slow);
-    Outcome bad = run_suite({"history", "check", slow, "--db", h.db, "--tolerance=auto", "--markdown", md, "--window=5"});
+    Outcome bad =
+        run_suite({"history", "check", slow, "--db", h.db, "--tolerance=auto", "--markdown", md, "--window=5"});
     EXPECT_EQ(bad.status, 1) << describe(bad);
     const std::string text = slurp(md);
     std::size_t lines = 0;
@@ -253,7 +260,9 @@ TEST(HistoryBandCli, NoiseMeasuresEachSeriesAndTheFalseAlarmsOfBothRules) {
     EXPECT_NE(old.out.find("(the pooled window alone at 5%)"), std::string::npos) << old.out;
     Outcome confirmed = run_suite({"history", "noise", "--db", h.db, "--tolerance=auto", "--confirm"});
     EXPECT_EQ(confirmed.status, 0) << describe(confirmed);
-    EXPECT_NE(confirmed.out.find("each confirmed by the next run): 0 of 11 run(s)"), std::string::npos) << confirmed.out;
-    expect_one_line_error(run_suite({"history", "noise", "--db", h.db, "--tolerance=auto", "--without-band"}), "--tolerance=auto needs the band");
+    EXPECT_NE(confirmed.out.find("each confirmed by the next run): 0 of 11 run(s)"), std::string::npos)
+        << confirmed.out;
+    expect_one_line_error(run_suite({"history", "noise", "--db", h.db, "--tolerance=auto", "--without-band"}),
+                          "--tolerance=auto needs the band");
     expect_one_line_error(run_suite({"history", "noise", "--db", h.db, "--kernel", "nosuch"}), "nosuch");
 }

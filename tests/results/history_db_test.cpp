@@ -98,10 +98,13 @@ TEST(HistoryDb, AnOlderSchemaVersionIsReadAsItIsAndMigratedKeepingItsRows) {
         {
             // A run as versions 1 and 2 stored it: no rank columns (every run was of one process).
             SqlDatabase raw = SqlDatabase::open(db, {true, false, 1000});
-            raw.exec("INSERT INTO runs VALUES (7, 'hash', 'fp', 'old box (CPU, 2 cores)', 'class', 'abc123', 'main', '2025-01-01T00:00:00Z', "
-                     "'a.json', '2025-01-01T00:00:00Z', '{}');"
-                     "INSERT INTO records VALUES (7, 'add', '', 'random', 'bytes', 65536, 1, 'compact', 'local', '{}', '', 'bandwidth', 'GB/s', "
-                     "'higher', 12.5, 0.01, NULL, '[12.0,12.5,13.0]', 1, 0, '');");
+            raw.exec(
+                "INSERT INTO runs VALUES (7, 'hash', 'fp', 'old box (CPU, 2 cores)', 'class', 'abc123', 'main', "
+                "'2025-01-01T00:00:00Z', "
+                "'a.json', '2025-01-01T00:00:00Z', '{}');"
+                "INSERT INTO records VALUES (7, 'add', '', 'random', 'bytes', 65536, 1, 'compact', 'local', '{}', '', "
+                "'bandwidth', 'GB/s', "
+                "'higher', 12.5, 0.01, NULL, '[12.0,12.5,13.0]', 1, 0, '');");
         }
         {
             // Read as it is (reading never changes the file), its series and summary included.
@@ -127,7 +130,8 @@ TEST(HistoryDb, AnOlderSchemaVersionIsReadAsItIsAndMigratedKeepingItsRows) {
         SqlStatement v = raw.prepare("SELECT value FROM meta WHERE key = 'schema_version'");
         ASSERT_TRUE(v.step());
         EXPECT_EQ(v.text(0), std::to_string(history_schema_version));
-        SqlStatement index = raw.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'records_by_point'");
+        SqlStatement index =
+            raw.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'records_by_point'");
         index.step();
         EXPECT_EQ(index.integer(0), 1);
         // The old row has the new columns, empty: a record of a run of one process.
@@ -155,7 +159,8 @@ TEST(HistoryDb, RandomBytesAreNotAHistoryDatabase) {
     std::string bytes(8192, '\0');
     for (auto& c : bytes) c = static_cast<char>(rng());
     std::ofstream(db, std::ios::binary) << bytes;
-    expect_refused_untouched(db, "is not a suite history database", [&] { History::open_for_adding(db).add({made_up(0)}, "", ""); });
+    expect_refused_untouched(db, "is not a suite history database",
+                             [&] { History::open_for_adding(db).add({made_up(0)}, "", ""); });
     expect_refused_untouched(db, "is not a suite history database", [&] { History::open_for_reading(db); });
 }
 
@@ -171,14 +176,17 @@ TEST(HistoryDb, ADamagedPageIsRefusedUntouched) {
     ASSERT_GT(bytes.size(), 3 * 4096u);
     for (std::size_t i = 2 * 4096; i < bytes.size(); ++i) bytes[i] = static_cast<char>(i * 131 + 7);
     std::ofstream(db, std::ios::binary | std::ios::trunc) << bytes;
-    expect_refused_untouched(db, "is not a suite history database", [&] { History::open_for_adding(db).add({made_up(9)}, "", ""); });
+    expect_refused_untouched(db, "is not a suite history database",
+                             [&] { History::open_for_adding(db).add({made_up(9)}, "", ""); });
 }
 
 TEST(HistoryDb, AnotherProgramsSqliteFileIsRefusedUntouched) {
     TempDir tmp;
     const std::string db = tmp.file("other.sqlite");
-    SqlDatabase::open(db, {true, true, 1000}).exec("CREATE TABLE notes (text TEXT); INSERT INTO notes VALUES ('mine');");
-    expect_refused_untouched(db, "without suite's meta table", [&] { History::open_for_adding(db).add({made_up(0)}, "", ""); });
+    SqlDatabase::open(db, {true, true, 1000})
+        .exec("CREATE TABLE notes (text TEXT); INSERT INTO notes VALUES ('mine');");
+    expect_refused_untouched(db, "without suite's meta table",
+                             [&] { History::open_for_adding(db).add({made_up(0)}, "", ""); });
 }
 
 TEST(HistoryDb, AddRefusesAFileSqliteOpensReadOnly) {
@@ -193,7 +201,9 @@ TEST(HistoryDb, AddRefusesAFileSqliteOpensReadOnly) {
 }
 
 TEST(HistoryDb, AddRefusesAFileWithoutWritePermission) {
-    if (geteuid() == 0) GTEST_SKIP() << "running as root, which writes a mode 0444 file (AddRefusesAFileSqliteOpensReadOnly covers the refusal)";
+    if (geteuid() == 0)
+        GTEST_SKIP()
+            << "running as root, which writes a mode 0444 file (AddRefusesAFileSqliteOpensReadOnly covers the refusal)";
     TempDir tmp;
     const std::string db = tmp.file("h.sqlite");
     History::open_for_adding(db).add({made_up(0)}, "", "");
@@ -211,7 +221,8 @@ TEST(HistoryDb, ALockHeldLongerThanTheWaitIsRefusedUntouched) {
     {
         LockHolder holder(db);
         ASSERT_TRUE(holder.held());
-        expect_refused_untouched(db, "locked by another process", [&] { History::open_for_adding(db, o).add({made_up(1)}, "", ""); });
+        expect_refused_untouched(db, "locked by another process",
+                                 [&] { History::open_for_adding(db, o).add({made_up(1)}, "", ""); });
         expect_refused_untouched(db, "locked by another process", [&] { History::open_for_reading(db, o); });
     }
     // Released: the same add lands.

@@ -40,7 +40,8 @@ private:
 
 // The first `points` records of vm-native.json (bandwidth points of copy, then triad, then add).
 inline nlohmann::json fixture_run(std::size_t points) {
-    nlohmann::json doc = nlohmann::json::parse(slurp(std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/vm-native.json"));
+    nlohmann::json doc =
+        nlohmann::json::parse(slurp(std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/vm-native.json"));
     auto& results = doc["results"];
     results.erase(results.begin() + static_cast<std::ptrdiff_t>(points), results.end());
     return doc;
@@ -60,7 +61,8 @@ inline void set_times(nlohmann::json& record, std::vector<double> times) {
     record["time_s"]["median"] = median;
     record["time_s"]["mean"] = sum / static_cast<double>(n);
     const auto& work = record["work_per_repetition"];
-    for (const auto& [kind, bytes] : {std::pair{"stream", "stream_bytes"}, std::pair{"hardware_estimate", "hardware_bytes_estimate"}}) {
+    for (const auto& [kind, bytes] :
+         {std::pair{"stream", "stream_bytes"}, std::pair{"hardware_estimate", "hardware_bytes_estimate"}}) {
         const double b = work[bytes].get<double>();
         record["bandwidth_gbps"][kind]["best"] = b / sorted.front() / 1e9;
         record["bandwidth_gbps"][kind]["median"] = b / median / 1e9;
@@ -69,7 +71,8 @@ inline void set_times(nlohmann::json& record, std::vector<double> times) {
 
 // Repetition times around `level` times the record's own median time: `reps` of them, each with a
 // relative noise of `noise` (a standard deviation).
-inline std::vector<double> noisy_times(const nlohmann::json& record, double level, double noise, Gauss& g, std::size_t reps = 5) {
+inline std::vector<double> noisy_times(const nlohmann::json& record, double level, double noise, Gauss& g,
+                                       std::size_t reps = 5) {
     const double base = record["time_s"]["median"].get<double>() * level;
     std::vector<double> out;
     for (std::size_t i = 0; i < reps; ++i) out.push_back(base * (1 + noise * g()));
@@ -79,7 +82,8 @@ inline std::vector<double> noisy_times(const nlohmann::json& record, double leve
 // The commit and date of run i of a made-up history: hourly from 2026-01-01.
 inline std::string made_up_commit(std::size_t i) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "c%011llx", static_cast<unsigned long long>((i + 1) * 0x9e3779b1ULL % 0xfffffffffffULL));
+    std::snprintf(buf, sizeof buf, "c%011llx",
+                  static_cast<unsigned long long>((i + 1) * 0x9e3779b1ULL % 0xfffffffffffULL));
     return buf;
 }
 
@@ -117,7 +121,8 @@ public:
                 SqlDatabase h = SqlDatabase::open(db, {true, false, 1000});
                 h.exec("BEGIN EXCLUSIVE");
                 char c = '1';
-                if (write(ready[1], &c, 1) != 1 || read(release[0], &c, 1) < 0) status = 1;  // read: 0 at the parent's close
+                if (write(ready[1], &c, 1) != 1 || read(release[0], &c, 1) < 0)
+                    status = 1;  // read: 0 at the parent's close
             } catch (...) {
                 status = 1;
             }

@@ -36,7 +36,8 @@ struct GateFixture {
         for (std::size_t i = first; i < first + n; ++i) {
             json doc = steady_run(i, g, level);
             if (unstable)
-                for (auto& r : doc["results"]) r["stability"] = {{"unstable", true}, {"reasons", {"the machine was busy"}}};
+                for (auto& r : doc["results"])
+                    r["stability"] = {{"unstable", true}, {"reasons", {"the machine was busy"}}};
             h.add({as_file(doc, "run.json")}, "", "main");
         }
     }

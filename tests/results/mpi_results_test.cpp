@@ -51,7 +51,9 @@ std::string line_of(const std::string& text, const std::string& start) {
 
 json plain_doc() { return load(fixture("vm-native.json")); }
 
-json latency_template() { return template_record(load(fixture("vm-native-latency.json")), "latency", "random", 64ULL << 20, 1); }
+json latency_template() {
+    return template_record(load(fixture("vm-native-latency.json")), "latency", "random", 64ULL << 20, 1);
+}
 
 // The InputError that reading `doc` throws, or "" when it reads.
 std::string read_error(const json& doc) {
@@ -66,7 +68,8 @@ std::string read_error(const json& doc) {
 // Run i of a made-up history of two ranks on vm: rank r at `slow_r` times the template's times,
 // with 1 % noise between runs (each rank's level) and between repetitions, stamped as run i.
 json noisy_two_rank_run(std::size_t i, Gauss& g, double slow0, double slow1) {
-    json doc = mpi_document(plain_doc(), bandwidth_templates(), two_ranks(slow0 * (1 + 0.01 * g()), slow1 * (1 + 0.01 * g())));
+    json doc =
+        mpi_document(plain_doc(), bandwidth_templates(), two_ranks(slow0 * (1 + 0.01 * g()), slow1 * (1 + 0.01 * g())));
     stamp(doc, i);
     for (auto& r : doc["results"]) set_times(r, noisy_times(r, 1.0, 0.01, g));
     return doc;
@@ -77,7 +80,8 @@ json noisy_two_rank_run(std::size_t i, Gauss& g, double slow0, double slow1) {
 TEST(MpiResultFile, RanksAndTheAggregateAreSeparatePointsAndTheFixturesAreValid) {
     TempDir dir;
     const json two = mpi_document(plain_doc(), bandwidth_templates(), two_ranks(1, 1));
-    const json four = mpi_document(plain_doc(), {bandwidth_templates()[0], latency_template()}, four_ranks_two_hosts({1, 1, 1.25, 1.25}));
+    const json four = mpi_document(plain_doc(), {bandwidth_templates()[0], latency_template()},
+                                   four_ranks_two_hosts({1, 1, 1.25, 1.25}));
     save(two, dir.file("two.json"));
     save(four, dir.file("four.json"));
     const Outcome v = validate_against_schema({dir.file("two.json"), dir.file("four.json")});
@@ -99,7 +103,8 @@ TEST(MpiResultFile, RanksAndTheAggregateAreSeparatePointsAndTheFixturesAreValid)
     EXPECT_EQ(f.points[2].mpi.scope, RankOrigin::Scope::aggregate);
     EXPECT_EQ(f.points[2].mpi.slowest_host, "vm");
     // Twice the work in the slowest rank's time: twice one rank's bandwidth.
-    EXPECT_NEAR(f.points[2].measures.front().best, 2 * f.points[0].measures.front().best, 1e-9 * f.points[0].measures.front().best);
+    EXPECT_NEAR(f.points[2].measures.front().best, 2 * f.points[0].measures.front().best,
+                1e-9 * f.points[0].measures.front().best);
 
     const ResultFile g = load_result_file(dir.file("four.json"));
     ASSERT_EQ(g.points.size(), 10u);
@@ -126,29 +131,42 @@ TEST(MpiResultFile, AMalformedMpiFieldIsAnInputErrorNamingTheField) {
         EXPECT_NE(error.find(needle), std::string::npos) << "expected '" << needle << "' in: '" << error << "'";
         EXPECT_EQ(error.rfind("mpi.json: ", 0), 0u) << error;
     };
-    broken([](json& d) { d["results"][1]["mpi"]["scope"] = "everyone"; }, "results[1].mpi.scope: expected 'rank' or 'aggregate'");
-    broken([](json& d) { d["results"][1]["mpi"]["rank"] = "1"; }, "results[1].mpi.rank: expected a non-negative integer");
+    broken([](json& d) { d["results"][1]["mpi"]["scope"] = "everyone"; },
+           "results[1].mpi.scope: expected 'rank' or 'aggregate'");
+    broken([](json& d) { d["results"][1]["mpi"]["rank"] = "1"; },
+           "results[1].mpi.rank: expected a non-negative integer");
     broken([](json& d) { d["results"][1]["mpi"]["rank"] = 2; }, "results[1].mpi.rank: rank 2 of a run of 2");
     broken([](json& d) { d["results"][1]["mpi"].erase("host"); }, "results[1].mpi.host: missing");
-    broken([](json& d) { d["results"][1]["mpi"]["host"] = "elsewhere"; }, "results[1].mpi.host: 'elsewhere', but context.mpi.hosts puts rank 1 on 'vm'");
+    broken([](json& d) { d["results"][1]["mpi"]["host"] = "elsewhere"; },
+           "results[1].mpi.host: 'elsewhere', but context.mpi.hosts puts rank 1 on 'vm'");
     broken([](json& d) { d["results"][1]["mpi"]["ranks"] = 3; }, "results[1].mpi.ranks: 3, but context.mpi.ranks is 2");
     broken([](json& d) { d["results"][1]["mpi"] = 1; }, "results[1].mpi: expected an object");
     broken([](json& d) { d["results"][2]["mpi"]["spread"] = 0.5; }, "results[2].mpi.spread: expected at least 1");
-    broken([](json& d) { d["results"][2]["mpi"]["slowest_rank"] = -1; }, "results[2].mpi.slowest_rank: expected a non-negative integer");
+    broken([](json& d) { d["results"][2]["mpi"]["slowest_rank"] = -1; },
+           "results[2].mpi.slowest_rank: expected a non-negative integer");
     broken([](json& d) { d["results"][2]["mpi"]["hosts"] = 2; }, "results[2].mpi.hosts: 2, but context.mpi lists 1");
     broken([](json& d) { d["results"][0].erase("mpi"); }, "results[0].mpi: missing, in a run of 2 MPI ranks");
-    broken([](json& d) { d["context"].erase("mpi"); }, "results[0].mpi: a record of an MPI run, but the context has no mpi");
+    broken([](json& d) { d["context"].erase("mpi"); },
+           "results[0].mpi: a record of an MPI run, but the context has no mpi");
     broken([](json& d) { d["context"]["mpi"]["ranks"] = "2"; }, "context.mpi.ranks: expected a non-negative integer");
-    broken([](json& d) { d["context"]["mpi"]["hosts"][0]["ranks"] = {0, 0}; }, "context.mpi.hosts[0].ranks[1]: rank 0 is on two hosts");
-    broken([](json& d) { d["context"]["mpi"]["hosts"][0]["ranks"] = {0}; }, "context.mpi.hosts: rank 1 of 2 is on no host");
-    broken([](json& d) { d["context"]["mpi"]["hosts"] = json::array(); }, "context.mpi.hosts: expected a non-empty array");
+    broken(
+        [](json& d) {
+            d["context"]["mpi"]["hosts"][0]["ranks"] = {0, 0};
+        },
+        "context.mpi.hosts[0].ranks[1]: rank 0 is on two hosts");
+    broken([](json& d) { d["context"]["mpi"]["hosts"][0]["ranks"] = {0}; },
+           "context.mpi.hosts: rank 1 of 2 is on no host");
+    broken([](json& d) { d["context"]["mpi"]["hosts"] = json::array(); },
+           "context.mpi.hosts: expected a non-empty array");
     // The same through the command line: one line, exit status 2.
     TempDir dir;
     json doc = good;
     doc["results"][1]["mpi"]["scope"] = 7;
     save(doc, dir.file("bad.json"));
-    expect_one_line_error(run_suite({"compare", dir.file("bad.json"), dir.file("bad.json")}), "results[1].mpi.scope: expected a string");
-    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("bad.json")}), "results[1].mpi.scope");
+    expect_one_line_error(run_suite({"compare", dir.file("bad.json"), dir.file("bad.json")}),
+                          "results[1].mpi.scope: expected a string");
+    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("bad.json")}),
+                          "results[1].mpi.scope");
 }
 
 TEST(MpiCompare, TwoMpiRunsMeetRankWithRankAndAggregateWithAggregate) {
@@ -170,7 +188,9 @@ TEST(MpiCompare, TwoMpiRunsMeetRankWithRankAndAggregateWithAggregate) {
     save(mpi_document(plain_doc(), bandwidth_templates(), four_ranks_two_hosts({1, 1, 1, 1})), dir.file("four.json"));
     const Outcome mixed = run_suite({"compare", dir.file("before.json"), dir.file("four.json")});
     expect_one_line_error(mixed, "no point of");
-    EXPECT_NE(mixed.err.find("[1] is a run of 2 MPI ranks on 1 host and [2] of 4 MPI ranks on 2 hosts"), std::string::npos) << mixed.err;
+    EXPECT_NE(mixed.err.find("[1] is a run of 2 MPI ranks on 1 host and [2] of 4 MPI ranks on 2 hosts"),
+              std::string::npos)
+        << mixed.err;
 }
 
 TEST(MpiCompare, OneMpiFileLinesUpItsHostsAndNamesTheSlowerOne) {
@@ -226,14 +246,19 @@ TEST(MpiCompare, APlainRunMeetsOnlyTheAggregateOfARunOfOneRank) {
     save(mpi_document(plain_doc(), bandwidth_templates(), two_ranks(1, 1)), dir.file("two.json"));
     const Outcome one = run_suite({"compare", fixture("vm-native.json"), dir.file("one.json")});
     ASSERT_EQ(one.status, 0) << describe(one);
-    EXPECT_NE(one.out.find("2 point(s) of [1] found in another file; 124 of [1] in no other file (not shown). 2 point(s) of [2] are not in [1]."),
+    EXPECT_NE(one.out.find("2 point(s) of [1] found in another file; 124 of [1] in no other file (not shown). 2 "
+                           "point(s) of [2] are not in [1]."),
               std::string::npos)
         << one.out;
-    EXPECT_NE(line_of(one.out, "triad sequential 64MiB t=1 compact/local").find("1.000x"), std::string::npos) << one.out;
-    EXPECT_NE(one.out.find("1 MPI rank on 1 host (split): vm [0]"), std::string::npos) << "the processes are a context difference\n" << one.out;
+    EXPECT_NE(line_of(one.out, "triad sequential 64MiB t=1 compact/local").find("1.000x"), std::string::npos)
+        << one.out;
+    EXPECT_NE(one.out.find("1 MPI rank on 1 host (split): vm [0]"), std::string::npos)
+        << "the processes are a context difference\n"
+        << one.out;
     const Outcome two = run_suite({"compare", fixture("vm-native.json"), dir.file("two.json")});
     expect_one_line_error(two, "no point of");
-    EXPECT_NE(two.err.find("[1] is a run of one process and [2] of 2 MPI ranks on 1 host"), std::string::npos) << two.err;
+    EXPECT_NE(two.err.find("[1] is a run of one process and [2] of 2 MPI ranks on 1 host"), std::string::npos)
+        << two.err;
     // The gate likewise: a plain baseline gates the aggregate of one rank, and nothing of two.
     const Outcome gate = run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("one.json")});
     EXPECT_EQ(gate.status, 0) << describe(gate);
@@ -241,7 +266,9 @@ TEST(MpiCompare, APlainRunMeetsOnlyTheAggregateOfARunOfOneRank) {
     EXPECT_NE(gate.out.find("2 point(s) of the run are not in the baseline"), std::string::npos) << gate.out;
     const Outcome refused = run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("two.json")});
     expect_one_line_error(refused, "none of the 6 point(s)");
-    EXPECT_NE(refused.err.find("the baseline is a run of one process and the run of 2 MPI ranks on 1 host"), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("the baseline is a run of one process and the run of 2 MPI ranks on 1 host"),
+              std::string::npos)
+        << refused.err;
 }
 
 TEST(MpiCheck, ASlowRankFailsTheGateThoughTheAggregateBarelyMoved) {
@@ -254,10 +281,15 @@ TEST(MpiCheck, ASlowRankFailsTheGateThoughTheAggregateBarelyMoved) {
     save(run, dir.file("run.json"));
     const Outcome r = run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")});
     EXPECT_EQ(r.status, 1) << describe(r);
-    EXPECT_NE(r.out.find("REGRESSED  triad sequential 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("REGRESSED  add random 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("6 point(s) compared, 6 figure(s): 2 regressed, 0 improved, 4 within the threshold"), std::string::npos) << r.out;
-    const CheckReport rep = check_run(load_result_file(dir.file("base.json")), load_result_file(dir.file("run.json")), GateRule{});
+    EXPECT_NE(r.out.find("REGRESSED  triad sequential 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("REGRESSED  add random 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("6 point(s) compared, 6 figure(s): 2 regressed, 0 improved, 4 within the threshold"),
+              std::string::npos)
+        << r.out;
+    const CheckReport rep =
+        check_run(load_result_file(dir.file("base.json")), load_result_file(dir.file("run.json")), GateRule{});
     bool saw_aggregate = false;
     for (const auto& f : rep.findings) {
         if (f.key.rank_scope != "aggregate of 2 ranks") continue;
@@ -269,10 +301,13 @@ TEST(MpiCheck, ASlowRankFailsTheGateThoughTheAggregateBarelyMoved) {
     // A run against itself passes; on two hosts, the slow host's ranks are named with it.
     EXPECT_EQ(run_suite({"check", "--baseline", dir.file("run.json"), dir.file("run.json")}).status, 0);
     save(mpi_document(plain_doc(), bandwidth_templates(), four_ranks_two_hosts({1, 1, 1, 1})), dir.file("base4.json"));
-    save(mpi_document(plain_doc(), bandwidth_templates(), four_ranks_two_hosts({1, 1, 1.3, 1.3})), dir.file("run4.json"));
+    save(mpi_document(plain_doc(), bandwidth_templates(), four_ranks_two_hosts({1, 1, 1.3, 1.3})),
+         dir.file("run4.json"));
     const Outcome four = run_suite({"check", "--baseline", dir.file("base4.json"), dir.file("run4.json")});
     EXPECT_EQ(four.status, 1) << describe(four);
-    EXPECT_NE(four.out.find("REGRESSED  triad sequential 64MiB t=1 compact/local rank 3 of 4 on node-b"), std::string::npos) << four.out;
+    EXPECT_NE(four.out.find("REGRESSED  triad sequential 64MiB t=1 compact/local rank 3 of 4 on node-b"),
+              std::string::npos)
+        << four.out;
     EXPECT_EQ(four.out.find("rank 0 of 4 on node-a"), std::string::npos) << "node-a did not change\n" << four.out;
 }
 
@@ -313,11 +348,14 @@ TEST(MpiHistory, EachRankAndTheAggregateAreSeriesOfTheirOwn) {
             EXPECT_DOUBLE_EQ(s.entries[i].median, m->median) << s.key.label() << " " << s.figure << ", run " << i;
         }
     }
-    EXPECT_EQ(per_scope, (std::map<std::string, std::size_t>{{"aggregate of 2 ranks", figures / 3}, {"rank 0 of 2", figures / 3}, {"rank 1 of 2", figures / 3}}));
+    EXPECT_EQ(per_scope,
+              (std::map<std::string, std::size_t>{
+                  {"aggregate of 2 ranks", figures / 3}, {"rank 0 of 2", figures / 3}, {"rank 1 of 2", figures / 3}}));
     // The slow rank's bandwidth series sits at its own level, two thirds of rank 0's.
     auto bandwidth_of = [&](const std::string& scope) {
         for (const Series& s : series)
-            if (s.key.kernel == "triad" && s.key.rank_scope == scope && s.figure == "bandwidth") return s.entries.at(0).median;
+            if (s.key.kernel == "triad" && s.key.rank_scope == scope && s.figure == "bandwidth")
+                return s.entries.at(0).median;
         ADD_FAILURE() << "no triad bandwidth series of " << scope;
         return 0.0;
     };
@@ -327,7 +365,8 @@ TEST(MpiHistory, EachRankAndTheAggregateAreSeriesOfTheirOwn) {
     SqlStatement hosts = raw.prepare("SELECT DISTINCT rank_scope, rank_host FROM records ORDER BY 1");
     std::vector<std::pair<std::string, std::string>> seen;
     while (hosts.step()) seen.emplace_back(hosts.text(0), hosts.text(1));
-    EXPECT_EQ(seen, (std::vector<std::pair<std::string, std::string>>{{"aggregate of 2 ranks", ""}, {"rank 0 of 2", "vm"}, {"rank 1 of 2", "vm"}}));
+    EXPECT_EQ(seen, (std::vector<std::pair<std::string, std::string>>{
+                        {"aggregate of 2 ranks", ""}, {"rank 0 of 2", "vm"}, {"rank 1 of 2", "vm"}}));
 }
 
 TEST(MpiHistory, HistoryCheckGatesRankWithRankAndNamesTheSlowOne) {
@@ -336,7 +375,8 @@ TEST(MpiHistory, HistoryCheckGatesRankWithRankAndNamesTheSlowOne) {
     const std::string db = dir.file("history.sqlite");
     {
         History h = History::open_for_adding(db);
-        for (std::size_t i = 0; i < 6; ++i) h.add({parse_result_text(noisy_two_rank_run(i, g, 1, 1).dump(), "run.json")}, "", "main");
+        for (std::size_t i = 0; i < 6; ++i)
+            h.add({parse_result_text(noisy_two_rank_run(i, g, 1, 1).dump(), "run.json")}, "", "main");
     }
     save(noisy_two_rank_run(10, g, 1, 1), dir.file("same.json"));
     save(noisy_two_rank_run(11, g, 1, 1.4), dir.file("slow.json"));
@@ -350,9 +390,13 @@ TEST(MpiHistory, HistoryCheckGatesRankWithRankAndNamesTheSlowOne) {
     // Rank 1 takes 40 % longer; the aggregate, which waits for it, too; rank 0 is as it was.
     const Outcome slow = run_suite({"history", "check", dir.file("slow.json"), "--db", db});
     EXPECT_EQ(slow.status, 1) << describe(slow);
-    EXPECT_NE(slow.out.find("REGRESSED  triad sequential 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos) << slow.out;
-    EXPECT_NE(slow.out.find("REGRESSED  add random 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos) << slow.out;
-    EXPECT_NE(slow.out.find("REGRESSED  triad sequential 64MiB t=2 compact/local aggregate of 2 ranks"), std::string::npos) << slow.out;
+    EXPECT_NE(slow.out.find("REGRESSED  triad sequential 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos)
+        << slow.out;
+    EXPECT_NE(slow.out.find("REGRESSED  add random 64MiB t=1 compact/local rank 1 of 2 on vm"), std::string::npos)
+        << slow.out;
+    EXPECT_NE(slow.out.find("REGRESSED  triad sequential 64MiB t=2 compact/local aggregate of 2 ranks"),
+              std::string::npos)
+        << slow.out;
     EXPECT_EQ(slow.out.find("rank 0 of 2"), std::string::npos) << "rank 0 did not change\n" << slow.out;
 
     // The window's baseline holds each rank's own history: the run's rank against its own level.

@@ -80,7 +80,8 @@ TEST(ParamsFacts, ASolverThatDoesNotConvergeIsNotVerified) {
     const json gb = json::parse(render({r}, FileFormat::gbench));
     ASSERT_FALSE(gb["benchmarks"].empty());
     EXPECT_EQ(gb["benchmarks"][0]["error_occurred"], true);
-    EXPECT_EQ(gb["benchmarks"][0]["error_message"].get<std::string>().rfind("solver failed: ", 0), 0u) << gb["benchmarks"][0].dump();
+    EXPECT_EQ(gb["benchmarks"][0]["error_message"].get<std::string>().rfind("solver failed: ", 0), 0u)
+        << gb["benchmarks"][0].dump();
 }
 
 TEST(ParamsFacts, JsonValidatesAgainstTheSchemaAndReadsBack) {
@@ -110,7 +111,8 @@ TEST(ParamsFacts, JsonValidatesAgainstTheSchemaAndReadsBack) {
     EXPECT_EQ(f.points[0].key.params, a.params);
     EXPECT_EQ(f.points[1].key.params.at("delta"), 0.5);
     EXPECT_FALSE(f.points[2].verified);
-    EXPECT_NE(f.points[0].key.label().find("delta=0.25 tol=1e-08 wrong=0"), std::string::npos) << f.points[0].key.label();
+    EXPECT_NE(f.points[0].key.label().find("delta=0.25 tol=1e-08 wrong=0"), std::string::npos)
+        << f.points[0].key.label();
 
     // Broken copies fail validation, each at its path.
     const json doc = json::parse(slurp(good));
@@ -120,7 +122,8 @@ TEST(ParamsFacts, JsonValidatesAgainstTheSchemaAndReadsBack) {
         {[](json& d) { d["results"][0]["facts"]["rows"].erase("unit"); }, "$.results[0].facts.rows"},
         {[](json& d) { d["results"][0]["facts"]["rows"]["value"] = "many"; }, "$.results[0].facts.rows.value"},
         {[](json& d) { d["results"][2]["verification"]["passed"] = true; }, "$.results[2].verification"},
-        {[](json& d) { d["results"][0]["verification"]["solver_failed"] = false; }, "$.results[0].verification.solver_failed"},
+        {[](json& d) { d["results"][0]["verification"]["solver_failed"] = false; },
+         "$.results[0].verification.solver_failed"},
     };
     for (std::size_t i = 0; i < breaks.size(); ++i) {
         SCOPED_TRACE(breaks[i].second);

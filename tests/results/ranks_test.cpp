@@ -40,7 +40,8 @@ Record rank_record(int rank, const std::string& host, std::vector<double> sample
 }  // namespace
 
 TEST(Ranks, AggregateAddsTheWorkOverTheSlowestRankOfEachRepetition) {
-    const std::vector<Record> ranks = {rank_record(0, "a", {1.0, 2.0, 1.5}, 24e9), rank_record(1, "a", {1.2, 1.1, 3.0}, 24e9),
+    const std::vector<Record> ranks = {rank_record(0, "a", {1.0, 2.0, 1.5}, 24e9),
+                                       rank_record(1, "a", {1.2, 1.1, 3.0}, 24e9),
                                        rank_record(2, "b", {0.9, 2.5, 1.0}, 48e9, 4)};
     std::vector<RankRun> runs;
     for (const Record& r : ranks) runs.push_back(rank_run_from_json(to_json(r)));
@@ -92,7 +93,8 @@ TEST(Ranks, OneRankFailingFailsTheAggregateAndIsNamed) {
 
 TEST(Ranks, RanksThatTimedDifferentRepetitionsOrLackAFieldAreRefused) {
     const Record a = rank_record(0, "a", {1.0, 1.0}, 1e9), b = rank_record(1, "a", {1.0}, 1e9);
-    EXPECT_THROW(aggregate_record(a, {rank_run_from_json(to_json(a)), rank_run_from_json(to_json(b))}, 1), std::logic_error);
+    EXPECT_THROW(aggregate_record(a, {rank_run_from_json(to_json(a)), rank_run_from_json(to_json(b))}, 1),
+                 std::logic_error);
     nlohmann::json j = to_json(a);
     j["work_per_repetition"].erase("stream_bytes");
     try {

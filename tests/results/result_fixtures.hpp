@@ -10,7 +10,9 @@
 
 namespace suite::test {
 
-inline std::string fixture(const std::string& name) { return std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/" + name; }
+inline std::string fixture(const std::string& name) {
+    return std::string(SUITE_SOURCE_DIR) + "/tests/fixtures/results/" + name;
+}
 
 inline nlohmann::json load(const std::string& path) { return nlohmann::json::parse(slurp(path)); }
 

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <fstream>
 
-#include "harness/results/check.hpp"
 #include "harness/common/stats.hpp"
+#include "harness/results/check.hpp"
 #include "harness/results/context_fields.hpp"
 #include "harness/results/result_file.hpp"
 #include "tests/process.hpp"
@@ -21,11 +21,12 @@ using nlohmann::json;
 
 namespace {
 
-
 // The record of `doc` for kernel/pattern/size/threads.
 json& record(json& doc, const std::string& kernel, const std::string& pattern, std::uint64_t size, int threads) {
     for (auto& r : doc["results"])
-        if (r["kernel"] == kernel && r["pattern"] == pattern && r["size"]["requested"] == size && r["threads"] == threads) return r;
+        if (r["kernel"] == kernel && r["pattern"] == pattern && r["size"]["requested"] == size &&
+            r["threads"] == threads)
+            return r;
     throw std::runtime_error("no such record in the fixture");
 }
 
@@ -34,7 +35,8 @@ void slow_down(json& r, double factor) {
     for (auto& s : r["time_s"]["samples"]) s = s.get<double>() * factor;
     for (const char* k : {"min", "median", "max", "mean"}) r["time_s"][k] = r["time_s"][k].get<double>() * factor;
     for (const char* kind : {"stream", "hardware_estimate"})
-        for (const char* k : {"best", "median"}) r["bandwidth_gbps"][kind][k] = r["bandwidth_gbps"][kind][k].get<double>() / factor;
+        for (const char* k : {"best", "median"})
+            r["bandwidth_gbps"][kind][k] = r["bandwidth_gbps"][kind][k].get<double>() / factor;
 }
 
 void expect_one_line_error(const Outcome& r, const std::string& needle) {
@@ -59,7 +61,8 @@ TEST(Compare, TwoBuildsSideBySideWithContextDifferencesAndGeometricMeans) {
     EXPECT_EQ(r.out.find("cpu_model "), std::string::npos) << "same CPU: not a difference\n" << r.out;
     EXPECT_NE(r.out.find("126 point(s) of [1] found"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("add random 64MiB t=2 compact/local"), std::string::npos);
-    for (const char* k : {"\ncopy ", "\ntriad ", "\nadd "}) EXPECT_NE(r.out.find(k, r.out.find("Geometric mean")), std::string::npos) << k;
+    for (const char* k : {"\ncopy ", "\ntriad ", "\nadd "})
+        EXPECT_NE(r.out.find(k, r.out.find("Geometric mean")), std::string::npos) << k;
 }
 
 TEST(Compare, AFileAgainstItselfIsOneEverywhere) {
@@ -88,10 +91,13 @@ TEST(Compare, RatiosArePerformanceWhicheverWayTheFigureGoes) {
 
 TEST(Compare, BadInputIsOneLineAndExitTwo) {
     TempDir dir;
-    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), fixture("vm-native-latency.json")}), "no point of");
+    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), fixture("vm-native-latency.json")}),
+                          "no point of");
     expect_one_line_error(run_suite({"compare", fixture("vm-native.json")}), "at least two");
-    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), dir.file("missing.json")}), "missing.json: cannot read it");
-    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), fixture("vm-native.json"), "--format=html"}), "markdown");
+    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), dir.file("missing.json")}),
+                          "missing.json: cannot read it");
+    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), fixture("vm-native.json"), "--format=html"}),
+                          "markdown");
     json future = load(fixture("vm-native.json"));
     future["schema_version"] = 2;
     save(future, dir.file("v2.json"));
@@ -149,13 +155,16 @@ TEST(Check, ASlowerPointIsARegressionAndAFasterOneAnImprovement) {
     slow_down(record(doc, "add", "random", 64ULL << 20, 1), 2.0);
     slow_down(record(doc, "copy", "sequential", 16ULL << 20, 2), 0.5);
     save(doc, dir.file("run.json"));
-    Outcome r = run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("run.json"), "--markdown=" + dir.file("gate.md")});
+    Outcome r = run_suite(
+        {"check", "--baseline", fixture("vm-native.json"), dir.file("run.json"), "--markdown=" + dir.file("gate.md")});
     EXPECT_EQ(r.status, 1) << describe(r);
     EXPECT_NE(r.out.find("REGRESSED  add random 64MiB t=1 compact/local"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("improved   copy sequential 16MiB t=2 compact/local"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("1 regressed, 1 improved, 124 within the threshold"), std::string::npos) << r.out;
     // The change is the figure's own, signed: half the bandwidth is -50 %, twice is +100 %.
-    const auto row = [&](const std::string& start) { return r.out.substr(r.out.find(start), r.out.find('\n', r.out.find(start)) - r.out.find(start)); };
+    const auto row = [&](const std::string& start) {
+        return r.out.substr(r.out.find(start), r.out.find('\n', r.out.find(start)) - r.out.find(start));
+    };
     EXPECT_NE(row("REGRESSED  add random 64MiB").find("-50.0%"), std::string::npos) << r.out;
     EXPECT_NE(row("improved   copy sequential 16MiB").find("+100.0%"), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("worse"), std::string::npos) << r.out;
@@ -163,7 +172,8 @@ TEST(Check, ASlowerPointIsARegressionAndAFasterOneAnImprovement) {
     EXPECT_NE(md.find("### suite check: **1 regression(s)**, 1 improvement(s)"), std::string::npos) << md;
     EXPECT_NE(md.find("| REGRESSED | `add random 64MiB t=1 compact/local` |"), std::string::npos) << md;
     // A generous tolerance lets it through.
-    Outcome lax = run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("run.json"), "--tolerance=150%"});
+    Outcome lax =
+        run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("run.json"), "--tolerance=150%"});
     EXPECT_EQ(lax.status, 0) << describe(lax);
 }
 
@@ -186,16 +196,24 @@ TEST(Check, AnUnstablePointIsInconclusiveNeitherARegressionNorAPass) {
     slow_down(record(run, "add", "random", 64ULL << 20, 1), 2.0);
     record(run, "add", "random", 64ULL << 20, 1)["stability"] = {{"unstable", true}, {"reasons", {why}}};
     // Unchanged, but the baseline was busy there: not a pass either.
-    record(base, "copy", "sequential", 16ULL << 20, 2)["stability"] = {{"unstable", true}, {"reasons", {"the repetitions spread 23% (over 10%)"}}};
+    record(base, "copy", "sequential", 16ULL << 20, 2)["stability"] = {
+        {"unstable", true}, {"reasons", {"the repetitions spread 23% (over 10%)"}}};
     save(base, dir.file("base.json"));
     save(run, dir.file("run.json"));
-    Outcome r = run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json"), "--markdown=" + dir.file("gate.md")});
+    Outcome r = run_suite(
+        {"check", "--baseline", dir.file("base.json"), dir.file("run.json"), "--markdown=" + dir.file("gate.md")});
     EXPECT_EQ(r.status, 0) << describe(r);
     EXPECT_NE(r.out.find("inconclusive  add random 64MiB t=1 compact/local"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("inconclusive: add random 64MiB t=1 compact/local: unstable in the run: " + why), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("inconclusive: copy sequential 16MiB t=2 compact/local: unstable in the baseline: the repetitions spread"),
-              std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("0 regressed, 0 improved, 124 within the threshold, 2 inconclusive"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("inconclusive: add random 64MiB t=1 compact/local: unstable in the run: " + why),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(
+        r.out.find(
+            "inconclusive: copy sequential 16MiB t=2 compact/local: unstable in the baseline: the repetitions spread"),
+        std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("0 regressed, 0 improved, 124 within the threshold, 2 inconclusive"), std::string::npos)
+        << r.out;
     EXPECT_NE(slurp(dir.file("gate.md")).find("no regression, 2 inconclusive"), std::string::npos);
     // A stable slow point beside them still fails the gate.
     slow_down(record(run, "triad", "sequential", 16ULL << 10, 1), 2.0);
@@ -205,11 +223,14 @@ TEST(Check, AnUnstablePointIsInconclusiveNeitherARegressionNorAPass) {
     // A failed verification is a regression however busy the machine was.
     record(run, "add", "random", 64ULL << 20, 1)["verification"]["passed"] = false;
     save(run, dir.file("run.json"));
-    EXPECT_NE(run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")}).out.find("failed verification"), std::string::npos);
+    EXPECT_NE(
+        run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")}).out.find("failed verification"),
+        std::string::npos);
     // A stability block that is not what suite writes is refused, naming the field.
     record(run, "add", "random", 64ULL << 20, 1)["stability"] = {{"unstable", "yes"}};
     save(run, dir.file("run.json"));
-    expect_one_line_error(run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")}), ".stability.unstable");
+    expect_one_line_error(run_suite({"check", "--baseline", dir.file("base.json"), dir.file("run.json")}),
+                          ".stability.unstable");
 }
 
 TEST(Check, CountersAndEnergyAreGatedLowerIsBetter) {
@@ -221,7 +242,8 @@ TEST(Check, CountersAndEnergyAreGatedLowerIsBetter) {
         if (e["name"] == "cycles") e["per_element"] = e["per_element"].get<double>() * 1.5;
     json& r1 = doc["results"][1];
     for (const char* stat : {"min", "median", "max"})  // a whole distribution three times higher
-        r1["energy"]["domains"][0]["joules_per_call"][stat] = r1["energy"]["domains"][0]["joules_per_call"][stat].get<double>() * 3;
+        r1["energy"]["domains"][0]["joules_per_call"][stat] =
+            r1["energy"]["domains"][0]["joules_per_call"][stat].get<double>() * 3;
     save(doc, dir.file("run.json"));
     Outcome r = run_suite({"check", "--baseline", base, dir.file("run.json")});
     EXPECT_EQ(r.status, 1) << describe(r);
@@ -234,16 +256,23 @@ TEST(Check, CountersAndEnergyAreGatedLowerIsBetter) {
 
 TEST(Check, UnusableInputIsExitTwo) {
     TempDir dir;
-    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native-latency.json"), fixture("vm-native.json")}), "none of the");
+    expect_one_line_error(
+        run_suite({"check", "--baseline", fixture("vm-native-latency.json"), fixture("vm-native.json")}),
+        "none of the");
     expect_one_line_error(run_suite({"check", fixture("vm-native.json")}), "--baseline");
-    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), fixture("vm-native.json"), "--tolerance=lots"}), "--tolerance");
+    expect_one_line_error(
+        run_suite({"check", "--baseline", fixture("vm-native.json"), fixture("vm-native.json"), "--tolerance=lots"}),
+        "--tolerance");
     json doc = load(fixture("vm-native.json"));
     doc["complete"] = false;
     save(doc, dir.file("interrupted.json"));
-    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("interrupted.json")}), "interrupted");
+    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), dir.file("interrupted.json")}),
+                          "interrupted");
     { std::ofstream(dir.file("empty.json")); }
-    expect_one_line_error(run_suite({"check", "--baseline", dir.file("empty.json"), fixture("vm-native.json")}), "empty");
-    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), dir.path().string()}), "is a directory");
+    expect_one_line_error(run_suite({"check", "--baseline", dir.file("empty.json"), fixture("vm-native.json")}),
+                          "empty");
+    expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), dir.path().string()}),
+                          "is a directory");
     // --markdown into a directory that does not exist: exit 2, not 1 (1 means "regressed").
     expect_one_line_error(run_suite({"check", "--baseline", fixture("vm-native.json"), fixture("vm-native.json"),
                                      "--markdown=" + dir.file("no/such/dir/gate.md")}),

@@ -5,8 +5,8 @@
 // a schema that accepts everything cannot pass.
 #include <algorithm>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <string>
 #include <tuple>
@@ -59,8 +59,8 @@ void check_content(const json& doc, const std::string& where, int reps) {
     EXPECT_EQ(ctx.at("pus"), ctx.at("topology").at("pus"));
     EXPECT_EQ(ctx.at("numa_node_count").get<std::size_t>(), ctx.at("topology").at("numa_nodes").size());
     for (const auto& r : doc.at("results")) {
-        SCOPED_TRACE(r.value("name", "?") + " " + r.value(r.value("axis", "pattern"), "?") + " threads=" +
-                     std::to_string(r.value("threads", 0)));
+        SCOPED_TRACE(r.value("name", "?") + " " + r.value(r.value("axis", "pattern"), "?") +
+                     " threads=" + std::to_string(r.value("threads", 0)));
         EXPECT_EQ(r.at("verification").at("passed"), true) << r.at("verification").dump();
         EXPECT_EQ(r.at("pin").at("threads").size(), r.at("threads").get<std::size_t>());
         EXPECT_EQ(r.at("repetitions").at("counted"), reps);
@@ -122,8 +122,9 @@ TEST(ResultSchema, EveryKernelWritesAValidFile) {
         // Byte-sized kernels get 64 KiB; count-sized (application) kernels a small count.
         const std::string size = k.at("size") == "bytes" ? "64KiB" : "4096";
         const std::string out = dir.file(name + ".json");
-        const std::vector<std::string> args{"--kernel=" + name, "--" + axis + "=" + access_list, "--size=" + size,
-                                            "--threads=" + threads, "--reps=" + std::to_string(reps), "-q", "--out=" + out};
+        const std::vector<std::string> args{"--kernel=" + name,     "--" + axis + "=" + access_list,  "--size=" + size,
+                                            "--threads=" + threads, "--reps=" + std::to_string(reps), "-q",
+                                            "--out=" + out};
         Outcome r = run_suite(args, kKernelTimeoutS);
         ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << describe(r);
         files.push_back(out);
@@ -147,14 +148,17 @@ TEST(ResultSchema, EveryKernelWritesAValidFile) {
             EXPECT_EQ(rec.at("axis"), axis);
             EXPECT_EQ(rec.at("metric"), k.at("metric"));
             EXPECT_EQ(rec.at("size").at("kind"), k.at("size"));
-            seen.insert({rec.at(axis).get<std::string>(), rec.at("variant").get<std::string>(), rec.at("threads").get<int>()});
+            seen.insert(
+                {rec.at(axis).get<std::string>(), rec.at("variant").get<std::string>(), rec.at("threads").get<int>()});
             // Every declared parameter is recorded, at its default here.
-            for (const auto& p : k.at("params")) EXPECT_EQ(rec.at("parameters").at(p.at("name").get<std::string>()), p.at("default"));
+            for (const auto& p : k.at("params"))
+                EXPECT_EQ(rec.at("parameters").at(p.at("name").get<std::string>()), p.at("default"));
         }
         for (const auto& a : accesses)
             for (const auto& v : variants)
                 for (int t = 1; t <= static_cast<int>(teams(v)); ++t)
-                    EXPECT_TRUE(seen.count({a, v, t})) << name << " has no record for " << a << " '" << v << "' with " << t << " thread(s)";
+                    EXPECT_TRUE(seen.count({a, v, t}))
+                        << name << " has no record for " << a << " '" << v << "' with " << t << " thread(s)";
     }
     Outcome v = validate_against_schema(files);
     EXPECT_EQ(v.status, 0) << describe(v);
@@ -164,7 +168,8 @@ TEST(ResultSchema, NonTemporalStoresWriteAValidFile) {
     TempDir dir;
     ASSERT_TRUE(dir.ok());
     const std::string out = dir.file("nt.json");
-    const std::vector<std::string> args{"--kernel=copy,triad", "--stores=nt", "--size=1MiB", "--reps=2", "-q", "--out=" + out};
+    const std::vector<std::string> args{"--kernel=copy,triad", "--stores=nt", "--size=1MiB", "--reps=2", "-q",
+                                        "--out=" + out};
     Outcome r = run_suite(args, kTimeoutS);
     ASSERT_EQ(r.status, 0) << "suite " << join(args) << "\n" << describe(r);
     Outcome v = validate_against_schema({out});
@@ -187,7 +192,8 @@ TEST(ResultSchema, BrokenFilesFailValidation) {
     TempDir dir;
     ASSERT_TRUE(dir.ok());
     const std::string good = dir.file("good.json");
-    Outcome r = run_suite({"--kernel=copy,latency", "--size=64KiB", "--threads=1", "--reps=2", "-q", "--out=" + good}, kTimeoutS);
+    Outcome r = run_suite({"--kernel=copy,latency", "--size=64KiB", "--threads=1", "--reps=2", "-q", "--out=" + good},
+                          kTimeoutS);
     ASSERT_EQ(r.status, 0) << describe(r);
     Outcome ok = validate_against_schema({good});
     ASSERT_EQ(ok.status, 0) << "the unmodified file must be valid\n" << describe(ok);
@@ -203,9 +209,12 @@ TEST(ResultSchema, BrokenFilesFailValidation) {
         std::string expect_in_output;  // the JSON path the validator must name
     };
     const std::vector<Break> breaks = {
-        {"no_kernel", [](json& d) { d["results"][0].erase("kernel"); }, "$.results[0]: 'kernel' is a required property"},
-        {"bandwidth_empty", [](json& d) { d["results"][0]["bandwidth_gbps"] = json::object(); }, "$.results[0].bandwidth_gbps"},
-        {"bandwidth_garbage", [](json& d) { d["results"][0]["bandwidth_gbps"] = "fast"; }, "$.results[0].bandwidth_gbps"},
+        {"no_kernel", [](json& d) { d["results"][0].erase("kernel"); },
+         "$.results[0]: 'kernel' is a required property"},
+        {"bandwidth_empty", [](json& d) { d["results"][0]["bandwidth_gbps"] = json::object(); },
+         "$.results[0].bandwidth_gbps"},
+        {"bandwidth_garbage", [](json& d) { d["results"][0]["bandwidth_gbps"] = "fast"; },
+         "$.results[0].bandwidth_gbps"},
         {"bandwidth_on_latency", [](json& d) { d["results"][1]["bandwidth_gbps"] = d["results"][0]["bandwidth_gbps"]; },
          "$.results[1].bandwidth_gbps"},
         {"latency_null", [](json& d) { d["results"][1]["latency_ns"] = nullptr; }, "$.results[1].latency_ns"},
@@ -214,9 +223,15 @@ TEST(ResultSchema, BrokenFilesFailValidation) {
         {"node_string", [](json& d) { d["results"][0]["placement"]["node"] = "0"; }, "$.results[0].placement.node"},
         {"extra_key", [](json& d) { d["results"][0]["speedup"] = 2; }, "$.results[0]"},
         {"version_2", [](json& d) { d["schema_version"] = 2; }, "$.schema_version"},
-        {"energy_no_reason", [](json& d) { d["context"]["instruments"]["energy"] = {{"available", false}}; },
+        {"energy_no_reason",
+         [](json& d) {
+             d["context"]["instruments"]["energy"] = {{"available", false}};
+         },
          "$.context.instruments.energy"},
-        {"governor_no_reason", [](json& d) { d["context"]["frequency_governor"] = {{"value", nullptr}}; },
+        {"governor_no_reason",
+         [](json& d) {
+             d["context"]["frequency_governor"] = {{"value", nullptr}};
+         },
          "$.context.frequency_governor"},
     };
     for (const auto& b : breaks) {

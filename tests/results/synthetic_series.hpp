@@ -18,7 +18,8 @@ inline constexpr const char* hostile_context = "THP always, -O3 </script><script
 // The commit of run i: twelve hex digits, the same for every series (one build ran them all).
 inline std::string synthetic_commit(std::size_t i) {
     char buf[16];
-    std::snprintf(buf, sizeof buf, "%012llx", static_cast<unsigned long long>((0x9e3779b97f4aULL * (i + 7)) & 0xffffffffffffULL));
+    std::snprintf(buf, sizeof buf, "%012llx",
+                  static_cast<unsigned long long>((0x9e3779b97f4aULL * (i + 7)) & 0xffffffffffffULL));
     return buf;
 }
 
@@ -41,8 +42,9 @@ struct SyntheticShape {
     std::vector<std::pair<std::size_t, double>> steps;  // (first index of the new level, factor)
 };
 
-inline Series synthetic_one(const std::string& machine, const std::string& fingerprint, PointKey key, const std::string& figure,
-                            const std::string& unit, Direction direction, const SyntheticShape& shape, std::int64_t first_run) {
+inline Series synthetic_one(const std::string& machine, const std::string& fingerprint, PointKey key,
+                            const std::string& figure, const std::string& unit, Direction direction,
+                            const SyntheticShape& shape, std::int64_t first_run) {
     Series s;
     s.machine = machine;
     s.fingerprint = fingerprint;
@@ -75,7 +77,8 @@ inline Series synthetic_one(const std::string& machine, const std::string& finge
         std::snprintf(date, sizeof date, "2025-03-%02zuT04:%02zu:00Z", i + 1, (i * 7) % 60);
         e.date = date;
         e.run_id = first_run + static_cast<std::int64_t>(i);
-        e.median = level * (1 + 0.6 * shape.noise * std::sin(1.7 * static_cast<double>(i) + static_cast<double>(first_run)));
+        e.median =
+            level * (1 + 0.6 * shape.noise * std::sin(1.7 * static_cast<double>(i) + static_cast<double>(first_run)));
         e.noise = shape.noise * (1 + 0.3 * std::cos(static_cast<double>(i)));
         e.samples = {e.median * (1 - e.noise), e.median, e.median * (1 + e.noise)};
         e.unstable = i == 9;
@@ -88,12 +91,12 @@ inline std::vector<Series> synthetic_history() {
     const std::string a = "ci-runner (AMD EPYC 7763 64-Core Processor, 4 cores)", fa = "3f9a0c1d77e2b410";
     const std::string b = "lab-2s (Intel Xeon Gold 6338, 64 cores)", fb = "c05e4d1a9b8f6e23";
     std::vector<Series> out;
-    out.push_back(synthetic_one(a, fa, synthetic_key("add", "random", 64 << 10, 2), "bandwidth", "GB/s", Direction::higher_is_better,
-                                {41.0, 0.02, {{14, 0.85}}}, 100));
+    out.push_back(synthetic_one(a, fa, synthetic_key("add", "random", 64 << 10, 2), "bandwidth", "GB/s",
+                                Direction::higher_is_better, {41.0, 0.02, {{14, 0.85}}}, 100));
     out.push_back(synthetic_one(a, fa, synthetic_key("triad", "sequential", 1ULL << 30, 1), "bandwidth", "GB/s",
                                 Direction::higher_is_better, {12.4, 0.03, {}}, 200));
-    out.push_back(synthetic_one(a, fa, synthetic_key("add", "random", 64ULL << 20, 1), "latency", "ns/load", Direction::lower_is_better,
-                                {92.0, 0.015, {{8, 0.8}}}, 300));
+    out.push_back(synthetic_one(a, fa, synthetic_key("add", "random", 64ULL << 20, 1), "latency", "ns/load",
+                                Direction::lower_is_better, {92.0, 0.015, {{8, 0.8}}}, 300));
     out.push_back(synthetic_one(b, fb, synthetic_key("triad", "sequential", 1ULL << 30, 16), "bandwidth", "GB/s",
                                 Direction::higher_is_better, {96.0, 0.025, {{6, 0.9}, {17, 1.25}}}, 400));
     Series hostile = synthetic_one(b, fb, synthetic_key("copy", "strided:8", 16ULL << 20, 4), "bandwidth", "GB/s",
