@@ -13,10 +13,10 @@ if [ "${1:-build}" = run ] || [ "${1:-build}" = test ]; then
 fi
 if [ "${1:-build}" = test ]; then
   # binutils: objdump proves the non-temporal stores; python3-jsonschema validates results;
-  # python3-yaml reads the CI workflow (tests/workflow_test.py);
+  # python3-yaml reads the CI workflow (tests/workflow_test.py); clang-format keeps the tree formatted;
   # clang + compiler-rt build the libFuzzer targets; valgrind: the deterministic mode (its header
   # also makes the build add suite-x86-64-v3); matplotlib: plots/plot.py and `suite traverse` PNGs.
-  want+=(binutils python3 python3-jsonschema python3-yaml clang libclang-rt-dev valgrind python3-matplotlib python3-numpy python3-scipy)
+  want+=(binutils python3 python3-jsonschema python3-yaml clang clang-format libclang-rt-dev valgrind python3-matplotlib python3-numpy python3-scipy)
   # make test-numa: an emulated two-node machine (the kernel itself is fetched by scripts/numa-vm/run.sh).
   want+=(qemu-system-x86 busybox-static cpio)
   # The history page drawn in a real browser (tests/dashboard_browser_test.py), with its Chart.js.
