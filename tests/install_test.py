@@ -127,7 +127,7 @@ finally:
 
 # The Spack recipe: valid Python against a stand-in for spack.package, its variants mapped onto
 # options that CMakeLists.txt has.
-calls = {"variant": [], "depends_on": [], "conflicts": []}
+calls = {"variant": [], "depends_on": [], "conflicts": [], "license": []}
 
 
 class _Stub:
@@ -151,6 +151,10 @@ namespace = {}
 recipe = os.path.join(source, "packaging", "spack", "package.py")
 exec(compile(open(recipe).read(), recipe, "exec"), namespace)
 variants = {a[0] for a, k in calls["variant"]}
+licenses = [a[0] for a, k in calls["license"]]
+license_text = open(os.path.join(source, "LICENSE")).read()
+check(licenses == ["BSD-3-Clause"] and license_text.startswith("BSD 3-Clause License"),
+      "the Spack recipe's license(...) names the LICENSE file's licence, BSD-3-Clause (%s)" % licenses)
 check(variants == {"mpi", "metis", "suitesparse"}, "the Spack recipe has the variants mpi, metis, suitesparse (%s)" % sorted(variants))
 
 

@@ -12,6 +12,9 @@ class Suite(CMakePackage):
     # Where the suite is published; point it at your clone (or use spack dev-build).
     git = "file:///srv/git/suite"
 
+    # As the LICENSE file at the top of the tree says (tests/install_test.py holds them equal).
+    license("BSD-3-Clause")
+
     version("main", branch="main")
 
     variant("mpi", default=True, description="build suite-mpi: the kernels on every rank of an MPI job")
