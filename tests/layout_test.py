@@ -6,8 +6,8 @@ looked up in ALLOWED: a folder may include only the folders listed for it. Betwe
 folders the graph must have no arrow back up: the engine (harness/) sees none of stream/,
 kernels/, rapl/ or app/; the kernels and rapl see only the engine; app/ sees everything and
 nothing includes it. Also: no source file sits directly in harness/ or app/ (each lives in the
-folder of its concern or program), every harness and app folder has its README, and no source
-file is longer than 400 lines unless its first lines say why.
+folder of its concern or program), every top-level source folder and every harness and app folder
+has its README, and no source file is longer than 400 lines unless its first lines say why.
 
 usage: layout_test.py SOURCE_DIR        exit 0 clean, 1 with one line per violation
 """
@@ -86,7 +86,7 @@ def main() -> int:
     for a, b in sorted(edges):
         if FLOOR[b] > FLOOR[a]:
             problems.append(f"{a}/ includes {b}/, a floor above it: the include graph between top-level folders runs back up")
-    for folder in ["harness/" + f for f in ORDER] + ["app/" + p for p in PROGRAMS] + ["app"]:
+    for folder in ["harness/" + f for f in ORDER] + ["app/" + p for p in PROGRAMS] + ["app", "harness", "stream", "kernels", "rapl"]:
         if not (root / folder / "README.md").is_file():
             problems.append(f"{folder}/README.md is missing: each folder says what lives there and what it may include")
     for p in problems:
