@@ -34,11 +34,15 @@ TEST(Bench, VsPeersQuickHoldsEveryKindAgainstItsPeers) {
         EXPECT_NEAR(row["ratio"].get<double>(), mine / theirs, 1e-12);
         for (const auto& [name, v] : row["peers"].items()) EXPECT_LE(v.get<double>(), theirs) << name;
         // copy and store against glibc's string functions, with the suite's own string-instruction variants.
-        if (row["kind"] == "copy")
+        if (row["kind"] == "copy") {
             EXPECT_TRUE(row["peers"].contains("ref:memcpy") && row["suite"].contains("copy-rep")) << row.dump();
-        if (row["kind"] == "store")
+        }
+        if (row["kind"] == "store") {
             EXPECT_TRUE(row["peers"].contains("ref:memset") && row["suite"].contains("store-rep")) << row.dump();
-        if (row["kind"] == "copy" && likwid) EXPECT_TRUE(row["peers"].contains("likwid:copy")) << row.dump();
+        }
+        if (row["kind"] == "copy" && likwid) {
+            EXPECT_TRUE(row["peers"].contains("likwid:copy")) << row.dump();
+        }
     }
     std::set<std::string> want{"copy", "scale", "add", "triad", "store"};
     if (likwid) want.insert("load");  // its only peer is likwid-bench's
@@ -158,8 +162,9 @@ TEST(Bench, MpmImplicitQuickSplitsAStepIntoItsParts) {
             << key;
         EXPECT_GE(p["newton"].get<double>(), 1) << key;
         EXPECT_GT(p["cg"].get<double>(), p["newton"].get<double>()) << key;  // more than one CG iteration a Newton step
-        if (!p["cholmod"].is_null())
+        if (!p["cholmod"].is_null()) {
             EXPECT_GT(p["cholmod"].get<double>(), 0) << key;  // null where built without CHOLMOD
+        }
     }
     const std::string md = slurp(dir.file("mpm_implicit.md"));
     EXPECT_NE(

@@ -79,14 +79,14 @@ private:
 
 // What a directory of outputs may hold when it is claimed, and who claims it.
 struct DirPolicy {
-    std::string option = "--out";      // named in messages
-    std::string command;               // e.g. "suite mpm": recorded with the files, named in refusals
-    std::vector<FileIdentity> inputs;  // files of the run that must not be written
-    bool replace_earlier = false;      // an earlier run's files are replaced (--replace), not refused
+    std::string option = "--out";        // named in messages
+    std::string command{};               // e.g. "suite mpm": recorded with the files, named in refusals
+    std::vector<FileIdentity> inputs{};  // files of the run that must not be written
+    bool replace_earlier = false;        // an earlier run's files are replaced (--replace), not refused
     // A command that always writes the same few files (history html: index.html, chart.min.js)
     // names them: they are replaced one by one, the directory's other files are left alone
     // (a page's folder may hold a CNAME), and no manifest is kept: no stale file can build up.
-    std::vector<std::string> fixed_files;
+    std::vector<std::string> fixed_files{};
 };
 
 // A directory of outputs: one run's files (unless the policy names a fixed set of files).

@@ -138,9 +138,9 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     rec.batch = first >= settings.min_sample_s ? 1 : static_cast<int>(std::ceil(settings.min_sample_s / first));
     rec.batch = agree(settings, rec.batch);
     // Those calls were timed a region each, fork and join included, which for a call of tens of
-    // nanoseconds is most of the time (two threads at 32 KiB: 3.8 us a region, 60 ns a call),
-    // so the batch came out 60 times short of min_sample_s and the fork and join still weighed
-    // on every sample. One timed batch, warm, gives the time of a call within a batch.
+    // nanoseconds is most of the time (two threads at 32 KiB: 3.8 us a region, 60 ns a call): a
+    // batch sized from them would fall far short of min_sample_s, and the fork and join would
+    // weigh on every sample. One timed batch, warm, gives the time of a call within a batch.
     if (rec.batch > 1) {
         t0 = Clock::now();
         kernel->run(rec.batch);

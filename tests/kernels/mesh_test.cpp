@@ -91,7 +91,9 @@ TEST(MeshGenerate, DiskCountsAreaAndBoundary) {
         // An inscribed polygon: its area approaches pi from below, the gap shrinking ~4x a level.
         const double gap = std::numbers::pi - area;
         EXPECT_GT(gap, 0);
-        if (k > 0) EXPECT_LT(gap, previous_gap / 3.5);
+        if (k > 0) {
+            EXPECT_LT(gap, previous_gap / 3.5);
+        }
         previous_gap = gap;
     }
 }
