@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "harness/kernel/blocks.hpp"
+#include "kernels/fem/inverse_iteration.hpp"
 
 namespace suite::fem {
 
@@ -134,79 +135,38 @@ CgResult DistributedSolver::cg(const double* f, double* x, const CgVectors& v, d
     return out;
 }
 
+// The ranks' solver as inverse_iteration_with sees it: the owned rows in blocks of the team,
+// sums over the ranks, and each product after an exchange of its vector's halo.
+struct DistributedTeam {
+    DistributedSolver& s;
+    const EigenVectors& v;
+
+    template <class F>
+    void each(F f) {
+        s.for_blocks([&](Block b) { f(b.lo, b.hi); });
+    }
+    template <std::size_t K, class F>
+    std::array<double, K> sum(F f) {
+        return s.sum_blocks<K>([&](Block b) { return f(b.lo, b.hi); });
+    }
+    void products() {
+        s.halo_(s.comm_, v.u);
+        const Pattern pat = s.sys_.pattern;
+        const double* const a = s.sys_.a;
+        const double* const m = s.sys_.m;
+        s.for_blocks([&](Block b) {
+            spmv_rows(pat, a, v.u, v.au, b.lo, b.hi);
+            spmv_rows(pat, m, v.u, v.mu, b.lo, b.hi);
+        });
+    }
+    void mass() { s.spmv(s.sys_.m, v.u, v.f); }
+    CgResult solve(double tol, int max_iterations) { return s.cg(v.f, v.u, v.cg, tol, max_iterations); }
+};
+
 EigenResult DistributedSolver::inverse_iteration(const EigenVectors& v, double tol, double cg_tol, int max_cg) {
     if (!sys_.m) throw std::logic_error("the distributed inverse iteration needs M");
-    double* const u = v.u;
-    const Pattern pat = sys_.pattern;
-    const double* const a = sys_.a;
-    const double* const m = sys_.m;
-    EigenResult out;
-    // A u and M u on the owned rows, from one exchange of u's halo.
-    auto both_products = [&] {
-        halo_(comm_, u);
-        for_blocks([&](Block b) {
-            spmv_rows(pat, a, u, v.au, b.lo, b.hi);
-            spmv_rows(pat, m, u, v.mu, b.lo, b.hi);
-        });
-    };
-    // The Rayleigh quotient of u, and u scaled to uᵀMu = 1 with Σu > 0 (the eigenvector's sign).
-    auto rayleigh_and_normalise = [&] {
-        both_products();
-        const auto [uau, umu, su] = sum_blocks<3>([&](Block b) {
-            double uau = 0, umu = 0, su = 0;
-            for (std::int64_t i = b.lo; i < b.hi; ++i) {
-                uau += u[i] * v.au[i];
-                umu += u[i] * v.mu[i];
-                su += u[i];
-            }
-            return std::array<double, 3>{uau, umu, su};
-        });
-        const double scale = (su < 0 ? -1.0 : 1.0) / std::sqrt(umu);
-        for_blocks([&](Block b) {
-            for (std::int64_t i = b.lo; i < b.hi; ++i) u[i] *= scale;
-        });
-        return uau / umu;
-    };
-    for_blocks([&](Block b) {
-        for (std::int64_t i = b.lo; i < b.hi; ++i) u[i] = 1.0;
-    });
-    double lambda = rayleigh_and_normalise();
-    while (out.iterations < max_outer_iterations) {
-        ++out.iterations;
-        spmv(m, u, v.f);
-        // The solution is near u / λ once u has converged: start there.
-        for_blocks([&](Block b) {
-            for (std::int64_t i = b.lo; i < b.hi; ++i) u[i] /= lambda;
-        });
-        const CgResult cg_result = cg(v.f, u, v.cg, cg_tol, max_cg);
-        out.cg_iterations += cg_result.iterations;
-        out.worst_cg = std::max(out.worst_cg, cg_result.relative_residual);
-        if (!cg_result.converged) {
-            out.cg_failed = true;
-            break;
-        }
-        const double previous = lambda;
-        lambda = rayleigh_and_normalise();
-        out.last_change = std::fabs(lambda - previous) / std::fabs(previous);
-        if (std::fabs(lambda - previous) <= tol * std::fabs(previous)) {
-            out.converged = true;
-            break;
-        }
-    }
-    out.lambda = lambda;
-    // The residual of the final u: A u and M u again, after its scaling.
-    both_products();
-    const auto [res, ref] = sum_blocks<2>([&](Block b) {
-        double res = 0, ref = 0;
-        for (std::int64_t i = b.lo; i < b.hi; ++i) {
-            const double d = v.au[i] - lambda * v.mu[i];
-            res += d * d;
-            ref += lambda * lambda * v.mu[i] * v.mu[i];
-        }
-        return std::array<double, 2>{res, ref};
-    });
-    out.residual = ref > 0 ? std::sqrt(res / ref) : 0;
-    return out;
+    DistributedTeam team{*this, v};
+    return inverse_iteration_with(team, v, tol, cg_tol, max_cg);
 }
 
 }  // namespace suite::fem

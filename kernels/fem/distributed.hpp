@@ -67,6 +67,7 @@ public:
     HaloExchange& halo() { return halo_; }
 
 private:
+    friend struct DistributedTeam;  // the inverse iteration's view of this solver (distributed.cpp)
     // Collective: `block(rows)` run by every thread of the team on its block of the owned rows; the
     // K sums it returns added up in thread order, then over the ranks (one Comm::sum).
     template <std::size_t K, class Body>

@@ -3,7 +3,10 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+
+#include "kernels/fem/inverse_iteration.hpp"
 
 namespace suite::fem {
 
@@ -76,68 +79,47 @@ CgResult cg_team(const Operator& a, const double* f, double* x, const CgVectors&
     return out;
 }
 
+namespace {
+
+// One thread of the team, as inverse_iteration_with sees it: its block of rows, the team's sums,
+// and a barrier wherever another thread reads what this one wrote.
+struct ThreadOfTeam {
+    const Operator& a;
+    const Operator& m;
+    const EigenVectors& v;
+    TeamSum& total;
+    Block rows;
+
+    template <class F>
+    void each(F f) {
+        f(rows.lo, rows.hi);
+#pragma omp barrier
+    }
+    template <std::size_t K, class F>
+    std::array<double, K> sum(F f) {
+        std::array<double, K> s = f(rows.lo, rows.hi);
+        for (double& x : s) x = total(x);
+        return s;
+    }
+    void products() {
+        a.apply(v.u, v.au, rows);
+        m.apply(v.u, v.mu, rows);
+    }
+    void mass() {
+        m.apply(v.u, v.f, rows);
+#pragma omp barrier
+    }
+    CgResult solve(double tol, int max_iterations) {
+        return cg_team(a, v.f, v.u, v.cg, tol, max_iterations, total, rows);
+    }
+};
+
+}  // namespace
+
 EigenResult inverse_iteration_team(const Operator& a, const Operator& m, const EigenVectors& v, double tol,
                                    double cg_tol, int max_cg, TeamSum& sum, Block rows) {
-    double* const u = v.u;
-    EigenResult out;
-    // The Rayleigh quotient of u, and u scaled to uᵀMu = 1 with Σu > 0 (the eigenvector's sign).
-    auto rayleigh_and_normalise = [&] {
-        a.apply(u, v.au, rows);
-        m.apply(u, v.mu, rows);
-        double uau = 0, umu = 0, su = 0;
-        for (std::int64_t i = rows.lo; i < rows.hi; ++i) {
-            uau += u[i] * v.au[i];
-            umu += u[i] * v.mu[i];
-            su += u[i];
-        }
-        uau = sum(uau);
-        umu = sum(umu);
-        su = sum(su);
-        const double scale = (su < 0 ? -1.0 : 1.0) / std::sqrt(umu);
-        for (std::int64_t i = rows.lo; i < rows.hi; ++i) u[i] *= scale;
-        return uau / umu;
-    };
-    for (std::int64_t i = rows.lo; i < rows.hi; ++i) u[i] = 1.0;
-#pragma omp barrier
-    double lambda = rayleigh_and_normalise();
-    while (out.iterations < max_outer_iterations) {
-        ++out.iterations;
-        // u is read whole by the SpMV: the barrier of the last sum came before the scaling, so wait.
-#pragma omp barrier
-        m.apply(u, v.f, rows);
-#pragma omp barrier
-        // The solution is near u / λ once u has converged: start there.
-        for (std::int64_t i = rows.lo; i < rows.hi; ++i) u[i] /= lambda;
-#pragma omp barrier
-        const CgResult cg = cg_team(a, v.f, u, v.cg, cg_tol, max_cg, sum, rows);
-        out.cg_iterations += cg.iterations;
-        out.worst_cg = std::max(out.worst_cg, cg.relative_residual);
-        if (!cg.converged) {
-            out.cg_failed = true;
-            break;
-        }
-        const double previous = lambda;
-        lambda = rayleigh_and_normalise();
-        out.last_change = std::fabs(lambda - previous) / std::fabs(previous);
-        if (std::fabs(lambda - previous) <= tol * std::fabs(previous)) {
-            out.converged = true;
-            break;
-        }
-    }
-    out.lambda = lambda;
-    // The residual of the final u: A u and M u again, after its scaling.
-#pragma omp barrier
-    a.apply(u, v.au, rows);
-    m.apply(u, v.mu, rows);
-    double res = 0, ref = 0;
-    for (std::int64_t i = rows.lo; i < rows.hi; ++i) {
-        const double d = v.au[i] - lambda * v.mu[i];
-        res += d * d;
-        ref += lambda * lambda * v.mu[i] * v.mu[i];
-    }
-    res = sum(res);
-    ref = sum(ref);
-    out.residual = ref > 0 ? std::sqrt(res / ref) : 0;
+    ThreadOfTeam team{a, m, v, sum, rows};
+    const EigenResult out = inverse_iteration_with(team, v, tol, cg_tol, max_cg);
 #pragma omp barrier
     return out;
 }
