@@ -27,20 +27,7 @@ public:
         a_ = arena.allocate<double>("a", n_);
         if (pattern_ == Pattern::random) p_ = arena.allocate<std::uint32_t>("index", n_);
         double* __restrict a = a_;
-        std::uint32_t* __restrict p = p_;
-        const std::int64_t n = static_cast<std::int64_t>(n_);
-        int team = 0;
-#pragma omp parallel num_threads(cfg_.threads) reduction(max : team)
-        {
-            team = omp_get_num_threads();
-            const Block blk = my_line_block(n);
-            for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
-                a[i] = init_a;
-                if (p) p[i] = 0;
-            }
-        }
-        require_team_size(team, cfg_.threads);
-        if (p) shuffled_permutation(p, n_, cfg_.seed);
+        first_touch(cfg_, n_, p_, [&](std::int64_t i) { a[i] = init_a; });
     }
 
     // Sequential, strided and nt store only into the thread's own block: no barrier between
@@ -95,20 +82,7 @@ public:
         return v;
     }
 
-    Work work() const override {
-        const double n = static_cast<double>(n_);
-        Work w;
-        w.units = n;
-        w.stream_bytes = n * 8.0;
-        // Write-allocate unless non-temporal or a fast-string fill (an estimate there: see stream_kernel.hpp).
-        const double store_cost = is_store_variant(cfg_.variant) ? 1.0 : 2.0;
-        double granule = 8.0;
-        if (pattern_ == Pattern::random) granule = line_bytes;
-        if (pattern_ == Pattern::strided) granule = std::min(line_bytes, 8.0 * static_cast<double>(stride_));
-        w.hardware_bytes = n * granule * store_cost + (p_ ? n * 4.0 : 0.0);
-        w.footprint_bytes = n_ * (8ULL + (p_ ? 4 : 0));
-        return w;
-    }
+    Work work() const override { return stream_work(cfg_, n_, 0, 1, 0.0); }
 
 private:
     // Unrolled by hand like the other sequential loops (see stream_kernel.hpp).

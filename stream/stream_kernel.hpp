@@ -109,6 +109,52 @@ inline std::uint64_t stream_elements(const KernelConfig& cfg, int arrays) {
 }
 void validate_stream_config(const KernelConfig& cfg, const char* name, int arrays);
 
+// First touch by the computing threads, each its own line block (the block it computes on), so
+// that with placement=local each thread's block of every array lands on that thread's node.
+// touch(i) writes element i of every array; the random pattern's index (nullptr for the other
+// patterns) is touched the same way, then shuffled with the run's seed.
+template <class Touch>
+void first_touch(const KernelConfig& cfg, std::uint64_t elements, std::uint32_t* index, Touch touch) {
+    const std::int64_t n = static_cast<std::int64_t>(elements);
+    int team = 0;
+#pragma omp parallel num_threads(cfg.threads) reduction(max : team)
+    {
+        team = omp_get_num_threads();
+        const Block blk = my_line_block(n);  // first touch: this thread's block
+        for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
+            touch(i);
+            if (index) index[i] = 0;
+        }
+    }
+    require_team_size(team, cfg.threads);
+    if (index) shuffled_permutation(index, elements, cfg.seed);
+}
+
+// What one call of a streaming kernel moves: `reads` arrays read and `writes` written, n elements
+// each. STREAM's count takes each access once, 8 B; the hardware estimate adds what the memory
+// system really moves: a store to a line not in cache first reads it (write-allocate) unless it
+// is non-temporal or a string instruction's (an estimate there: a CPU with fast strings stores
+// whole lines of a large block, and says nothing), a scattered access moves its whole granule,
+// and the random pattern reads its index array too.
+inline Work stream_work(const KernelConfig& cfg, std::uint64_t elements, int reads, int writes, double flops) {
+    const double n = static_cast<double>(elements);
+    const double accesses_read = reads, accesses_written = writes;
+    const Pattern pattern = pattern_of(cfg.access);
+    const bool indexed = pattern == Pattern::random;
+    Work w;
+    w.units = n;
+    w.stream_bytes = n * 8.0 * (accesses_read + accesses_written);
+    w.flops = n * flops;
+    const double store_cost = is_store_variant(cfg.variant) ? 1.0 : 2.0;
+    double granule = 8.0;  // bytes the memory system moves per access
+    if (pattern == Pattern::random) granule = line_bytes;
+    if (pattern == Pattern::strided) granule = std::min(line_bytes, 8.0 * static_cast<double>(cfg.access.stride));
+    w.hardware_bytes = n * granule * (accesses_read + accesses_written * store_cost);
+    if (indexed) w.hardware_bytes += n * 4.0;  // the index array, read sequentially
+    w.footprint_bytes = elements * (8ULL * static_cast<std::uint64_t>(reads + writes) + (indexed ? 4 : 0));
+    return w;
+}
+
 template <class Op>
 class StreamKernel final : public Kernel {
 public:
@@ -127,21 +173,11 @@ public:
         double* __restrict a = a_;
         double* __restrict b = b_;
         double* __restrict c = c_;
-        std::uint32_t* __restrict p = p_;
-        const std::int64_t n = static_cast<std::int64_t>(n_);
-        // First touch by the computing threads, each its own block, so with placement=local
-        // each thread's block of every array lands on that thread's node.
-#pragma omp parallel
-        {
-            const Block blk = my_line_block(n);
-            for (std::int64_t i = blk.lo; i < blk.hi; ++i) {
-                a[i] = init_a;
-                b[i] = init_b(static_cast<std::uint64_t>(i));
-                if (Op::reads > 1) c[i] = init_c(static_cast<std::uint64_t>(i));
-                if (p) p[i] = 0;
-            }
-        }
-        if (p) shuffled_permutation(p, n_, cfg_.seed);
+        first_touch(cfg_, n_, p_, [&](std::int64_t i) {
+            a[i] = init_a;
+            b[i] = init_b(static_cast<std::uint64_t>(i));
+            if (Op::reads > 1) c[i] = init_c(static_cast<std::uint64_t>(i));
+        });
     }
 
     // `calls` repetitions inside one parallel region. Where each thread reads and writes only
@@ -200,25 +236,7 @@ public:
         return v;
     }
 
-    Work work() const override {
-        const double n = static_cast<double>(n_);
-        const double accesses_read = Op::reads, accesses_written = 1;
-        Work w;
-        w.units = n;
-        w.stream_bytes = n * 8.0 * (accesses_read + accesses_written);
-        w.flops = n * Op::flops;
-        // A store to a line not in cache first reads it (write-allocate) unless it is non-temporal.
-        // The string instructions are counted as whole-line stores too: what a CPU with fast
-        // strings does with a large block (an estimate: the CPU chooses, and says nothing).
-        const double store_cost = is_store_variant(cfg_.variant) ? 1.0 : 2.0;
-        double granule = 8.0;  // bytes the memory system moves per access
-        if (pattern_ == Pattern::random) granule = line_bytes;
-        if (pattern_ == Pattern::strided) granule = std::min(line_bytes, 8.0 * static_cast<double>(stride_));
-        w.hardware_bytes = n * granule * (accesses_read + accesses_written * store_cost);
-        if (p_) w.hardware_bytes += n * 4.0;  // the index array, read sequentially
-        w.footprint_bytes = n_ * (8ULL * arrays() + (p_ ? 4 : 0));
-        return w;
-    }
+    Work work() const override { return stream_work(cfg_, n_, Op::reads, 1, Op::flops); }
 
 private:
     static double expected(std::uint64_t i) { return Op::apply(init_b(i), Op::reads > 1 ? init_c(i) : 0.0); }
