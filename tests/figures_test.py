@@ -84,6 +84,14 @@ def printed(value, shown, decimals):
     return abs(value - shown) <= 0.5 * 10 ** -decimals + 1e-9 * abs(value)
 
 
+def places(text):
+    """The decimals of a figure as printed, in units of 10^-places: '8.19' -> 2, '8.199e-03' -> 6
+    (a very slow point of a busy machine is printed in scientific notation)."""
+    mantissa, _, exponent = text.lower().partition("e")
+    digits = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return digits - (int(exponent) if exponent else 0)
+
+
 # --- the definitions, on the JSON record -------------------------------------------------------------------
 
 def check_rates(r, where):
@@ -296,7 +304,7 @@ def check_markdown(a_path, b_path, a, b, where):
     for cells, ra, rb in zip(rows, a["results"], b["results"]):
         fig = lambda r, s: r["bandwidth_gbps"]["stream"][s] if r["bandwidth_gbps"] else r["latency_ns"][s]
         for shown, want in zip(cells[2:6], (fig(ra, "best"), fig(ra, "median"), fig(rb, "best"), fig(rb, "median"))):
-            decimals = len(shown.split(".")[1]) if "." in shown else 0
+            decimals = places(shown)
             check(printed(want, float(shown), decimals), f"{where} {cells[0]}: compare shows {shown}, the file {want}")
         ratio = fig(rb, "median") / fig(ra, "median") if ra["bandwidth_gbps"] else fig(ra, "median") / fig(rb, "median")
         got = float(cells[6].split("x")[0])
@@ -356,7 +364,7 @@ def check_gate(a_path, a, where, tmp):
         fig = r["bandwidth_gbps"]["stream"]["median"] if r["bandwidth_gbps"] else r["latency_ns"]["median"]
         slow_fig = fig / 1.5 if r["bandwidth_gbps"] else fig * 1.5
         for shown, want in ((c[3], fig), (c[4], slow_fig)):
-            decimals = len(shown.split(".")[1]) if "." in shown else 0
+            decimals = places(shown)
             check(printed(want, float(shown), decimals), f"{where} gate {label}: shows {shown}, the file's median {want}")
         change = float(c[5].split("%")[0])
         want = -33.3 if r["bandwidth_gbps"] else 50.0
