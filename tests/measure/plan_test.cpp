@@ -5,6 +5,7 @@
 
 #include <omp.h>
 
+#include "app/suite/defaults.hpp"
 #include "harness/common/units.hpp"
 #include "harness/machine/topology.hpp"
 #include "harness/measure/plan.hpp"
@@ -69,7 +70,9 @@ TEST(Plan, DefaultSweepFitsAManyThreadMachine) {
     t.caches = {
         {1, "data", 32 << 10, 64, 128, 2}, {2, "unified", 1 << 20, 64, 128, 2}, {3, "unified", 32 << 20, 64, 16, 16}};
     if (omp_get_thread_limit() < 256) GTEST_SKIP() << "OMP_THREAD_LIMIT is below 256";
-    Plan plan = make_plan(RunOptions{}, t);
+    RunOptions o;
+    o.default_sweep = default_sweep();
+    Plan plan = make_plan(o, t);
     EXPECT_FALSE(plan.points.empty());
     for (const auto& p : plan.points)
         if (p.threads == 256 && p.size < (1u << 20))
