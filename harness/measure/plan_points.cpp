@@ -30,15 +30,30 @@ Access parse_access(const std::string& text, const std::string& option) {
 // The sizes of a kernel's points at `t` threads: as given (a kernel sized by a count reads the
 // text as a count of its units, so that a message speaks of what it counts), or by default its
 // own count or the cache-level sizes, which are per thread and so chosen point by point.
-std::vector<std::uint64_t> sizes_for(const RunOptions& o, const Topology& topo, const KernelInfo& info, int t) {
+std::vector<DefaultSize> sizes_for(const RunOptions& o, const Topology& topo, const KernelInfo& info, int t) {
+    const auto given = [](const std::vector<std::uint64_t>& sizes) {
+        std::vector<DefaultSize> out;
+        for (auto s : sizes) out.push_back({s, {}});
+        return out;
+    };
     if (o.size.empty() && o.sizes.empty())
-        return info.default_count ? std::vector<std::uint64_t>{info.default_count} : default_sizes(topo, t, o.measured);
+        return info.default_count ? given({info.default_count}) : default_points(topo, t, o.measured);
     if (info.size_kind == SizeKind::count) {
         const std::string noun = info.unit + "s";
-        return o.size.empty() ? parse_count_list(o.sizes, noun, info.name)
-                              : std::vector<std::uint64_t>{parse_count(o.size, noun, info.name)};
+        return given(o.size.empty() ? parse_count_list(o.sizes, noun, info.name)
+                                    : std::vector<std::uint64_t>{parse_count(o.size, noun, info.name)});
     }
-    return o.size.empty() ? parse_size_list(o.sizes) : std::vector<std::uint64_t>{parse_bytes(o.size)};
+    return given(o.size.empty() ? parse_size_list(o.sizes) : std::vector<std::uint64_t>{parse_bytes(o.size)});
+}
+
+// The size of `t` threads that stands where `first` stands at one thread: the same role, or for
+// sizes given, the same position. None when the role has no size of its own at `t` (an L3/2
+// that the team's share of L2 already reaches).
+const DefaultSize* same_place(const std::vector<DefaultSize>& at_t, const DefaultSize& first, std::size_t position) {
+    if (first.role.name.empty()) return position < at_t.size() ? &at_t[position] : nullptr;
+    for (const auto& d : at_t)
+        if (d.role.name == first.role.name) return &d;
+    return nullptr;
 }
 
 // The kernel's check of one configuration. Its refusal names a parameter by its value as a number
@@ -174,9 +189,10 @@ void plan_kernel_points(const RunOptions& o, const Topology& topo, const Planned
     for (const auto& [name, value] : axes.parameters)
         if (kparams.count(name)) kparams[name] = value;
     const std::size_t points_before = plan.points.size();
-    auto add = [&](const Access& a, const std::string& kv, std::uint64_t size, int t, const std::string& mesh) {
+    auto add = [&](const Access& a, const std::string& kv, std::uint64_t size, int t, const std::string& mesh,
+                   const SizeRole& role) {
         validate(o, *k.entry, kparams, KernelConfig{a, kv, size, plan.settings.seed, t, mesh, kparams});
-        plan.points.push_back({k.entry, a, kv, size, t, mesh, kparams});
+        plan.points.push_back({k.entry, a, kv, size, t, mesh, kparams, role});
     };
     // Its meshes: --mesh, or the kernel's defaults when no size is given either; "" = sized by --size.
     std::vector<std::string> meshes{""};
@@ -187,11 +203,15 @@ void plan_kernel_points(const RunOptions& o, const Topology& topo, const Planned
             for (const auto& mesh : meshes) {
                 if (!mesh.empty()) {
                     const std::uint64_t size = k.entry->mesh_elements(mesh);
-                    for (int t : team_sizes(kv)) add(a, kv, size, t, mesh);
+                    for (int t : team_sizes(kv)) add(a, kv, size, t, mesh, {});
                     continue;
                 }
-                for (std::size_t s = 0; s < sizes_for(o, topo, info, 1).size(); ++s)
-                    for (int t : team_sizes(kv)) add(a, kv, sizes_for(o, topo, info, t)[s], t, "");
+                const std::vector<DefaultSize> at_one = sizes_for(o, topo, info, 1);
+                for (std::size_t s = 0; s < at_one.size(); ++s)
+                    for (int t : team_sizes(kv)) {
+                        const std::vector<DefaultSize> at_t = sizes_for(o, topo, info, t);
+                        if (const DefaultSize* d = same_place(at_t, at_one[s], s)) add(a, kv, d->bytes, t, "", d->role);
+                    }
             }
     if (plan.points.size() == points_before &&
         std::all_of(vs.list.begin(), vs.list.end(), [&](const auto& v) { return single_thread_only(info, v.second); }))
