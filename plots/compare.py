@@ -58,10 +58,11 @@ def figures(plt, machines):
         for i, (ylabel, pts) in sorted(by_machine.items()):
             m = machines[i]
             pts.sort()
-            hollow |= draw_series(ax, [p[:3] for p in pts], colors[i], label=f"[{i + 1}] {m.label}")
+            hollow |= draw_series(ax, [p[:3] for p in pts], colors[i], label=f"[{i + 1}] {m.name}: {m.label}")
             for x, y, _, rl, _ in pts:
                 if rl:
-                    ax.annotate(rl, (x, y), textcoords="offset points", xytext=(4, -10), fontsize=6.5, color=colors[i])
+                    ax.annotate(rl, (x, y), textcoords="offset points", xytext=(4, -10), fontsize=6.5, color=colors[i],
+                                zorder=5, bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=0.5))
             cache_markers(ax, m, pts[0][4], color=colors[i], tag=f"[{i + 1}] ")
         footprint_axis(ax, plt)
         log_y(ax)
@@ -88,6 +89,7 @@ def main(argv):
         m = Machine(doc)
         m.add(doc, path)
         m.finish()
+        m.name = os.path.basename(path)
         machines.append(m)
     inputs = identify(paths)
     written = 0
