@@ -123,6 +123,33 @@ with tempfile.TemporaryDirectory() as tmp:
             with open(os.path.join(figs, name), "rb") as f:
                 check(f.read(8) == b"\x89PNG\r\n\x1a\n", f"{name} is not a PNG")
             check(os.path.getsize(os.path.join(figs, name)) > 10_000, f"{name} is implausibly small")
+    # Unstable points hollow, each machine's caches marked in its colour (the figures as built).
+    sys.path.insert(0, os.path.join(src, "plots"))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import compare as compare_plot
+    from results_model import Machine
+    machines = []
+    for path, doc in ((small, a), (big, b)):
+        m = Machine(doc)
+        m.add(doc, path)
+        m.finish()
+        m.name = os.path.basename(path)
+        machines.append(m)
+    shaky = {(x["name"], x.get("pattern")) for x in a["results"] + b["results"] if (x.get("stability") or {}).get("unstable")}
+    hollow_seen = 0
+    for name, fig in compare_plot.figures(plt, machines):
+        ax = fig.axes[0]
+        colours = {tuple(line.get_color()) for line in ax.get_lines() if line.get_label().startswith("[")}
+        marks = [line for line in ax.get_lines() if list(line.get_xdata()) and len(set(line.get_xdata())) == 1
+                 and line.get_linestyle() == ":"]
+        check(len(colours) == 2, f"{name}: {len(colours)} series colours, expected one per file")
+        check({tuple(m.get_color()) for m in marks} == colours, f"{name}: the cache markers are not in the files' colours")
+        hollow_seen += sum(1 for line in ax.get_lines() if line.get_markerfacecolor() == "white")
+        plt.close(fig)
+    check(not shaky or hollow_seen, f"unstable points in {sorted(shaky)[:3]}... but none drawn hollow")
+
     # Claimed like any output: never over an input, never under a missing parent; nothing read first.
     one_line_error(run("compare", small, big, "--plot", small), "--plot over an input", "--plot")
     missing = os.path.join(tmp, "no", "such")
