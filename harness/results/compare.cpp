@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 
 #include "harness/common/stats.hpp"
 #include "harness/results/compare_context.hpp"

@@ -5,7 +5,6 @@
 // each machine's CPUs whatever the counts. Sizes a user gave (--sizes) meet by size only.
 #include <cstddef>
 #include <map>
-#include <set>
 #include <string>
 #include <vector>
 
