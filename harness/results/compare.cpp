@@ -104,7 +104,7 @@ struct Means {
     }
 };
 
-// The point's label, its size replaced by its role where it met others by role.
+// The point's label, its size replaced by its role where the table compares by role.
 std::string point_label(const LoadedPoint& p, bool by_role, const std::vector<int>& counts) {
     std::string label = p.key.label() + (p.mpi.host.empty() ? "" : " on " + p.mpi.host);
     if (by_role) {
@@ -193,7 +193,8 @@ std::string render_comparison(const std::vector<ResultFile>& files, bool markdow
         const std::string kernel = p.key.variant.empty() ? p.key.kernel : p.key.kernel + "-" + p.key.variant;
         std::vector<int> counts;
         for (const auto& m : row.in) counts.push_back(m.point ? m.point->key.threads : -1);
-        std::vector<std::string> cells{point_label(p, row.by_role, counts), head.name + " " + head.unit};
+        std::vector<std::string> cells{point_label(p, sizes_differ && !p.role.name.empty(), counts),
+                                       head.name + " " + head.unit};
         for (std::size_t f = 0; f < files.size(); ++f) {
             const LoadedPoint* q = row.in[f].point;
             const Measure* m = q ? find_measure(*q, head.name) : nullptr;
