@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots test install test-numa test-sanitize test-mutants clean bench-deps bench-vs bench-noise bench-gate bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
+.PHONY: all deps run-deps test-deps configure build run plots examples test install test-numa test-sanitize test-mutants clean bench-deps bench-vs bench-noise bench-gate bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -56,6 +56,22 @@ run: run-deps configure
 	@$(MAKE) plots
 	./suite roofline --out=results/roofline.json
 	./suite roofline --place=results/latest.json --ceilings=results/roofline.json --out=$(PLOTS)/roofline-latest.json
+
+# The committed example results, made again by this build so that they cannot go stale
+# (tests/examples_test.py holds them valid and comparable with a fresh run): this machine's
+# default sweep, without --probe-caches so that its sizes follow the caches hwloc reports and a
+# fresh run meets every role; and two stand-ins for machines whose caches differ, the same sweep on
+# synthetic topologies (the sizes follow their caches; the timings are this machine's), for the
+# tests of suite compare by cache role.
+EXAMPLE ?= results/examples/kvm-2core-default.json
+ROLE_FIXTURES = tests/fixtures/results
+examples: run-deps configure
+	@cmake --build $(BUILD) -j $(JOBS) --target suite suite_link
+	./suite --quiet --out=$(EXAMPLE)
+	HWLOC_SYNTHETIC="pack:1 l3:1(size=4MiB) l2:2(size=256KiB) l1d:1(size=16KiB) core:1 pu:1" \
+	  ./suite --pin=none --reps=3 --min-time=0.01 --quiet --out=$(ROLE_FIXTURES)/roles-small-caches.json
+	HWLOC_SYNTHETIC="pack:1 l3:1(size=16MiB) l2:4(size=1MiB) l1d:1(size=48KiB) core:1 pu:1" \
+	  ./suite --pin=none --reps=3 --min-time=0.01 --quiet --out=$(ROLE_FIXTURES)/roles-big-caches.json
 
 # The figures of results/latest.json (or RESULT=...), in $(PLOTS)/; the last line names them.
 RESULT ?= results/latest.json

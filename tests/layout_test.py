@@ -7,7 +7,9 @@ folders the graph must have no arrow back up: the engine (harness/) sees none of
 kernels/, rapl/ or app/; the kernels and rapl see only the engine; app/ sees everything and
 nothing includes it. Also: no source file sits directly in harness/ or app/ (each lives in the
 folder of its concern or program), every top-level source folder and every harness and app folder
-has its README, and no source file is longer than 400 lines unless its first lines say why.
+has its README, no source file is longer than 400 lines unless its first lines say why, and the
+engine names no kernel: no string literal in harness/ code is the name of a kernel the kernels
+register by a literal.
 
 usage: layout_test.py SOURCE_DIR        exit 0 clean, 1 with one line per violation
 """
@@ -38,6 +40,19 @@ ALLOWED = {
 FLOOR = {"harness": 0, "stream": 1, "kernels": 1, "rapl": 1, "app": 2}
 MAX_LINES = 400
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+LITERAL = re.compile(r'"((?:[^"\\\n]|\\.)*)"')
+COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
+# A record's metric is called "latency" as the latency kernel is: the results read and write it.
+NOT_A_KERNEL = {("harness/results", "latency")}
+
+
+def kernel_names(root: Path) -> set:
+    """The kernels' names a reader can find as literals: those the kernels register by one."""
+    names = set()
+    for path in list((root / "stream").rglob("*.cpp")) + list((root / "kernels").rglob("*.cpp")):
+        names.update(re.findall(r'info\.name\s*=\s*"([\w-]+)"', path.read_text()))
+        names.update(re.findall(r'constexpr const char\* name = "([\w-]+)"', path.read_text()))
+    return names
 
 
 def folder_of(rel: str) -> str:
@@ -57,6 +72,9 @@ def main() -> int:
     checked = 0
     edges = set()  # (from, to) between top-level folders
     sources = [p for d in FLOOR for p in sorted((root / d).rglob("*")) if p.suffix in (".cpp", ".hpp")]
+    names = kernel_names(root)
+    if not {"copy", "latency", "peak-flops"} <= names:
+        problems.append(f"found only these kernel names to look for: {sorted(names)}; the test is looking in the wrong place")
     for path in sources:
         rel = path.relative_to(root).as_posix()
         here = folder_of(rel)
@@ -69,6 +87,10 @@ def main() -> int:
             problems.append(f"{rel}: folder {here} has no include rule in tests/layout_test.py (and its README)")
             continue
         text = path.read_text()
+        if here.startswith("harness/"):
+            for name in sorted(set(LITERAL.findall(COMMENT.sub("", text))) & names):
+                if (here, name) not in NOT_A_KERNEL:
+                    problems.append(f'{rel}: names the kernel "{name}"; the engine takes kernels from the program (app/suite/defaults)')
         for target in INCLUDE.findall(text):
             if "/" not in target:
                 continue  # a header beside the file, e.g. "process.hpp"

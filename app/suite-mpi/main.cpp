@@ -17,6 +17,7 @@
 #include "app/suite-mpi/job.hpp"
 #include "app/suite-mpi/mpi_comm.hpp"
 #include "app/suite/data_dir.hpp"
+#include "app/suite/defaults.hpp"
 #include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
 #include "app/suite/run.hpp"
@@ -141,7 +142,7 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
     const bool to_file = !plan.out_path.empty();
     if (job.rank == 0) {
         doc = {{"schema_version", schema_version}, {"complete", false}, {"results", nlohmann::json::array()}};
-        doc["context"] = build_context(topo, argv, plan.instruments);
+        doc["context"] = build_context(topo, argv, plan.instruments, bandwidth_convention());
         doc["context"]["mpi"] = job.context;
         if (to_file) out->write(doc.dump(1) + "\n");  // valid from the start: a job killed at once leaves this
         if (!plan.quiet) std::cout << table_header() << std::flush;

@@ -6,7 +6,10 @@
 #include <CLI/CLI.hpp>
 
 #include "app/suite/commands.hpp"
+#include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
+#include "app/suite/plotter.hpp"
+#include "harness/common/output_file.hpp"
 #include "harness/results/compare.hpp"
 #include "harness/results/compare_hosts.hpp"
 
@@ -17,7 +20,12 @@ namespace {
 const char* const compare_examples = R"(
 Points are matched by kernel, variant, pattern or ordering, size, threads, pinning, placement
 and kernel parameters (--tol=... and the like). A point run on all of its machine's CPUs
-(--threads=all) matches the other machines' all-CPU points whatever their core counts.
+(--threads=all) matches the other machines' all-CPU points whatever their core counts. Points
+of the default sweep carry the cache their size came from (L1/2 and L2/2: half an L1 or L2 per
+thread; L3/2: half the last level, where --probe-caches measured it; DRAM): between machines
+whose caches differ they match by that role, each file's size shown beside its figure, with a
+geometric mean per role. Sizes given with --sizes match by size. A role one file has and
+another lacks is refused (unless --force: the roles they share).
 For each file: the best and median of the point's headline figure (GB/s for bandwidth kernels,
 ns per load for latency, instructions for a deterministic run), and its ratio to the first file
 as performance from the medians: above 1 is better than the first file, whichever way the
@@ -26,8 +34,15 @@ ratio from the repetitions. Then the geometric mean of those ratios per kernel. 
 table: the context fields on which the files differ, each said to be of the machine (CPU,
 sockets, NUMA nodes, cores, memory), of the build or settings (compiler and flags, build
 type, the instruction set -march resolved to, THP, huge pages asked) or informational
-(reported caches, governor). Files that differ in both machine and settings are refused (a
-ratio could not say which made the difference) unless --force.
+(reported caches, governor). What -march=native resolved to is the machine's when every file
+was built with it; a flag the user chose (-O2, -DNDEBUG, -march=x86-64-v3) is the build's.
+Files that differ as machines and in the user's settings are refused, naming those settings
+(a ratio could not say which made the difference), unless --force.
+
+--plot DIR draws, per kernel, pattern and thread count (1, all), each file's bandwidth (or
+latency) against footprint on one set of axes, each machine's caches marked in its colour,
+unstable points hollow: DIR/compare-KERNEL-PATTERN-t1.png, ...-all.png (plots/compare.py).
+DIR is checked before anything is read and claimed like any output (never over an input).
 
 MPI runs (suite-mpi): a file holds each point once per rank and once as the aggregate of all
 ranks. Two MPI runs of as many ranks match rank with rank and aggregate with aggregate (rows
@@ -45,13 +60,15 @@ Examples:
   ./suite compare before.json after.json --format=markdown > comparison.md
   ./suite compare tests/fixtures/results/vm-native.json tests/fixtures/results/vm-x86-64-v3.json
   ./suite compare epyc-thp.json xeon-nothp.json --force          # both changed: listed, compared anyway
+  ./suite compare epyc.json xeon.json --plot figures/             # and the figures
   ./suite compare cluster-mpi.json                                # one MPI run: its hosts side by side
   ./suite compare mpi-before.json mpi-after.json                  # two MPI runs, rank by rank
 
-Exit status: 0 compared; 2 a file is missing, not JSON, not a suite result, of another
-schema_version, have no point in common, or differ as machines and in settings without
---force, or a single file is not of an MPI run of two ranks or more (one line on stderr says
-which).
+Exit status: 0 compared; 1 the figures could not be drawn (said on stderr); 2 a file is
+missing, not JSON, not a suite result, of another schema_version, the files have no point in
+common, lack a role another has, or differ as machines and in settings without --force, a
+single file is not of an MPI run of two ranks or more, or --plot names a directory that cannot
+be written (one line on stderr says which).
 )";
 
 }  // namespace
@@ -65,11 +82,14 @@ int cmd_compare(const std::vector<std::string>& args) {
     std::vector<std::string> paths;
     std::string format = "table";
     bool force = false;
+    std::string plot;
     app.add_option(
         "files", paths,
         "result files written by suite --out=FILE.json; the first is the reference (one file: an MPI run's hosts)");
     app.add_option("--format", format, "table (default) | markdown");
-    app.add_flag("--force", force, "compare files that differ both as machines and in build or settings");
+    app.add_flag("--force", force,
+                 "compare files that differ both as machines and in build or settings, or lack a role another has");
+    app.add_option("--plot", plot, "directory for the figures: each file's figures against footprint (PNG)");
     if (!parse_command_line(app, "suite compare", args)) return 0;
     if (format != "table" && format != "markdown")
         throw UsageError("unknown --format '" + format + "'; accepted: table, markdown");
@@ -77,6 +97,12 @@ int cmd_compare(const std::vector<std::string>& args) {
         "compare needs at least two result files, e.g. ./suite compare a.json b.json, or one of an MPI run";
     const std::string see_help = " (see ./suite compare --help)";
     if (paths.empty()) throw UsageError(two_files + see_help);
+    const DirPolicy plot_policy{.option = "--plot", .command = "suite compare", .inputs = identify_inputs(paths)};
+    if (!plot.empty()) {
+        if (paths.size() == 1) throw UsageError("--plot draws two or more result files side by side" + see_help);
+        require_plotter("compare.py", "no --plot");
+        OutputDir::check(plot, plot_policy);
+    }
     if (paths.size() == 1) {
         // One file: the hosts (or ranks) of an MPI run side by side; a plain run has nothing to line up.
         const ResultFile run = load_result_file(paths[0]);
@@ -86,8 +112,23 @@ int cmd_compare(const std::vector<std::string>& args) {
     }
     std::vector<ResultFile> files;
     for (const auto& p : paths) files.push_back(load_result_file(p));
-    std::cout << render_comparison(files, format == "markdown", force) << std::flush;
-    return 0;
+    const std::string table = render_comparison(files, format == "markdown", force);
+    if (plot.empty()) {
+        std::cout << table << std::flush;
+        return 0;
+    }
+    CommandFrame frame("suite");
+    OutputDir& dir = frame.claim_dir(plot, plot_policy);
+    std::cout << table << std::flush;
+    const Plotter p = find_plotter("compare.py");
+    const std::string why = p.reason.empty() ? dir.with_writer([&](const std::string& at) {
+        std::vector<std::string> args{at};
+        args.insert(args.end(), paths.begin(), paths.end());
+        return draw_with(p, args, at);
+    })
+                                             : p.reason;
+    if (!why.empty()) std::cerr << "suite: error: --plot " << plot << ": no figures: " << why << "\n";
+    return frame.finish(why.empty() ? 0 : 1, "the figures", true);
 }
 
 }  // namespace suite

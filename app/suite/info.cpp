@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/suite/commands.hpp"
+#include "app/suite/defaults.hpp"
 #include "app/suite/parse.hpp"
 #include "harness/machine/topology.hpp"
 #include "harness/measure/cache_probe.hpp"
@@ -27,10 +28,10 @@ int cmd_info(const std::vector<std::string>& args) {
     if (!parse_command_line(app, "suite info", args)) return 0;
     const Topology topo = Topology::load();
     std::optional<CacheProbe> measured;
-    if (probe) measured = probe_caches(topo);
+    if (probe) measured = probe_caches(topo, probe_options());
     // What a result's context would say about measuring here.
     const Instruments instruments = make_instruments("default", "auto", open_energy);
-    const nlohmann::json context = build_context(topo, {}, instruments);
+    const nlohmann::json context = build_context(topo, {}, instruments, bandwidth_convention());
     if (json) {
         nlohmann::json j = to_json(topo);
         for (const char* key :

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/suite/commands.hpp"
+#include "app/suite/defaults.hpp"
 #include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
 #include "app/suite/plotter.hpp"
@@ -91,7 +92,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         throw UsageError("--min-time=" + format_number(min_time) + ": expected seconds between 0 and 60");
     const Topology topo = Topology::load();
     const Instruments instruments = make_instruments("none", "none", open_energy);
-    const nlohmann::json context = build_context(topo, full_argv, instruments);
+    const nlohmann::json context = build_context(topo, full_argv, instruments, bandwidth_convention());
     std::optional<RooflineFile> given;
     if (!ceilings.empty()) given = load_roofline_file(ceilings);
     nlohmann::json result;
@@ -128,7 +129,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     if (given) {
         roof = *given;
     } else {
-        RooflineOptions o;
+        RooflineOptions o = roofline_options();
         o.threads = threads;
         o.pin = parse_pin(topo.this_system ? pin : "none", topo);
         o.min_time_s = min_time;

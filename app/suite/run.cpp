@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "app/suite/commands.hpp"
+#include "app/suite/defaults.hpp"
 #include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
@@ -129,6 +130,7 @@ std::string param_users(const std::string& name) {
 }
 
 void setup_run_options(CLI::App& app, RunOptions& o) {
+    o.default_sweep = default_sweep();
     app.add_option("--kernel,-k", o.kernels, "kernels, comma separated (see ./suite list); default: the default sweep");
     app.add_option("--pattern,-p", o.patterns,
                    "access patterns: sequential, random, strided:S (default: the kernel's first)");
@@ -224,7 +226,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     const FileFormat format = plan.format == "csv"      ? FileFormat::csv
                               : plan.format == "gbench" ? FileFormat::gbench
                                                         : FileFormat::json;
-    ResultDocument doc{build_context(topo, argv, plan.instruments), {}};
+    ResultDocument doc{build_context(topo, argv, plan.instruments, bandwidth_convention()), {}};
     if (!plan.caches_measured.is_null()) doc.context["caches_measured"] = plan.caches_measured;
 
     if (console_table) std::cout << table_header() << std::flush;
@@ -297,7 +299,7 @@ int cmd_run(const std::vector<std::string>& args, const std::vector<std::string>
         // The options are all checked before the seconds of probing; the plan is then made again
         // with the measured last level, which only changes the default sizes.
         if (!plan.quiet) std::cerr << "probing the caches (suite info --probe) ...\n";
-        ProbeOptions po;
+        ProbeOptions po = probe_options();
         po.hugepages = plan.settings.hugepages;
         const CacheProbe probe = probe_caches(topo, po);
         if (!plan.quiet) std::cerr << format_probe(probe, topo);

@@ -32,15 +32,15 @@ std::uint64_t default_max_bytes(const Topology& topo) {
     return std::clamp<std::uint64_t>(4 * topo.last_level_cache_total_bytes(), 16ULL << 20, 512ULL << 20);
 }
 
-Record measure(const char* kernel, const char* pattern, std::uint64_t size, const RunSettings& settings,
+Record measure(const std::string& kernel, const std::string& pattern, std::uint64_t size, const RunSettings& settings,
                const Topology& topo) {
     const KernelEntry* k = find_kernel(kernel);
-    if (!k) throw std::logic_error(std::string("the cache probe needs the ") + kernel + " kernel");
+    if (!k) throw std::logic_error("the cache probe needs the '" + kernel + "' kernel (ProbeOptions names it)");
     Point p{k, Access{pattern, 0}, "", size, 1};
     k->validate(KernelConfig{p.access, "", size, settings.seed, 1});
     Record r = run_point(p, settings, topo);
     if (!r.verification.passed)
-        throw std::runtime_error(std::string("the cache probe's ") + kernel + " at " + format_bytes(size) +
+        throw std::runtime_error("the cache probe's " + kernel + " at " + format_bytes(size) +
                                  " failed verification: " + r.verification.detail);
     return r;
 }
@@ -66,7 +66,7 @@ CacheProbe probe_caches(const Topology& topo, const ProbeOptions& o) {
     std::size_t at_memory = 0;
     for (std::uint64_t size : sizes) {
         if (size < 128) continue;  // the chase needs two lines
-        const Record r = measure("latency", "random", size, settings, topo);
+        const Record r = measure(o.latency_kernel, o.latency_pattern, size, settings, topo);
         if (probe.cpu < 0 && !r.bindings.empty()) probe.cpu = r.bindings.front().requested_cpu;
         const double ns = r.rates.ns_per_load_best.value_or(0);
         probe.latency_ns.push_back({size, ns});
@@ -79,7 +79,7 @@ CacheProbe probe_caches(const Topology& topo, const ProbeOptions& o) {
     if (o.bandwidth) {
         std::vector<CurvePoint> cost;  // ns per byte: rises level by level like the latency
         for (const auto& p : probe.latency_ns) {
-            const Record r = measure("load", "sequential", p.size_bytes, settings, topo);
+            const Record r = measure(o.bandwidth_kernel, o.bandwidth_pattern, p.size_bytes, settings, topo);
             const double gbps = r.rates.stream_gbps_best.value_or(0);
             probe.bandwidth_gbps.push_back({p.size_bytes, gbps});
             if (gbps > 0) cost.push_back({p.size_bytes, 1.0 / gbps});

@@ -32,6 +32,10 @@ struct ProbeOptions {
     bool bandwidth = true;  // also the load kernel's bandwidth at the same sizes
     HugePages hugepages = HugePages::system;
     const std::atomic<int>* stop = nullptr;  // as RunSettings::stop
+    // The kernels it runs, the program's choice: a dependent-load chase whose record has
+    // ns_per_load, and a read-only stream whose record has stream GB/s. Both must be given.
+    std::string latency_kernel, latency_pattern;
+    std::string bandwidth_kernel, bandwidth_pattern;
 };
 
 struct CacheProbe {
@@ -46,7 +50,7 @@ struct CacheProbe {
 };
 
 // Measures. Throws what the runner throws (Interrupted when `stop` is raised).
-CacheProbe probe_caches(const Topology& topo, const ProbeOptions& options = {});
+CacheProbe probe_caches(const Topology& topo, const ProbeOptions& options);
 
 // The last cache level the probe found, over all its instances (the capacity one thread sees
 // times the instances hwloc reports for that level), when the sweep went on into memory; 0

@@ -16,8 +16,16 @@
 
 namespace suite {
 
+// One kernel of a sweep with the patterns or orderings it runs in (empty: its first).
+struct SweepEntry {
+    std::string kernel;
+    std::vector<std::string> accesses;
+};
+
 struct RunOptions {
-    std::string kernels;  // empty: the default sweep
+    std::string kernels;  // empty: default_sweep
+    // What runs when no --kernel is given: the program's choice (the engine names no kernel).
+    std::vector<SweepEntry> default_sweep;
     std::string patterns;
     std::string orderings;
     std::string mesh;        // --mesh: the mesh of kernels on a mesh

@@ -41,6 +41,14 @@ struct RankScope {
     double spread = 0;  // Kind::aggregate: slowest rank's best time / fastest rank's (>= 1)
 };
 
+// What a default size stands for. Empty `name`: a size the user gave, which stands for itself.
+struct SizeRole {
+    std::string name;               // "L1/2", "L2/2", "L3/2", "DRAM"
+    std::string cache;              // the cache it was sized from: "L1", "L2", or the last level ("L3")
+    std::uint64_t cache_bytes = 0;  // that cache: one instance for L1/L2, all instances of the last level
+    std::string source;             // "measured" (the probe), "reported" (hwloc), "assumed" (none known)
+};
+
 struct Record {
     std::string kernel;
     std::string variant;  // "" or "nt", a phase or a strategy
@@ -49,6 +57,7 @@ struct Record {
     std::string access;  // "sequential", "random", "strided:8", "morton", ...
     SizeKind size_kind = SizeKind::bytes;
     std::uint64_t size_requested = 0;
+    SizeRole size_role;  // the cache the default size came from; empty name: the size was given
     // The smallest array over all last-level cache instances together: a DRAM figure wants >= 4.
     std::optional<double> smallest_array_over_llc;
     Work work;  // per repetition

@@ -15,21 +15,6 @@ namespace suite {
 
 namespace {
 
-// The kernels a level's ceiling is the best of: {kernel, variant, reads only}. The
-// non-temporal stores bypass the caches, so they can only win in memory; the string
-// instructions (rep) win in L2 and beyond, where a CPU with fast strings writes whole lines.
-struct CeilingKernel {
-    const char* kernel;
-    const char* variant;
-    bool read_only;
-    bool memory_only;
-};
-constexpr CeilingKernel ceiling_kernels[] = {
-    {"load", "", true, false},    {"copy", "", false, false},    {"triad", "", false, false},
-    {"store", "", false, false},  {"copy", "nt", false, true},   {"triad", "nt", false, true},
-    {"store", "nt", false, true}, {"copy", "rep", false, false}, {"store", "rep", false, false},
-};
-
 void keep_best(std::optional<BandwidthFigure>& best, const BandwidthFigure& f) {
     if (!best || f.gbps > best->gbps) best = f;
 }
@@ -105,7 +90,7 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
     MeasuredCaches measured;
     std::optional<CacheProbe> probe;
     if (o.probe) {
-        ProbeOptions po;
+        ProbeOptions po = o.probe_options;
         po.stop = o.stop;
         try {
             probe = probe_caches(topo, po);
@@ -129,10 +114,10 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
         if (o.progress) o.progress(line);
     };
     // One verified point; nullopt when the kernel refuses the configuration (why: `refused`).
-    auto measure = [&](const char* name, const std::string& variant, std::uint64_t size, int threads,
+    auto measure = [&](const std::string& name, const std::string& variant, std::uint64_t size, int threads,
                        std::string& refused) -> std::optional<Record> {
         const KernelEntry* k = find_kernel(name);
-        if (!k) throw std::logic_error(std::string("the roofline needs the ") + name + " kernel");
+        if (!k) throw std::logic_error("the roofline needs the '" + name + "' kernel (RooflineOptions names it)");
         Point p{k, Access{k->info.accesses.front(), 0}, variant, size, threads};
         try {
             k->validate(KernelConfig{p.access, variant, size, settings.seed, threads});
@@ -152,12 +137,13 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
         for (int t : o.threads) {
             ThreadCeilings tc;
             tc.threads = t;
-            const KernelEntry* peak = find_kernel("peak-flops");
-            if (!peak) throw std::logic_error("the roofline needs the peak-flops kernel");
+            const KernelEntry* peak = find_kernel(o.peak_kernel);
+            if (!peak)
+                throw std::logic_error("the roofline needs the '" + o.peak_kernel + "' kernel (RooflineOptions)");
             for (const auto& isa : peak->info.variants) {
                 std::string refused;
-                const auto r = measure("peak-flops", isa, peak->info.default_count, t, refused);
-                if (!r) throw std::logic_error("peak-flops refused its own default size: " + refused);
+                const auto r = measure(o.peak_kernel, isa, peak->info.default_count, t, refused);
+                if (!r) throw std::logic_error(o.peak_kernel + " refused its own default size: " + refused);
                 tc.peak.push_back({isa, r->name, r->rates.gflops_best.value_or(0)});
                 say("peak  " + r->name + " on " + std::to_string(t) +
                     " thread(s): " + format_significant(tc.peak.back().gflops, 4) + " GFLOP/s");
@@ -175,7 +161,7 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
                                 format_bytes(holds / 2) + ") fits in the levels above";
                 } else {
                     lc.footprint_bytes = footprint;
-                    for (const auto& ck : ceiling_kernels) {
+                    for (const auto& ck : o.ceiling_kernels) {
                         if (ck.memory_only && !memory) continue;
                         std::string refused;
                         const auto r = measure(ck.kernel, ck.variant, footprint, t, refused);

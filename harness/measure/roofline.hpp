@@ -1,7 +1,7 @@
 #pragma once
-// This machine's roofline, measured: the compute ceiling (peak-flops at each instruction width)
-// and a bandwidth ceiling per memory level (the best of the load, copy, triad and store kernels,
-// plain and non-temporal where those can win, at a footprint inside the level), per thread
+// This machine's roofline, measured: the compute ceiling (a peak kernel at each instruction width)
+// and a bandwidth ceiling per memory level (the best of the ceiling kernels the program names,
+// those that bypass the caches in memory only, at a footprint inside the level), per thread
 // count, each point run through the runner and verified like any other. `suite roofline` runs it
 // and writes it (roofline.cpp in app/suite); harness/results/roofline_place.hpp reads it back
 // and places the points of a run on it.
@@ -78,7 +78,20 @@ struct Roofline {
     bool complete = true;  // false: interrupted; what was measured is kept
 };
 
+// A kernel a level's ceiling is the best of. `memory_only`: it can win only in memory (stores
+// that bypass the caches), so it runs at the DRAM footprint alone.
+struct CeilingKernel {
+    std::string kernel, variant;
+    bool read_only = false;
+    bool memory_only = false;
+};
+
 struct RooflineOptions {
+    // The kernels, the program's choice: the bandwidth ceiling's, and the compute ceiling's
+    // (one point per variant, each an instruction width, at its default count).
+    std::vector<CeilingKernel> ceiling_kernels;
+    std::string peak_kernel;
+    ProbeOptions probe_options;  // its kernels; stop is taken from here
     std::vector<int> threads = {1};
     PinSpec pin;                                       // compact, normally
     double min_time_s = 0.2;                           // per point

@@ -76,6 +76,7 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     rec.access = point.access.label();
     rec.size_kind = info.size_kind;
     rec.size_requested = point.size;
+    rec.size_role = point.role;
     rec.unit = info.unit;
     rec.metric = info.metric;
     rec.threads = point.threads;

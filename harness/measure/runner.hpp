@@ -27,6 +27,7 @@ struct Point {
     std::string mesh = "";  // kernels on a mesh: the --mesh spec, or "" (see KernelConfig::mesh)
     // The kernel's declared parameters (KernelConfig::params); one missing here runs at its default.
     std::map<std::string, double> params = {};
+    SizeRole role = {};  // the default size's role; empty name for a size given
 };
 
 struct RunSettings {

@@ -79,8 +79,8 @@ nlohmann::json string_ops_context() {
 
 }  // namespace
 
-nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv,
-                             const Instruments& instruments) {
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments,
+                             const std::string& bandwidth_convention) {
     nlohmann::json c;
     c["suite_version"] = build::version;
     c["git_revision"] = build::git_revision;
@@ -143,9 +143,7 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
                                        "no cpufreq driver exposes a governor here (common in VMs)");
     c["instruments"] = instruments_context(instruments, timer_resolution_ns());
     c["conventions"] = {
-        {"bandwidth",
-         "STREAM convention: each array element read or written counts once, 8 B per double; "
-         "copy/scale 16 B, add/triad/sin-add 24 B per element; index arrays not counted"},
+        {"bandwidth", bandwidth_convention},
         {"gigabyte", "1 GB/s = 1e9 B/s"},
         {"hardware_bytes",
          "estimate of memory-system traffic: +1 read per store (write-allocate) unless non-temporal or a string "

@@ -11,7 +11,9 @@
 
 namespace suite {
 
-nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv,
-                             const Instruments& instruments);
+// `bandwidth_convention`: which bytes a kernel's STREAM GB/s counts, as the program that owns the
+// kernels says it (context.conventions.bandwidth).
+nlohmann::json build_context(const Topology& topo, const std::vector<std::string>& argv, const Instruments& instruments,
+                             const std::string& bandwidth_convention);
 
 }  // namespace suite

@@ -117,6 +117,53 @@ std::vector<std::pair<std::string, std::vector<std::string>>> context_difference
     return out;
 }
 
+namespace {
+
+std::vector<std::string> flag_words(const nlohmann::json& context) {
+    std::vector<std::string> out;
+    std::string word;
+    for (char c : context_text(context, "compiler_flags") + " ") {
+        if (c != ' ' && c != '\t') {
+            word += c;
+        } else if (!word.empty()) {
+            if (std::find(out.begin(), out.end(), word) == out.end()) out.push_back(word);
+            word.clear();
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+FieldKind context_field_kind(const std::string& field, const std::vector<const ResultFile*>& files) {
+    if (field == "instruction_set" && !files.empty() && std::all_of(files.begin(), files.end(), [](const auto* f) {
+            const auto words = flag_words(f->context);
+            return std::find(words.begin(), words.end(), "-march=native") != words.end();
+        }))
+        return FieldKind::machine;
+    return context_field_kind(field);
+}
+
+std::string flags_difference(const std::vector<const ResultFile*>& files) {
+    std::vector<std::vector<std::string>> words;
+    std::vector<std::string> all;
+    for (const auto* f : files) {
+        words.push_back(flag_words(f->context));
+        for (const auto& w : words.back())
+            if (std::find(all.begin(), all.end(), w) == all.end()) all.push_back(w);
+    }
+    std::string out;
+    for (const auto& w : all) {
+        std::string in;
+        std::size_t count = 0;
+        for (std::size_t i = 0; i < words.size(); ++i)
+            if (std::find(words[i].begin(), words[i].end(), w) != words[i].end())
+                in += (count++ ? "," : "") + std::string("[") + std::to_string(i + 1) + "]";
+        if (count < words.size()) out += (out.empty() ? "" : ", ") + w + " only in " + in;
+    }
+    return out;
+}
+
 FieldKind context_field_kind(const std::string& field) {
     static const std::set<std::string> machine = {"cpu_model", "sockets", "numa_node_count",
                                                   "cores",     "pus",     "memory_bytes"};

@@ -32,5 +32,12 @@ std::vector<std::pair<std::string, std::vector<std::string>>> context_difference
 // governor).
 enum class FieldKind { machine, setting, informational };
 FieldKind context_field_kind(const std::string& field);
+// The same for these files: what -march=native resolved to (instruction_set) is the machine's
+// where every file was built with -march=native (the user chose "this machine's", not an ISA).
+FieldKind context_field_kind(const std::string& field, const std::vector<const ResultFile*>& files);
+
+// The compiler flags the user chose that differ between the files, as "-DNDEBUG only in [2]"
+// ("" when the flags are the same set).
+std::string flags_difference(const std::vector<const ResultFile*>& files);
 
 }  // namespace suite

@@ -82,6 +82,11 @@ nlohmann::json to_json(const Record& r) {
                  {"footprint_bytes", r.work.footprint_bytes},
                  {"smallest_array_over_llc", opt(r.smallest_array_over_llc)},
                  {"units", r.work.units}};
+    if (!r.size_role.name.empty())
+        j["size"]["role"] = {{"name", r.size_role.name},
+                             {"cache", r.size_role.cache},
+                             {"cache_bytes", r.size_role.cache_bytes},
+                             {"source", r.size_role.source}};
     j["threads"] = r.threads;
     nlohmann::json bindings = nlohmann::json::array();
     for (const auto& b : r.bindings) bindings.push_back(to_json(b));

@@ -136,6 +136,13 @@ LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
     const json& size = r.field(rec, "size", where);
     k.size_kind = r.string(size, "kind", where + ".size");
     k.size = r.count(size, "requested", where + ".size", 1);
+    if (auto it = size.find("role"); it != size.end()) {
+        const std::string at = where + ".size.role";
+        if (!it->is_object()) r.fail(at, "expected an object");
+        p.role.name = r.string(*it, "name", at);
+        p.role.cache = r.string(*it, "cache", at, true);
+        p.role.cache_bytes = r.count(*it, "cache_bytes", at, 0);
+    }
     k.threads = static_cast<int>(std::min<std::uint64_t>(r.count(rec, "threads", where, 1), 1u << 30));
     k.pin = r.string(r.field(rec, "pin", where), "requested", where + ".pin");
     k.placement = r.string(r.field(rec, "placement", where), "requested", where + ".placement");

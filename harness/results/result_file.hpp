@@ -94,8 +94,16 @@ std::string rank_scope_text(int rank, int ranks);
 // meet only the same rank, or the aggregate, of a run of as many ranks.
 PointKey matching_key(const PointKey& key);
 
+// The role of a point of the default sweep (record size.role): the cache its size came from.
+struct LoadedRole {
+    std::string name;               // "L1/2", "L2/2", "L3/2", "DRAM"; "" for a size given
+    std::string cache;              // "L1", "L2", "L3"
+    std::uint64_t cache_bytes = 0;  // as the record says (one instance for L1/L2, the last level whole)
+};
+
 struct LoadedPoint {
     PointKey key;
+    LoadedRole role;  // matches points of machines whose caches differ (suite compare)
     bool verified = true;
     bool under_callgrind = false;   // timings were taken under valgrind: only its counts are figures
     std::vector<Measure> measures;  // the headline first

@@ -86,13 +86,17 @@ TEST(CacheProbe, DefaultSizesTakeTheSmallerOfReportedAndMeasured) {
     t.caches = {{1, "data", 48 << 10, 64, 2, 1}, {2, "unified", 1 << 20, 64, 2, 1}, {3, "unified", 32 << 20, 64, 1, 2}};
     // Reported only: half an L1d, half an L2, 16x the L3 (512 MiB).
     EXPECT_EQ(suite::default_sizes(t, 1), (std::vector<std::uint64_t>{24 << 10, 512 << 10, 512ull << 20}));
-    // The development VM as probed: L1 46 KiB, L2 772 KiB, last level 2.03 MiB in all.
+    // The development VM as probed: L1 46 KiB, L2 772 KiB, last level 2.03 MiB in all; the
+    // measured last level adds its half (in whole lines) where it exceeds the L2 size.
     suite::MeasuredCaches m{46 << 10, 772 << 10, 2128609};
-    EXPECT_EQ(suite::default_sizes(t, 1, m), (std::vector<std::uint64_t>{23 << 10, 386 << 10, 64ull << 20}));
-    EXPECT_EQ(suite::default_sizes(t, 2, m), (std::vector<std::uint64_t>{46 << 10, 772 << 10, 64ull << 20}));
+    EXPECT_EQ(suite::default_sizes(t, 1, m), (std::vector<std::uint64_t>{23 << 10, 386 << 10, 1064256, 64ull << 20}));
+    EXPECT_EQ(suite::default_sizes(t, 2, m), (std::vector<std::uint64_t>{46 << 10, 772 << 10, 1064256, 64ull << 20}));
+    EXPECT_EQ(suite::default_sizes(t, 3, m), (std::vector<std::uint64_t>{69 << 10, 1158 << 10, 64ull << 20}))
+        << "half the last level within three threads' L2 halves has no point of its own";
     // A measured cache larger than the reported one changes nothing; the DRAM size rounds up to MiB.
     suite::MeasuredCaches bigger{64 << 10, 2 << 20, 6'000'000};
-    EXPECT_EQ(suite::default_sizes(t, 1, bigger), (std::vector<std::uint64_t>{24 << 10, 512 << 10, 92ull << 20}));
+    EXPECT_EQ(suite::default_sizes(t, 1, bigger),
+              (std::vector<std::uint64_t>{24 << 10, 512 << 10, 3'000'000, 92ull << 20}));
     EXPECT_EQ(suite::effective_llc_bytes(t, 0), 32ull << 20);
     EXPECT_EQ(suite::effective_llc_bytes(t, 6'000'000), 6'000'000u);
 }

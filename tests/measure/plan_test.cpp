@@ -5,6 +5,7 @@
 
 #include <omp.h>
 
+#include "app/suite/defaults.hpp"
 #include "harness/common/units.hpp"
 #include "harness/machine/topology.hpp"
 #include "harness/measure/plan.hpp"
@@ -58,6 +59,47 @@ TEST(Plan, DefaultSizesFollowTheCaches) {
     EXPECT_EQ(t.last_level_cache_total_bytes(), 64ull << 20);
 }
 
+TEST(Plan, DefaultPointsCarryTheCacheTheyCameFrom) {
+    Topology t = two_socket();
+    t.caches = {{1, "data", 48 << 10, 64, 4, 1}, {2, "unified", 2 << 20, 64, 4, 1}, {3, "unified", 32 << 20, 64, 2, 4}};
+    // Reported caches only: no L3/2 (a VM may report a last level it does not give).
+    auto reported = default_points(t, 2);
+    ASSERT_EQ(reported.size(), 3u);
+    EXPECT_EQ(reported[0].role.name, "L1/2");
+    EXPECT_EQ(reported[0].role.cache_bytes, 48u << 10);
+    EXPECT_EQ(reported[0].role.source, "reported");
+    EXPECT_EQ(reported[1].role.name, "L2/2");
+    EXPECT_EQ(reported[1].bytes, 2u << 20);
+    EXPECT_EQ(reported[2].role.name, "DRAM");
+    EXPECT_EQ(reported[2].role.cache, "L3");
+    EXPECT_EQ(reported[2].role.cache_bytes, 64ull << 20);
+    // The probe measured a smaller L2 and the last level: L3/2 joins, each source said.
+    const MeasuredCaches measured{0, 1 << 20, 40ull << 20};
+    auto probed = default_points(t, 1, measured);
+    ASSERT_EQ(probed.size(), 4u);
+    EXPECT_EQ(probed[0].role.source, "reported");
+    EXPECT_EQ(probed[1].role.source, "measured");
+    EXPECT_EQ(probed[1].bytes, 512u << 10);
+    EXPECT_EQ(probed[2].role.name, "L3/2");
+    EXPECT_EQ(probed[2].bytes, 20ull << 20);
+    EXPECT_EQ(probed[2].role.cache_bytes, 40ull << 20);
+    EXPECT_EQ(probed[2].role.source, "measured");
+    // The points of a plan carry them, per thread count.
+    RunOptions o;
+    o.kernels = "copy";
+    o.threads = "1,2";
+    o.pin = "none";
+    o.measured = measured;
+    const Plan plan = make_plan(o, t);
+    std::vector<std::string> roles;
+    for (const auto& p : plan.points) roles.push_back(p.role.name + "@" + std::to_string(p.threads));
+    EXPECT_EQ(roles, (std::vector<std::string>{"L1/2@1", "L1/2@2", "L2/2@1", "L2/2@2", "L3/2@1", "L3/2@2", "DRAM@1",
+                                               "DRAM@2"}));
+    // Sizes given stand for themselves.
+    o.sizes = "64KiB";
+    for (const auto& p : make_plan(o, t).points) EXPECT_TRUE(p.role.name.empty());
+}
+
 TEST(Plan, DefaultSweepFitsAManyThreadMachine) {
     // 256 PUs, 32 KiB L1d: half an L1 for the whole team would leave each thread 64 bytes.
     Topology t;
@@ -69,7 +111,9 @@ TEST(Plan, DefaultSweepFitsAManyThreadMachine) {
     t.caches = {
         {1, "data", 32 << 10, 64, 128, 2}, {2, "unified", 1 << 20, 64, 128, 2}, {3, "unified", 32 << 20, 64, 16, 16}};
     if (omp_get_thread_limit() < 256) GTEST_SKIP() << "OMP_THREAD_LIMIT is below 256";
-    Plan plan = make_plan(RunOptions{}, t);
+    RunOptions o;
+    o.default_sweep = default_sweep();
+    Plan plan = make_plan(o, t);
     EXPECT_FALSE(plan.points.empty());
     for (const auto& p : plan.points)
         if (p.threads == 256 && p.size < (1u << 20))

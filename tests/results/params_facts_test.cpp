@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 
+#include "app/suite/defaults.hpp"
 #include "harness/measure/instrument_set.hpp"
 #include "harness/measure/runner.hpp"
 #include "harness/results/compare.hpp"
@@ -47,7 +48,8 @@ Record solve(const std::map<std::string, double>& params, const std::string& var
 
 std::string render(const std::vector<Record>& records, FileFormat format = FileFormat::json) {
     static const Instruments none;
-    return ResultDocument{build_context(topology(), {"suite"}, none), records}.render(format, true);
+    return ResultDocument{build_context(topology(), {"suite"}, none, bandwidth_convention()), records}.render(format,
+                                                                                                              true);
 }
 
 void save(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
