@@ -4,7 +4,7 @@ ARCH ?= native
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps run-deps test-deps configure build run plots examples test install test-numa test-sanitize test-mutants clean bench-deps bench-vs bench-noise bench-gate bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
+.PHONY: all deps run-deps test-deps configure build run plots examples test install test-numa test-sanitize test-mutants clean bench-deps bench-vs bench-noise bench-gate bench-gate-reach bench-spmv bench-fem bench-mpm bench-mpm-implicit bench-mpi
 
 # CMake's generated makefiles run make within make: without this each step says which directory it
 # enters and leaves.
@@ -126,6 +126,12 @@ bench-noise: bench-deps build
 # 15 minutes; run it on a quiet machine), to results/bench/gate_noise.{json,md}.
 bench-gate: build
 	/usr/bin/python3 bench/gate_noise.py --suite ./suite --runs 12 --out results/bench $(BENCH_FLAGS)
+
+# The history gate with six runs of history (issue 53): 37 runs of triad and copy at 64 KiB and
+# 64 MiB (about 2 minutes), their 36 pairs unchanged and slowed 1.25x, 1.5x and 2x, to
+# results/bench/gate_reach.{json,md}.
+bench-gate-reach: build
+	/usr/bin/python3 bench/gate_reach.py --suite ./suite --out results/bench $(BENCH_FLAGS)
 
 # The fem SpMV against Eigen's sparse matrix-vector product on the same matrix, interleaved (the
 # thesis mesh, hilbert, 1 thread; a few minutes, most of it assembly). BENCH_FLAGS passes options,

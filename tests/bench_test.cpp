@@ -140,6 +140,28 @@ TEST(Bench, GateNoiseQuickHasNoFalseAlarmAndCatchesTheSlowdown) {
     EXPECT_NE(r.err.find("--runs must be at least 6"), std::string::npos) << r.err;
 }
 
+// bench/gate_reach.py --quick: ten copies of a fixture run, 5 % apart at most, as 9 pairs each
+// gated against six others: no unchanged pair fails the gate, and both runs of every pair slowed
+// 2x regress at every point.
+TEST(Bench, GateReachQuickHasNoFalseAlarmAndCatchesA2xSlowdownEverywhere) {
+    TempDir dir;
+    Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_reach.py", "--quick", "--suite",
+                             SUITE_BINARY, "--out", dir.path().string()},
+                            300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    const json doc = json::parse(slurp(dir.file("gate_reach_quick.json")));
+    EXPECT_EQ(doc["trials"].get<int>(), 9);
+    EXPECT_EQ(doc["aa_pairs_with_a_false_alarm"].get<int>(), 0);
+    ASSERT_EQ(doc["points"].size(), 3u);
+    for (const auto& p : doc["points"]) EXPECT_EQ(p["caught_2.0"].get<int>(), 9) << p.dump();
+    EXPECT_NE(slurp(dir.file("gate_reach_quick.md")).find("A/A (both runs unchanged): 0 of 9 pairs"),
+              std::string::npos);
+    r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/gate_reach.py", "--runs", "5", "--suite",
+                     SUITE_BINARY, "--out", dir.path().string()});
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("--runs must be at least 8"), std::string::npos) << r.err;
+}
+
 // bench/mpm_implicit.py --quick: a step of implicit MPM split into assembly, solve and the rest,
 // for every grid ordering and both particle orders, from the three kernels' records. No speed is
 // asserted; that each part was found and is consistent with the step's counts is.

@@ -27,7 +27,7 @@ import sys
 import tempfile
 import time
 
-SERIES = 5  # tests/results/synthetic_series.hpp: synthetic_history()
+SERIES = 6  # charted: synthetic_history() and the spread one of tests/browser/dashboard_fixture.cpp (its zero counter is not)
 RUNS, WINDOW = 24, 10  # its runs a series; DashboardOptions::window, the runs the band is drawn over
 WIDTH, HEIGHT = 1280, 900
 problems = []
@@ -213,6 +213,13 @@ def check_full_page(browser, page_dir, screenshot):
         check(b["centre"], f"chart {i}: no pixel of the band's dashed centre line")
         check(b["caption"].startswith(f"runs' band: the gate's band (last {WINDOW} runs): ") and "runs' spread" in b["caption"]
               and b["caption"].endswith(" %"), f"chart {i}: the caption does not give the band and its spread: {b['caption']!r}")
+    # No axis below 0, even where a run's repetitions spread past its median; the counter that
+    # is 0 in every run is named once and has no chart.
+    axes = browser.evaluate("""[...document.querySelectorAll("article.card canvas")].map((c) => Chart.getChart(c).scales.y.min)""")
+    check(all(y >= 0 for y in axes), f"a chart's axis goes below 0: {axes}")
+    zero = browser.evaluate("(document.getElementById('all-zero') || {}).textContent || ''")
+    check("add random" in zero and "counter major-faults" in zero and "0 in every run" in zero,
+          f"the counter that is 0 in every run is not listed once: {zero!r}")
     legend = browser.evaluate("document.querySelector('.legend').textContent")
     check("repetitions' spread" in legend and f"the gate's band (last {WINDOW} runs)" in legend,
           f"the legend does not tell the repetitions' spread from the runs' band: {legend!r}")

@@ -23,15 +23,16 @@ namespace {
 
 const char* const history_check_examples = R"EX(
 The run against the recent history of its own machine, build and points. For each figure of each
-point, the last N stable runs of its series (N = --window), leaving out runs of the run's own
-commit, are pooled: their repetitions together, and the band of their medians (how far one run
-strays from the others: the t prediction interval of the log medians, at alpha shared among the
-run's figures). A change regresses (or improves) when the run's median leaves the band, is
-beyond the minimum effect, and the Mann-Whitney test of the run's repetitions against the pool's
-agrees at --alpha. The minimum effect is --tolerance, or with --tolerance=auto the band's own edge
-(at least 1 %): each series then allows what its history shows it moves. A series with fewer
-than 5 runs in the window has no band and is gated by check's rule (at 25 % under auto); the
-output says which. --base-commit SHA (a pull request's merge-base) pools that commit's runs
+point, the last N stable runs of its series (N = --window; its latest runs, flagged or not, where
+fewer than 5 are stable), leaving out runs of the run's own commit, are pooled: their repetitions
+together, and the band of their medians (how far one run strays from the others: the t
+prediction interval of the log medians, their Qn spread pooled with the machine's other series of
+the figure, at alpha shared among the run's figures, widened where the run's own repetitions
+spread more than the window's did). A change regresses (or improves) when the run's median leaves
+the band and is beyond the minimum effect: --tolerance, or with --tolerance=auto the band's own
+edge (at least 1 %). Outside the band but inside its widening is inconclusive, saying the median
+and repetitions that would tell. A series with fewer than 5 runs in the window has no band and is
+gated by check's rule (at 25 % under auto); the output says which, and how many runs it needs. --base-commit SHA (a pull request's merge-base) pools that commit's runs
 instead of the latest of any branch, and keeps the window's runs for the spread. --confirm RUN2,
 a rerun of the same build: a change counts only where both runs show it (a machine's stray run
 is rarely stray twice at the same point; a change of the code is in both).
@@ -173,7 +174,8 @@ int history_check(const std::vector<std::string>& args) {
     if (rule.auto_tolerance && most_runs < rule.min_runs)
         throw InputError(h.path() + ": --tolerance=auto needs " + std::to_string(rule.min_runs) +
                          " runs of a point in the window to measure its spread; " + "the most any point of " +
-                         run.path + " has is " + std::to_string(most_runs) + "; add runs, or give --tolerance=25%");
+                         run.path + " has is " + std::to_string(most_runs) + "; add " +
+                         std::to_string(rule.min_runs - most_runs) + " more run(s), or give --tolerance=25%");
     // Same machine and build by construction; the one difference check_run could find is which
     // huge-page settings the points asked for, when only some of the run's points have history.
     CheckReport rep = gate_with_bands(base, run, rule);
@@ -234,23 +236,40 @@ int history_noise(const std::vector<std::string>& args) {
         const Series& s = *n.series;
         const auto group = std::make_pair(s.machine + " [" + s.fingerprint + "]", s.context_class);
         auto [it, fresh] =
-            tables.try_emplace(group, TextTable{{"point", "figure", "runs", "spread", "sd", "next run's band",
-                                                 "left out", "regressed", "improved"},
+            tables.try_emplace(group, TextTable{{"point", "figure", "runs", "spread", "pooled (df)", "sd",
+                                                 "next run's band", "left out", "regressed", "improved"},
                                                 {},
-                                                {false, false, true, true, true, false, true, true, true}});
+                                                {false, false, true, true, true, true, false, true, true, true}});
         if (fresh) order.push_back(group);
         const std::string band =
             n.band.usable() ? "[" + format_significant(n.band.low, 4) + ", " + format_significant(n.band.high, 4) + "]"
-                            : "none: fewer than " + std::to_string(rule.min_runs) + " runs";
+                            : "none: " + no_band_reason(n.band, rule.min_runs);
         auto pc = [](double x) { return std::isfinite(x) ? format_significant(x * 100, 2) + "%" : std::string("-"); };
-        it->second.rows.push_back({s.key.label(), s.figure + " " + s.unit, std::to_string(s.entries.size()),
-                                   pc(n.band.spread), pc(n.sd_spread), band, std::to_string(n.tried),
-                                   std::to_string(n.regressed), std::to_string(n.improved)});
+        it->second.rows.push_back(
+            {s.key.label(), s.figure + " " + s.unit, std::to_string(s.entries.size()), pc(n.band.own_spread),
+             pc(n.band.spread) + " (" + format_significant(n.band.df, 3) + ")", pc(n.sd_spread), band,
+             std::to_string(n.tried), std::to_string(n.regressed), std::to_string(n.improved)});
     }
     for (const auto& g : order) std::cout << "\n" << g.first << ", " << g.second << ":\n" << tables.at(g).render_text();
-    std::cout << "\nspread: 1.4826 x the median absolute deviation of the runs' log medians (relative); sd: their "
-                 "standard deviation, larger "
-                 "where a stray run is in the window; the band is what history check accepts of the next run.\n"
+    std::cout << "\n";
+    for (const PoolNoise& p : rep.pools) {
+        const MachineNoise& m = p.noise;
+        std::size_t with = 0;
+        for (const PooledSpread& s : m.series) with += std::isfinite(s.sigma);
+        std::cout << p.first->machine << ", " << p.first->context_class << ", " << p.first->figure << " "
+                  << p.first->unit << ": "
+                  << (m.prior_df > 0
+                          ? "the spreads of " + std::to_string(with) + " series pooled (the machine's " +
+                                format_significant(m.prior * 100, 2) + "%, worth " + format_significant(m.prior_df, 3) +
+                                " degrees of freedom); their runs' noise correlates " +
+                                (std::isfinite(m.shared) ? format_significant(m.shared, 2) : "-") + ", as " +
+                                format_significant(m.effective_series, 2) + " independent series"
+                          : std::to_string(with) + " series with a spread: each its own (pooling needs 3)")
+                  << "\n";
+    }
+    std::cout << "\nspread: Qn of the runs' log medians (relative), pooled with the machine's series of the same "
+                 "figure; sd: their standard deviation, larger where a stray run is in the window; the band is what "
+                 "history check accepts of the next run.\n"
               << std::flush;
     return 0;
 }

@@ -2,8 +2,10 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -17,6 +19,7 @@
 #include "harness/common/units.hpp"
 #include "harness/results/dashboard_page.hpp"
 #include "harness/results/history_band.hpp"
+#include "harness/results/history_pool.hpp"
 
 namespace suite {
 
@@ -65,32 +68,38 @@ std::string script_safe(const std::string& json) {
     return out;
 }
 
-// The band `history check` would gate this series' next run against (history_band.hpp): fitted
-// from the medians of its last `window` stable entries, as the gate's window is. "first" is the
-// index of the window's oldest entry, where the page starts to draw the band. Without a band,
-// null and the reason in "band_reason".
-void add_band(nlohmann::json& out, const Series& s, const DashboardOptions& options, double alpha) {
-    const std::size_t min_runs = HistoryRule{}.min_runs;
-    std::vector<double> medians;
-    std::size_t first = s.entries.size();
-    for (std::size_t i = s.entries.size(); i-- > 0 && medians.size() < options.window;) {
-        if (s.entries[i].unstable) continue;
-        medians.push_back(s.entries[i].median);
-        first = i;
+// The window `history check` takes of a series (window_baseline): its last `window` stable
+// entries, or its last entries flagged or not where fewer than min_runs are stable. Oldest first.
+std::vector<std::size_t> gate_window(const Series& s, std::size_t window, std::size_t min_runs) {
+    std::vector<std::size_t> stable, any;
+    for (std::size_t i = s.entries.size(); i-- > 0;) {
+        if (any.size() < window) any.push_back(i);
+        if (!s.entries[i].unstable && stable.size() < window) stable.push_back(i);
     }
-    const RunBand band = fit_band(medians, {}, alpha, min_runs);
-    if (band.usable()) {
-        out["band"] = {{"centre", band.centre}, {"low", band.low}, {"high", band.high}, {"spread", band.spread},
-                       {"runs", band.runs},     {"first", first},  {"alpha", alpha}};
+    std::vector<std::size_t>& out = stable.size() < min_runs && any.size() > stable.size() ? any : stable;
+    std::reverse(out.begin(), out.end());
+    return out;
+}
+
+// The band `history check` would gate this series' next run against (history_band.hpp), fitted
+// as the gate fits it, its spread pooled with the machine's. "first" is the index of the
+// window's oldest entry, where the page starts to draw the band. A band too wide to tell a 2x
+// change from noise is not drawn: null, and the reason in "band_reason", as without one.
+void add_band(nlohmann::json& out, const RunBand& band, std::size_t first, double alpha) {
+    const std::size_t min_runs = HistoryRule{}.min_runs;
+    if (band.usable() && band.half_width < std::log(2.0)) {
+        out["band"] = {{"centre", band.centre}, {"low", band.low},   {"high", band.high}, {"spread", band.spread},
+                       {"df", band.df},         {"runs", band.runs}, {"first", first},    {"alpha", alpha}};
         return;
     }
     out["band"] = nullptr;
-    out["band_reason"] = medians.size() < min_runs
-                             ? "fewer than " + std::to_string(min_runs) + " runs: no band yet"
-                             : std::string("a median in the window is not a positive number: no band");
+    out["band_reason"] = band.usable() ? "too wide to tell a 2x change from noise (x" +
+                                             format_significant(std::exp(band.half_width), 3) + " either way over " +
+                                             std::to_string(band.runs) + " runs): not drawn"
+                                       : no_band_reason(band, min_runs);
 }
 
-nlohmann::json series_json(const Series& s, const DashboardOptions& options, double alpha) {
+nlohmann::json series_json(const Series& s, const RunBand& band, std::size_t first, double alpha) {
     nlohmann::json entries = nlohmann::json::array(), steps = nlohmann::json::array();
     for (const auto& e : s.entries)
         entries.push_back({{"commit", e.commit},
@@ -119,7 +128,7 @@ nlohmann::json series_json(const Series& s, const DashboardOptions& options, dou
                           {"direction", s.direction == Direction::higher_is_better ? "higher" : "lower"},
                           {"entries", std::move(entries)},
                           {"steps", std::move(steps)}};
-    add_band(out, s, options, alpha);
+    add_band(out, band, first, alpha);
     return out;
 }
 
@@ -175,11 +184,52 @@ std::string page_html(const std::vector<Series>& series, const DashboardOptions&
     nlohmann::json doc = {{"title", options.title}, {"window", options.window}, {"series", nlohmann::json::array()}};
     // The gate's share of alpha (band_alpha, history_band.hpp) among the figures a run gates, here
     // the series of its machine and build (fingerprint and context class) that the page shows.
+    // A count that is 0 in every run (a counter that never fired) is listed once, not charted.
+    std::vector<const Series*> charted;
+    doc["all_zero"] = nlohmann::json::array();
+    for (const auto& s : series) {
+        const bool zero = !s.entries.empty() && std::all_of(s.entries.begin(), s.entries.end(),
+                                                            [](const SeriesEntry& e) { return e.median == 0; });
+        if (zero)
+            doc["all_zero"].push_back(
+                {{"machine", s.machine}, {"label", s.key.label()}, {"figure", s.figure}, {"unit", s.unit}});
+        else
+            charted.push_back(&s);
+    }
     std::map<std::pair<std::string, std::string>, std::size_t> gated;
-    for (const auto& s : series) ++gated[{s.fingerprint, s.context_class}];
-    for (const auto& s : series)
+    for (const Series* s : charted) ++gated[{s->fingerprint, s->context_class}];
+    // The spreads of one machine, build and figure pooled as history check pools them.
+    const std::size_t min_runs = HistoryRule{}.min_runs;
+    std::map<std::string, std::vector<std::size_t>> groups;
+    for (std::size_t i = 0; i < charted.size(); ++i)
+        groups[charted[i]->fingerprint + " " + charted[i]->context_class + " " + charted[i]->figure + " " +
+               charted[i]->unit]
+            .push_back(i);
+    std::vector<std::vector<std::size_t>> windows(charted.size());
+    std::vector<PooledSpread> pooled(charted.size());
+    for (const auto& [name, members] : groups) {
+        std::vector<SeriesWindow> w;
+        for (std::size_t i : members) {
+            windows[i] = gate_window(*charted[i], options.window, min_runs);
+            SeriesWindow sw;
+            for (std::size_t k : windows[i]) {
+                sw.medians.push_back(charted[i]->entries[k].median);
+                sw.runs.push_back(charted[i]->entries[k].run_id);
+            }
+            w.push_back(std::move(sw));
+        }
+        const MachineNoise noise = pool_spreads(w, min_runs);
+        for (std::size_t m = 0; m < members.size(); ++m) pooled[members[m]] = noise.series[m];
+    }
+    for (std::size_t i = 0; i < charted.size(); ++i) {
+        const Series& s = *charted[i];
+        const double alpha = band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}]);
+        std::vector<double> medians;
+        for (std::size_t k : windows[i]) medians.push_back(s.entries[k].median);
+        const RunBand band = fit_band(medians, {}, alpha, min_runs, &pooled[i]);
         doc["series"].push_back(
-            series_json(s, options, band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}])));
+            series_json(s, band, windows[i].empty() ? s.entries.size() : windows[i].front(), alpha));
+    }
     // A host name or label with bytes that are not UTF-8 must not cost the whole page.
     const std::string data = script_safe(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
     const std::string title = html_text(options.title);

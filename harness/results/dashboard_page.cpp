@@ -13,6 +13,7 @@ body { margin: 0; font: 14px/1.45 system-ui, "DejaVu Sans", "Liberation Sans", s
 header.top { position: sticky; top: 0; z-index: 1; background: #fff; border-bottom: 1px solid var(--line); padding: 12px 24px 10px; }
 h1 { font-size: 20px; margin: 0 0 2px; }
 .summary { margin: 0 0 8px; color: var(--muted); }
+.zero { margin: 12px 24px 0; color: var(--muted); }
 .filters { display: flex; flex-wrap: wrap; gap: 8px 20px; align-items: center; }
 .filters select { font: inherit; padding: 2px 4px; max-width: 30em; }
 #shown { color: var(--muted); margin-left: auto; }
@@ -142,6 +143,12 @@ const char* const page_script = R"js("use strict";
     const level = (e, k) => (typeof e.median === "number" ? e.median * (1 + k * e.noise) : null);
     const stepAt = new Map(series.steps.map((st) => [st.index, st]));
     const atStep = (i, yes, no) => (stepAt.has(i) ? yes(stepAt.get(i)) : no);
+    // No figure here is negative (rates, times, counts): where the repetitions' spread or the
+    // grace would take the axis below 0, it starts at 0.
+    const shownValues = entries.flatMap((e) => [level(e, -1), level(e, 1)]).concat(band ? [band.low, band.high] : [])
+      .filter((v) => typeof v === "number" && isFinite(v));
+    const lowest = Math.min(...shownValues), highest = Math.max(...shownValues);
+    const floor = lowest - 0.1 * (highest - lowest) < 0 || lowest < 0 ? { min: 0, beginAtZero: true } : {};
     return new Chart(canvas, {
       type: "line",
       data: {
@@ -194,7 +201,7 @@ const char* const page_script = R"js("use strict";
         },
         scales: {
           x: { offset: true, grid: { display: false }, ticks: { maxRotation: 0, autoSkipPadding: 10, font: { family: "monospace" } } },
-          y: { grace: "10%", title: { display: true, text: series.figure + " (" + series.unit + ")" } },
+          y: { grace: "10%", title: { display: true, text: series.figure + " (" + series.unit + ")" }, ...floor },
         },
       },
       plugins: [stepMarkers(series)],
@@ -260,6 +267,13 @@ const char* const page_script = R"js("use strict";
   }
   for (const control of [machine, kernel, stepsOnly]) control.addEventListener("change", applyFilters);
 
+  // Counts that were 0 in every run: one line, no chart.
+  if (data.all_zero.length) {
+    const names = data.all_zero.map((z) => z.label + " " + z.figure + (data.all_zero.some((y) => y.machine !== z.machine) ? " on " + z.machine : ""));
+    const zero = element("p", "zero", "0 in every run, not charted (" + names.length + "): " + names.join("; "));
+    zero.id = "all-zero";
+    main.prepend(zero);
+  }
   for (const c of cards) draw(c.canvas, c.series);
   applyFilters();
 

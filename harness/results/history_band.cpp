@@ -6,12 +6,13 @@
 #include <boost/math/distributions/students_t.hpp>
 
 #include "harness/common/stats.hpp"
+#include "harness/common/units.hpp"
+#include "harness/results/history_pool.hpp"
+#include "harness/results/history_scale.hpp"
 
 namespace suite {
 
 namespace {
-
-constexpr double mad_efficiency = 0.37;
 
 std::string percent_text(double x) {
     char buf[32];
@@ -33,8 +34,20 @@ std::vector<double> logs_of(const std::vector<double>& v, bool& all_positive) {
 
 }  // namespace
 
+double RunBand::widened(double se) const {
+    const double typical = std::isfinite(typical_se) ? typical_se : 0;
+    if (!usable() || !std::isfinite(se) || se <= typical) return half_width;
+    const double m = static_cast<double>(std::max<std::size_t>(centre_runs, 1));
+    return quantile * std::sqrt(spread * spread * (1 + 1 / m) + se * se - typical * typical);
+}
+
+double median_standard_error(double noise, std::size_t n) {
+    if (n < 2 || !(noise > 0)) return NAN;
+    return std::sqrt(std::acos(-1.0) / 2) * noise / std::sqrt(static_cast<double>(n));
+}
+
 RunBand fit_band(const std::vector<double>& window, const std::vector<double>& centre, double alpha,
-                 std::size_t min_runs) {
+                 std::size_t min_runs, const PooledSpread* pooled) {
     RunBand b;
     const std::vector<double>& c = centre.empty() ? window : centre;
     bool window_ok = false, centre_ok = false;
@@ -43,19 +56,26 @@ RunBand fit_band(const std::vector<double>& window, const std::vector<double>& c
     b.centre_runs = c.size();
     if (!lc.empty() && centre_ok) b.centre = std::exp(median_of(lc));
     if (!window_ok || !centre_ok || lc.empty() || lw.size() < std::max<std::size_t>(min_runs, 2)) return b;
-    const double mid = median_of(lw);
-    std::vector<double> deviations;
-    for (double x : lw) deviations.push_back(std::fabs(x - mid));
-    b.spread = 1.4826 * median_of(deviations);
-    // The MAD has 37 % of the standard deviation's efficiency for normal data, so it carries
-    // about as much information as a standard deviation of 0.37 (n - 1) degrees of freedom: the
-    // t quantile is taken there, not at n - 1, which would make the band too narrow for its alpha.
-    const boost::math::students_t t(std::max(1.0, mad_efficiency * static_cast<double>(lw.size() - 1)));
-    const double q = boost::math::quantile(boost::math::complement(t, alpha / 2));
-    b.half_width = q * b.spread * std::sqrt(1 + 1 / static_cast<double>(lc.size()));
+    const ScaleEstimate own = qn_scale(lw);
+    b.own_spread = b.spread = own.sigma;
+    b.df = own.df;
+    if (pooled && std::isfinite(pooled->sigma) && pooled->df > 0) {
+        b.spread = pooled->sigma;
+        b.df = pooled->df;
+    }
+    const boost::math::students_t t(std::max(0.5, b.df));
+    b.quantile = boost::math::quantile(boost::math::complement(t, alpha / 2));
+    b.half_width = b.quantile * b.spread * std::sqrt(1 + 1 / static_cast<double>(lc.size()));
     b.low = b.centre * std::exp(-b.half_width);
     b.high = b.centre * std::exp(b.half_width);
     return b;
+}
+
+std::string no_band_reason(const RunBand& band, std::size_t min_runs) {
+    if (band.runs < min_runs)
+        return "fewer than " + std::to_string(min_runs) + " runs in the window (" + std::to_string(band.runs) +
+               "): " + std::to_string(min_runs - band.runs) + " more run(s) needed for a band";
+    return "a median in the window is not a positive number: no band";
 }
 
 Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& band, const HistoryRule& rule) {
@@ -63,8 +83,7 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     if (!band.usable()) {
         if (rule.auto_tolerance) g.tolerance = rule.fallback_tolerance;
         Finding f = judge(base, run, g);
-        const std::string why = "fewer than " + std::to_string(rule.min_runs) + " runs in the window (" +
-                                std::to_string(band.runs) + "): no band; check's rule at " + percent_text(g.tolerance);
+        const std::string why = no_band_reason(band, rule.min_runs) + "; check's rule at " + percent_text(g.tolerance);
         f.note = f.note.empty() ? why : why + "; " + f.note;
         return f;
     }
@@ -72,18 +91,46 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     Measure b = base;
     b.median = band.centre;
     Finding f = judge(b, run, g);
-    f.band_low = band.low;
-    f.band_high = band.high;
+    const double noise = run.samples.size() >= 2 ? robust_relative_spread(run.samples) : NAN;
+    const double se = median_standard_error(noise, run.samples.size());
+    const double half = band.widened(se);
+    f.band_low = band.centre * std::exp(-half);
+    f.band_high = band.centre * std::exp(half);
     f.band_runs = band.runs;
     // The band's edge on the worse side, as a change of the figure: a fall for a rate, a rise
     // for a time or a count.
     const bool lower_better = base.direction == Direction::lower_is_better;
-    const double edge = lower_better ? std::exp(band.half_width) - 1 : 1 - std::exp(-band.half_width);
+    const double edge = lower_better ? std::exp(half) - 1 : 1 - std::exp(-half);
     f.allowed = std::max(f.allowed, edge);
-    const bool inside = run.median > 0 && std::fabs(std::log(run.median / band.centre)) <= band.half_width;
-    if (inside && f.verdict != Verdict::unchanged) {
+    const double distance = run.median > 0 ? std::fabs(std::log(run.median / band.centre)) : INFINITY;
+    // A count of a few events a repetition: judge's own verdict (not gated by ratio) stands.
+    if (f.verdict == Verdict::unchanged && !f.note.empty()) return f;
+    // The band decides, not the Mann-Whitney test of the repetitions (its p stays in the
+    // finding): that test takes the window's repetitions for one sample, which they are not,
+    // and one stray repetition of a busy run in the pool hides a 2x change from it.
+    const double change = run.median / band.centre - 1;
+    const double worse_change = lower_better ? change : -change;
+    const Verdict was = f.verdict;
+    f.note.clear();
+    if (distance <= band.half_width || std::fabs(worse_change) <= g.tolerance) {
         f.verdict = Verdict::unchanged;
-        f.note = "inside the band of the last " + std::to_string(band.runs) + " runs";
+        if (was != Verdict::unchanged) f.note = "inside the band of the last " + std::to_string(band.runs) + " runs";
+    } else if (distance <= half) {
+        // Outside the runs' band, inside what this run's own repetitions leave open: the
+        // repetitions that would tell, were they as spread as these (se^2 = pi/2 noise^2 / n).
+        const double m = static_cast<double>(std::max<std::size_t>(band.centre_runs, 1));
+        const double typical = std::isfinite(band.typical_se) ? band.typical_se : 0;
+        const double room =
+            std::pow(distance / band.quantile, 2) - band.spread * band.spread * (1 + 1 / m) + typical * typical;
+        const double reps = std::ceil(std::acos(-1.0) / 2 * noise * noise / room);
+        const bool below = run.median < band.centre;
+        f.verdict = Verdict::inconclusive;
+        f.note = "outside the runs' band but inside it widened by this run's own repetitions (spread " +
+                 percent_text(noise) + " over " + std::to_string(run.samples.size()) + "): it would need a median " +
+                 (below ? "below " : "above ") + format_significant(below ? f.band_low : f.band_high, 4) + " " +
+                 run.unit + ", or about " + format_significant(reps, 3) + " repetitions as spread as these";
+    } else {
+        f.verdict = worse_change > 0 ? Verdict::regressed : Verdict::improved;
     }
     return f;
 }

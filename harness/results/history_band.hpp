@@ -3,22 +3,25 @@
 // A run's repetitions are taken seconds apart, so they show the noise within a run; a machine
 // also moves between runs (this VM's memory bandwidth changes state from run to run while each
 // run's repetitions stay tight), and only the runs' medians show that. From the medians of the
-// window's runs: the centre is the median of their logarithms, the spread 1.4826 times their
-// median absolute deviation (the standard deviation for normal medians, unmoved by a stray run),
-// and the band the Student-t prediction interval for one more run, centre ± t(1 - a/2, ν) ·
-// spread · sqrt(1 + 1/m), with n runs for the spread, ν = 0.37 (n - 1) degrees of freedom (the
-// MAD's efficiency: it knows the spread about as well as a standard deviation of that many), and
-// m runs for the centre (m = n, or the base
-// commit's runs with --base-commit). `a` is the gate's alpha shared among the figures the run
-// gates (band_alpha below: Bonferroni).
+// window's runs: the centre is the median of their logarithms; the spread is Qn of them
+// (history_scale.hpp: robust to a stray run, and worth d degrees of freedom), pooled with the
+// other series of the machine where there are some (history_pool.hpp: d0 + d degrees of freedom);
+// the band is the Student-t prediction interval for one more run, centre +- t(1 - a/2, df) *
+// spread * sqrt(1 + 1/m), with m runs for the centre (the window's, or the base commit's with
+// --base-commit). `a` is the gate's alpha shared among the figures the run gates (band_alpha
+// below: Bonferroni).
+//
+// A run whose own repetitions spread more than the window's runs' did (an unstable point, a DRAM
+// point of 5 repetitions here) has a median that is less sure than theirs: its band is widened
+// by that excess, the square of its median's standard error beyond the window's typical one
+// (median_standard_error), added to the spread's square. A median outside the band but inside
+// the widened one is inconclusive, and says the figure and the repetitions it would need.
 //
 // This VM's medians have heavy tails: about one run in four is 20 to 45 % off at some point, every
 // repetition of it agreeing, with nothing changed. No band of one run absorbs that and still sees
-// a 1.25x slowdown: a standard deviation widens every band for the ten runs after a stray one, and
-// still false-alarmed on 3 of 14 left-out runs. So the spread is the robust one, which keeps the
-// band narrow, and a stray run is told from a change by a second run: with --confirm, a figure
-// regresses only where a rerun of the same build regresses too (docs/results-tools.md: 1 false
-// alarm in 35 confirmed trials against 6 in 38 single ones, on 38 unchanged reruns).
+// a 1.25x slowdown, so the spread is a robust one, and a stray run is told from a change by a
+// second run: with --confirm, a figure regresses only where a rerun of the same build regresses too
+// (docs/results-tools.md).
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -53,24 +56,47 @@ struct RunBand {
     std::size_t runs = 0;          // medians the spread was estimated from
     std::size_t centre_runs = 0;   // medians the centre was taken from
     double centre = NAN;           // in the figure's units
-    double spread = NAN;           // relative: 1.4826 · the median absolute deviation of the log medians
+    double own_spread = NAN;       // relative (log units): Qn of the window's log medians
+    double spread = NAN;           // the same, pooled with the machine's where it was (else own_spread)
+    double df = 0;                 // the degrees of freedom of `spread`
+    double quantile = NAN;         // t(1 - a/2, df)
     double half_width = NAN;       // of the band, in log units; NAN: no band (too few runs)
     double low = NAN, high = NAN;  // the band, in the figure's units
+    // The typical standard error of a window run's median from its own repetitions (log units);
+    // NAN: not known (no repetitions stored), taken as 0, so that a run is widened by all of its own.
+    double typical_se = NAN;
     bool usable() const { return std::isfinite(half_width); }
+    // The half-width for a run whose median has standard error `se` (NAN: unknown): the band's,
+    // widened by what `se` exceeds typical_se.
+    double widened(double se) const;
 };
+
+// The standard error of a median of `n` repetitions whose relative spread is `noise`, in log
+// units: sqrt(pi / 2) noise / sqrt(n) (a median's, for normal repetitions). NAN for n < 2 or no noise.
+double median_standard_error(double noise, std::size_t n);
+
+struct PooledSpread;
 
 // The band of a series. `window`: the medians the spread is estimated from; `centre`: the ones
 // the centre is taken from (empty: the window's). `alpha`: the chance, for this one figure, that
-// an unchanged run leaves it (two-sided). Fewer than `min_runs` window medians, or any that is
-// not positive: no band (half_width NAN), the centre still set where there is one.
+// an unchanged run leaves it (two-sided). `pooled`: the series' spread pooled with its machine's
+// (history_pool.hpp); null or without a spread: the window's own. Fewer than `min_runs` window
+// medians, or any that is not positive: no band (half_width NAN), the centre still set where
+// there is one.
 RunBand fit_band(const std::vector<double>& window, const std::vector<double>& centre, double alpha,
-                 std::size_t min_runs);
+                 std::size_t min_runs, const PooledSpread* pooled = nullptr);
+
+// "fewer than 5 runs in the window (3): 2 more run(s) needed for a band", or why else there is none.
+std::string no_band_reason(const RunBand& band, std::size_t min_runs);
 
 // One figure of a run against its history: `base` pooled from the runs (history_gate.hpp), the
 // band fitted from their medians. With a band, the baseline's median is the band's centre, the
 // minimum effect is --tolerance (or the floor under auto), and a change regresses or improves
-// only where the run's median also lies outside the band; `allowed` is then the larger of the
-// minimum effect and the band's edge on the worse side. Without a band, check's own judge at
+// where it is beyond that and the run's median lies outside the band widened by the run's own
+// repetitions (RunBand::widened; the finding's band_low/high); the Mann-Whitney p of check's
+// rule is reported, not required. `allowed` is the larger of the minimum effect and that band's
+// edge on the worse side. Outside the band but inside the widened one: inconclusive, the note
+// naming the median and the repetitions that would tell. Without a band, check's own judge at
 // --tolerance (at fallback_tolerance under auto), and the note says so.
 Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& band, const HistoryRule& rule);
 

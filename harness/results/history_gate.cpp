@@ -8,8 +8,31 @@
 
 #include "harness/common/stats.hpp"
 #include "harness/common/units.hpp"
+#include "harness/results/history_pool.hpp"
 
 namespace suite {
+
+namespace {
+
+// The median of the known standard errors of the window's medians; NAN where none is known.
+double typical_standard_error(const std::vector<double>& se) {
+    std::vector<double> known;
+    for (double x : se)
+        if (std::isfinite(x)) known.push_back(x);
+    return known.empty() ? NAN : median_of(known);
+}
+
+// "bandwidth GB/s: 4 series' spreads pooled (the machine's 3.1 %, worth 8.2 degrees of freedom;
+// their runs' noise correlates 0.45: as 2.1 independent series)".
+std::string pooled_note(const std::string& figure, const MachineNoise& n) {
+    return figure + ": the spreads of " + std::to_string(n.series.size()) + " series pooled (the machine's " +
+           format_significant(n.prior * 100, 2) + "%, worth " + format_significant(n.prior_df, 3) +
+           " degrees of freedom; their runs' noise correlates " +
+           (std::isfinite(n.shared) ? format_significant(n.shared, 2) : std::string("-")) + ": as " +
+           format_significant(n.effective_series, 2) + " independent series)";
+}
+
+}  // namespace
 
 Measure pool_entries(const std::vector<const SeriesEntry*>& entries, const Measure& like) {
     Measure m;
@@ -42,7 +65,7 @@ bool same_commit(const std::string& stored, const std::string& given) {
 
 WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFile& run, const RunIdentity& id,
                                std::int64_t own_run_id, std::size_t window, const std::string& label,
-                               const std::string& base_commit) {
+                               const std::string& base_commit, std::size_t min_runs) {
     using SeriesId = std::tuple<std::string, PointKey, std::string, std::string>;  // class, point, figure, unit
     std::map<SeriesId, const Series*> by_id;
     for (const Series& s : series)
@@ -72,8 +95,31 @@ WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFi
                 if (!base_commit.empty() && !e->unstable && same_commit(e->commit, base_commit)) base.push_back(&*e);
                 if (stable.size() < window) (e->unstable ? unstable : stable).push_back(&*e);
             }
+            // A point whose runs are mostly flagged unstable (a DRAM point of 5 repetitions here)
+            // is gated all the same: the latest runs, flagged or not, make its window, and their
+            // spread makes its band as wide as it has to be.
+            if (stable.size() < min_runs) {
+                std::vector<const SeriesEntry*> any;
+                for (auto e = entries.rbegin(); e != entries.rend() && any.size() < window; ++e)
+                    if (!((id.commit != "unknown" && e->commit == id.commit) ||
+                          (own_run_id != 0 && e->run_id == own_run_id)))
+                        any.push_back(&*e);
+                if (any.size() > stable.size()) {
+                    stable = std::move(any);
+                    unstable.clear();
+                }
+            }
             WindowBaseline::Medians med;
-            for (const SeriesEntry* e : stable) med.window.push_back(e->median);
+            for (const SeriesEntry* e : stable) {
+                med.window.push_back(e->median);
+                med.runs.push_back(e->run_id);
+                med.se.push_back(median_standard_error(e->noise, e->samples.size()));
+            }
+            // Flagged runs only, and too few of them for a band: check calls the point inconclusive.
+            const bool flagged_only =
+                !stable.empty() && stable.size() < min_runs &&
+                std::all_of(stable.begin(), stable.end(), [](const SeriesEntry* e) { return e->unstable; });
+            all_unstable = all_unstable || (base_commit.empty() && flagged_only);
             std::vector<const SeriesEntry*>& pooled = base_commit.empty() ? stable : base;
             if (!base_commit.empty() && base.empty()) continue;  // the base commit never ran this point
             if (pooled.empty() && unstable.empty()) continue;
@@ -116,9 +162,21 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
     std::size_t family = 0;
     for (const auto& f : rep.findings) {
         auto it = base.medians.find({f.key, f.figure});
-        family += it != base.medians.end() && it->second.window.size() >= rule.min_runs;
+        family +=
+            it != base.medians.end() && fit_band(it->second.window, it->second.centre, 0.5, rule.min_runs).usable();
     }
     const double alpha = band_alpha(rule.gate.alpha, family);
+    // The series of one figure share the machine's noise: their spreads are pooled (history_pool.hpp).
+    std::map<std::string, std::vector<std::pair<PointKey, SeriesWindow>>> by_figure;
+    for (const auto& [id, med] : base.medians) by_figure[id.second].push_back({id.first, {med.window, med.runs}});
+    std::map<std::pair<PointKey, std::string>, PooledSpread> pooled;
+    for (const auto& [figure, members] : by_figure) {
+        std::vector<SeriesWindow> windows;
+        for (const auto& m : members) windows.push_back(m.second);
+        const MachineNoise noise = pool_spreads(windows, rule.min_runs);
+        for (std::size_t i = 0; i < members.size(); ++i) pooled[{members[i].first, figure}] = noise.series[i];
+        if (noise.prior_df > 0) rep.notes.push_back(pooled_note(figure, noise));
+    }
     std::size_t without_band = 0;
     for (Finding& f : rep.findings) {
         const auto b = in_base.find(matching_key(f.key)), r = in_run.find(matching_key(f.key));
@@ -126,14 +184,17 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         if (b == in_base.end() || r == in_run.end() || med == base.medians.end()) continue;  // verification failures
         const Measure *bm = measure_of(b->second, f.figure), *rm = measure_of(r->second, f.figure);
         if (!bm || !rm) continue;
-        const RunBand band = fit_band(med->second.window, med->second.centre, alpha, rule.min_runs);
+        RunBand band =
+            fit_band(med->second.window, med->second.centre, alpha, rule.min_runs, &pooled[{f.key, f.figure}]);
+        band.typical_se = typical_standard_error(med->second.se);
         Finding g = judge_with_band(*bm, *rm, band, rule);
         g.key = f.key;
         g.host = f.host;
-        without_band += !band.usable();
-        // check_run's verdict on an unstable point stands: inconclusive whatever the change.
+        without_band += !band.usable() && band.runs < rule.min_runs;
+        // Without a band, check_run's verdict on an unstable point stands: inconclusive whatever
+        // the change. With one, the band widened by the run's own repetitions has judged it.
         const bool timed = bm->name.rfind("callgrind", 0) != 0;
-        if (timed && (b->second->unstable || r->second->unstable)) {
+        if (timed && !band.usable() && (b->second->unstable || r->second->unstable)) {
             g.verdict = Verdict::inconclusive;
             g.note = f.note;
         }
@@ -144,15 +205,23 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
                                    ? "the band's edge (--tolerance=auto, at least " + percent(rule.auto_floor) + ")"
                                    : percent(rule.gate.tolerance);
     rep.rule_text =
-        "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval at " +
+        "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval, "
+        "the spread pooled with the machine's and widened by the run's own repetitions, at " +
         format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) +
         (rule.confirmed ? ", confirmed by a rerun," : "") + " over " + std::to_string(family) +
-        " figures), is beyond " + effect + ", and the repetitions tell it from the pool's at p < " +
+        " figures) and is beyond " + effect + "; without a band, when the repetitions tell it from the pool's at p < " +
         format_significant(rule.gate.alpha, 3);
-    if (without_band)
+    if (without_band) {
+        std::size_t fewest = SIZE_MAX;
+        for (const auto& [id, med] : base.medians)
+            if (med.window.size() < rule.min_runs) fewest = std::min(fewest, med.window.size());
         rep.notes.push_back(std::to_string(without_band) + " figure(s) have fewer than " +
-                            std::to_string(rule.min_runs) + " runs in the window: no band; check's rule at " +
+                            std::to_string(rule.min_runs) + " runs in the window (the fewest " +
+                            std::to_string(fewest) + ": " +
+                            std::to_string(rule.min_runs - std::min(fewest, rule.min_runs)) +
+                            " more run(s) needed): no band; check's rule at " +
                             percent(rule.auto_tolerance ? rule.fallback_tolerance : rule.gate.tolerance));
+    }
     return rep;
 }
 

@@ -22,20 +22,26 @@ struct WindowBaseline {
     std::size_t runs_pooled = 0;  // distinct runs that went into it
     // For each point and figure ("bandwidth GB/s") pooled: the medians of the window's runs (for
     // the spread) and of the runs pooled (for the centre: the window's, or the base commit's).
+    // `runs` and `se`: the window's run ids (for pooling) and the standard errors of their
+    // medians from their own repetitions (median_standard_error; NAN where unknown).
     struct Medians {
         std::vector<double> window, centre;
+        std::vector<std::int64_t> runs;
+        std::vector<double> se;
     };
     std::map<std::pair<PointKey, std::string>, Medians> medians;
 };
 
 // `series`: the history's series of the run's machine (others are ignored). `own_run_id`: the
 // run's id when it is already in the history (0 if not), left out like its commit. A window of
-// a figure whose entries are all unstable makes that point unstable (so inconclusive).
+// a figure with fewer than `min_runs` stable entries takes its latest entries, flagged or not
+// (the band then carries their spread); one whose entries are all unstable and fewer than
+// `min_runs` makes that point unstable (so inconclusive).
 // `base_commit` "": the window's runs are pooled; otherwise the stable runs of that commit (a
 // prefix of at least 7 hex digits either way) are, and a point without any is left out.
 WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFile& run, const RunIdentity& id,
                                std::int64_t own_run_id, std::size_t window, const std::string& label,
-                               const std::string& base_commit = "");
+                               const std::string& base_commit = "", std::size_t min_runs = HistoryRule{}.min_runs);
 
 // The entries of one series pooled into one measure shaped like `like` (name, unit, direction).
 Measure pool_entries(const std::vector<const SeriesEntry*>& entries, const Measure& like);

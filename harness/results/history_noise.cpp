@@ -7,20 +7,33 @@
 
 #include "harness/common/stats.hpp"
 #include "harness/results/history_gate.hpp"
+#include "harness/results/history_pool.hpp"
 
 namespace suite {
 
 namespace {
 
-// The stable entries of a series other than `skip` (and `also`), the `window` nearest to `skip`
-// in the series' order (ties to the earlier one); `skip` = entries.size(): the last `window`.
-std::vector<const SeriesEntry*> nearest_window(const Series& s, std::size_t skip, std::size_t window,
-                                               std::size_t also = SIZE_MAX) {
-    std::vector<std::pair<std::size_t, std::size_t>> by_distance;  // distance, index
+// A series of which fewer than min_runs + 1 entries are stable (a DRAM point of 5 repetitions
+// here) is gated on all its entries, as history check gates it (window_baseline).
+bool flagged_series(const Series& s, std::size_t min_runs) {
+    std::size_t stable = 0;
+    for (const SeriesEntry& e : s.entries) stable += !e.unstable;
+    return stable < min_runs + 1;
+}
+
+// The entries of a series other than the runs `skip` and `also`, the `window` nearest to the
+// entry of run `skip` in the series' order (ties to the earlier one); where the series lacks
+// that run, the last `window`. Only stable ones unless `any`.
+std::vector<const SeriesEntry*> nearest_window(const Series& s, std::int64_t skip, std::int64_t also,
+                                               std::size_t window, bool any) {
     const std::size_t n = s.entries.size();
+    std::size_t from = n ? n - 1 : 0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (s.entries[i].run_id == skip) from = i;
+    std::vector<std::pair<std::size_t, std::size_t>> by_distance;  // distance, index
     for (std::size_t i = 0; i < n; ++i) {
-        if (i == skip || i == also || s.entries[i].unstable) continue;
-        const std::size_t from = skip == n ? n - 1 : skip;
+        const SeriesEntry& e = s.entries[i];
+        if (e.run_id == skip || e.run_id == also || (e.unstable && !any)) continue;
         by_distance.emplace_back(i > from ? i - from : from - i, i);
     }
     std::sort(by_distance.begin(), by_distance.end());
@@ -63,6 +76,42 @@ double sd_of_logs(const std::vector<double>& medians) {
     return std::sqrt(ss / static_cast<double>(logs.size() - 1));
 }
 
+// The series of one machine, build and figure, whose spreads are pooled.
+struct Group {
+    std::vector<const Series*> members;
+    std::vector<bool> flagged;
+};
+
+// The band of member `k` of `g` leaving out runs `skip` and `also`, pooled with the others'
+// windows that leave out the same runs.
+RunBand pooled_band(const Group& g, std::size_t k, std::int64_t skip, std::int64_t also, std::size_t window,
+                    double alpha, std::size_t min_runs, std::vector<const SeriesEntry*>* chosen = nullptr,
+                    MachineNoise* noise = nullptr) {
+    std::vector<SeriesWindow> windows;
+    std::vector<const SeriesEntry*> own;
+    for (std::size_t i = 0; i < g.members.size(); ++i) {
+        const auto w = nearest_window(*g.members[i], skip, also, window, g.flagged[i]);
+        SeriesWindow sw;
+        for (const SeriesEntry* e : w) {
+            sw.medians.push_back(e->median);
+            sw.runs.push_back(e->run_id);
+        }
+        windows.push_back(std::move(sw));
+        if (i == k) own = w;
+    }
+    const MachineNoise pooled = pool_spreads(windows, min_runs);
+    RunBand band = fit_band(windows[k].medians, {}, alpha, min_runs, &pooled.series[k]);
+    std::vector<double> se;
+    for (const SeriesEntry* e : own) {
+        const double x = median_standard_error(e->noise, e->samples.size());
+        if (std::isfinite(x)) se.push_back(x);
+    }
+    if (!se.empty()) band.typical_se = median_of(se);
+    if (chosen) *chosen = own;
+    if (noise) *noise = pooled;
+    return band;
+}
+
 }  // namespace
 
 NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window, const HistoryRule& rule, bool use_band,
@@ -73,27 +122,46 @@ NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window,
     auto group_of = [](const Series& s) { return s.fingerprint + " " + s.context_class; };
     for (const Series& s : series)
         for (const SeriesEntry& e : s.entries) ++family[{group_of(s), e.run_id}];
+    std::map<std::string, Group> groups;
+    std::vector<std::pair<Group*, std::size_t>> place;  // each series' group and its index there
     for (const Series& s : series) {
+        Group& g = groups[group_of(s) + " " + s.figure + " " + s.unit];
+        place.emplace_back(&g, g.members.size());
+        g.members.push_back(&s);
+        g.flagged.push_back(flagged_series(s, rule.min_runs));
+    }
+    for (const auto& [name, g] : groups) {
+        MachineNoise latest;
+        pooled_band(g, 0, -1, -1, window, rule.gate.alpha, rule.min_runs, nullptr, &latest);
+        out.pools.push_back({g.members.front(), latest});
+    }
+    for (std::size_t si = 0; si < series.size(); ++si) {
+        const Series& s = series[si];
+        const Group& g = *place[si].first;
+        const std::size_t k = place[si].second;
+        const bool any = g.flagged[k];
         SeriesNoise n;
         n.series = &s;
-        const std::vector<const SeriesEntry*> latest = nearest_window(s, s.entries.size(), window);
         const std::size_t latest_family = s.entries.empty() ? 1 : family[{group_of(s), s.entries.back().run_id}];
-        n.band = fit_band(medians_of(latest), {}, band_alpha(rule.gate.alpha, latest_family), rule.min_runs);
+        std::vector<const SeriesEntry*> latest;
+        n.band = pooled_band(g, k, -1, -1, window, band_alpha(rule.gate.alpha, latest_family), rule.min_runs, &latest);
         n.sd_spread = sd_of_logs(medians_of(latest));
         for (std::size_t i = 0; i < s.entries.size(); ++i) {
             const SeriesEntry& e = s.entries[i];
-            if (e.unstable) continue;
-            // The confirming rerun: the next stable entry.
+            if (e.unstable && !any) continue;
+            // The confirming rerun: the next entry that could be gated.
             std::size_t j = i + 1;
-            while (confirm && j < s.entries.size() && s.entries[j].unstable) ++j;
+            while (confirm && j < s.entries.size() && s.entries[j].unstable && !any) ++j;
             if (confirm && j >= s.entries.size()) break;
-            const std::vector<const SeriesEntry*> w = nearest_window(s, i, window, confirm ? j : SIZE_MAX);
-            if (w.empty()) continue;
+            const std::int64_t also = confirm ? s.entries[j].run_id : -1;
             const double alpha = band_alpha(rule.gate.alpha, family[{group_of(s), e.run_id}]);
+            std::vector<const SeriesEntry*> w;
+            const RunBand pooled = pooled_band(g, k, e.run_id, also, window, alpha, rule.min_runs, &w);
+            if (w.empty()) continue;
             // Without the band: an unusable one, so that judge_with_band is check's rule at the tolerance.
             HistoryRule r = rule;
             if (!use_band) r.auto_tolerance = false;
-            const RunBand band = use_band ? fit_band(medians_of(w), {}, alpha, rule.min_runs) : RunBand{};
+            const RunBand band = use_band ? pooled : RunBand{};
             auto verdict_of = [&](const SeriesEntry& x) {
                 const Measure run = entry_measure(x, s);
                 return judge_with_band(pool_entries(w, run), run, band, r).verdict;

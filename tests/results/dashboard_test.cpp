@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "harness/common/units.hpp"
@@ -240,20 +241,44 @@ TEST(Dashboard, ASeriesOfFiveRunsOrMoreShowsTheGatesBandOfItsLastStableRuns) {
     }
 }
 
-TEST(Dashboard, ASeriesOfFourRunsHasNoBandAndSaysWhy) {
+TEST(Dashboard, ASeriesOfFourRunsHasNoBandAndSaysHowManyMoreItNeeds) {
     TempDir tmp;
     EXPECT_EQ(DashboardOptions{}.window, 10u);
     EXPECT_DOUBLE_EQ(DashboardOptions{}.alpha, 0.01);
-    // Four runs; and six of which two are unstable, four stable: neither has runs enough.
+    // Four runs: no band. Six of which two are unstable, four stable: too few stable runs, so
+    // the window is all six, as history check takes it, and there is a band.
     const std::vector<Series> history = {steady_band_series("f1", "triad", 4, {}, 11),
                                          steady_band_series("f2", "add", 6, {1, 4}, 12)};
     const std::string page = slurp(write_dashboard(history, tmp.file("page"), stand_in_library(tmp)));
     const json data = embedded_data(page);
-    for (const json& s : data["series"]) {
-        EXPECT_TRUE(s["band"].is_null()) << s.dump();
-        EXPECT_EQ(s["band_reason"], "fewer than 5 runs: no band yet") << s.dump();
-    }
+    EXPECT_TRUE(data["series"][0]["band"].is_null()) << data["series"][0].dump();
+    EXPECT_EQ(data["series"][0]["band_reason"], "fewer than 5 runs in the window (4): 1 more run(s) needed for a band");
+    ASSERT_TRUE(data["series"][1]["band"].is_object()) << data["series"][1].dump();
+    EXPECT_EQ(data["series"][1]["band"]["runs"], 6);
+    EXPECT_EQ(data["series"][1]["band"]["first"], 0);
     // The legend tells the two bands apart.
     EXPECT_NE(page.find("repetitions' spread"), std::string::npos);
     EXPECT_NE(page.find("runs' band"), std::string::npos);
+}
+
+TEST(Dashboard, ZeroCountersAreListedOnceAndABandTooWideToGateIsNotDrawn) {
+    TempDir tmp;
+    Series zero = steady_band_series("f1", "triad", 8, {}, 21);
+    zero.figure = "counter major-faults";
+    zero.unit = "per call";
+    for (auto& e : zero.entries) e.median = 0;
+    // Medians spread from a third to three times the level: a band of more than 2x either way.
+    Series wild = steady_band_series("f1", "add", 8, {}, 22);
+    for (std::size_t i = 0; i < wild.entries.size(); ++i)
+        wild.entries[i].median *= std::exp(1.1 * (static_cast<double>((i * 5) % 8) - 3.5) / 3.5);
+    const json data = embedded_data(slurp(write_dashboard({zero, wild, steady_band_series("f1", "copy", 8, {}, 23)},
+                                                          tmp.file("p"), stand_in_library(tmp))));
+    ASSERT_EQ(data["series"].size(), 2u) << "the zero counter has no chart";
+    ASSERT_EQ(data["all_zero"].size(), 1u);
+    EXPECT_EQ(data["all_zero"][0]["figure"], "counter major-faults");
+    EXPECT_TRUE(data["series"][0]["band"].is_null());
+    EXPECT_NE(data["series"][0]["band_reason"].get<std::string>().find("too wide to tell a 2x change from noise"),
+              std::string::npos)
+        << data["series"][0].dump();
+    EXPECT_TRUE(data["series"][1]["band"].is_object()) << "a steady series keeps its band";
 }

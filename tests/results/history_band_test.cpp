@@ -54,14 +54,15 @@ struct BandHistory {
     std::vector<Series> all() const { return History::open_for_reading(db).series(); }
 };
 
-// 1.4826 times the median absolute deviation of the logarithms, computed the long way.
-double log_mad(std::vector<double> v) {
+// Qn of the logarithms, the long way: the k-th smallest pairwise distance, k = h(h - 1)/2, h = n/2 + 1.
+double log_qn_raw(std::vector<double> v) {
     for (double& x : v) x = std::log(x);
-    std::sort(v.begin(), v.end());
-    const double mid = v[v.size() / 2];  // odd counts only
-    for (double& x : v) x = std::fabs(x - mid);
-    std::sort(v.begin(), v.end());
-    return 1.4826 * v[v.size() / 2];
+    std::vector<double> d;
+    for (std::size_t i = 0; i < v.size(); ++i)
+        for (std::size_t j = i + 1; j < v.size(); ++j) d.push_back(std::fabs(v[i] - v[j]));
+    std::sort(d.begin(), d.end());
+    const std::size_t h = v.size() / 2 + 1;
+    return d[h * (h - 1) / 2 - 1];
 }
 
 Measure rate(double median, std::vector<double> samples) {
@@ -81,15 +82,19 @@ TEST(HistoryBand, IsTheStudentTPredictionIntervalOfTheLogMedians) {
     const RunBand b = fit_band(medians, {}, 0.05, 5);
     ASSERT_TRUE(b.usable());
     EXPECT_NEAR(b.centre, 10.0, 1e-12) << "the median of the medians";
-    EXPECT_NEAR(b.spread, log_mad(medians), 1e-12);
-    EXPECT_NEAR(b.spread, 1.4826 * std::log(10.0 / 9.9), 1e-12) << "the middle deviation is 9.9's";
-    // t(0.975) at 0.37 x 4 = 1.48 degrees of freedom (the MAD's efficiency) = 6.13186 (scipy.stats.t.ppf);
-    // sqrt(1 + 1/5) for one new run.
-    EXPECT_NEAR(b.half_width, 6.13186 * b.spread * std::sqrt(1.2), 1e-5);
+    // Qn of five: the third smallest distance, 10.1/9.9, times its factor for n = 5, worth 1.968
+    // degrees of freedom (bench/qn_constants.py).
+    EXPECT_NEAR(log_qn_raw(medians), std::log(10.1 / 9.9), 1e-12);
+    EXPECT_NEAR(b.spread, 1.6569 * std::log(10.1 / 9.9), 1e-12);
+    EXPECT_EQ(b.spread, b.own_spread) << "no other series: nothing pooled";
+    EXPECT_NEAR(b.df, 1.968, 1e-12);
+    // t(0.975) at 1.968 degrees of freedom = 4.37040 (scipy.stats.t.ppf); sqrt(1 + 1/5) for one new run.
+    EXPECT_NEAR(b.quantile, 4.37040, 1e-4);
+    EXPECT_NEAR(b.half_width, b.quantile * b.spread * std::sqrt(1.2), 1e-12);
     EXPECT_NEAR(b.low * b.high, 100.0, 1e-9) << "symmetric in log units about the centre";
     // A stray run moves neither the centre nor the spread much.
     const RunBand stray = fit_band({10.0, 10.4, 9.7, 10.1, 6.0}, {}, 0.05, 5);
-    EXPECT_LT(stray.spread, 0.05) << "their standard deviation is 0.23";
+    EXPECT_LT(stray.spread, 0.06) << "their standard deviation is 0.23";
     // The centre from other runs (a base commit's two): the same spread, a wider band.
     const RunBand based = fit_band(medians, {10.2, 10.3}, 0.05, 5);
     EXPECT_NEAR(based.centre, std::sqrt(10.2 * 10.3), 1e-12) << "the middle of two logarithms";
@@ -111,7 +116,8 @@ TEST(HistoryBand, AlphaIsSharedAmongTheFiguresTheRunGates) {
 }
 
 TEST(HistoryBand, AChangeInsideTheBandIsUnchangedWhateverTheRepetitionsSay) {
-    const RunBand band = fit_band({100, 97, 103, 99, 101, 96, 104}, {}, 0.01, 5);
+    RunBand band = fit_band({100, 97, 103, 99, 101, 96, 104}, {}, 0.01, 5);
+    band.typical_se = 0.005;  // the window's medians, each known to 0.5 % from its repetitions
     ASSERT_TRUE(band.usable());
     ASSERT_LT(band.low, 85.0);
     // 14 % slower than the centre, every repetition below every pooled one: check alone regresses it.
@@ -122,11 +128,11 @@ TEST(HistoryBand, AChangeInsideTheBandIsUnchangedWhateverTheRepetitionsSay) {
     EXPECT_EQ(inside.verdict, Verdict::unchanged);
     EXPECT_NE(inside.note.find("inside the band of the last 7 runs"), std::string::npos) << inside.note;
     EXPECT_NEAR(inside.allowed, 1 - band.low / band.centre, 1e-12) << "the band's lower edge, as a fall";
-    // Outside the band and confirmed by the repetitions: regressed.
+    // Outside the band, its repetitions tight: regressed.
     ASSERT_GT(band.low, 55.0);
     const Measure far = rate(50, {50, 50.1, 49.9, 50.2, 49.8});
     EXPECT_EQ(judge_with_band(base, far, band, rule).verdict, Verdict::regressed);
-    // Outside the band, but the repetitions overlap the pool's: inconclusive, never regressed.
+    // Outside the band, but its repetitions spread so that the band they widen holds it: inconclusive.
     const Measure spread = rate(50, {30, 50, 101, 102, 45});
     EXPECT_EQ(judge_with_band(base, spread, band, rule).verdict, Verdict::inconclusive);
 }
@@ -151,7 +157,8 @@ TEST(HistoryBand, AutoToleranceFollowsEachSeriesSpreadWithAFloor) {
     const Finding none =
         judge_with_band(base, rate(80, {80, 80.1, 79.9, 80.05, 79.95}), fit_band({100, 101}, {}, 0.01, 5), rule);
     EXPECT_EQ(none.verdict, Verdict::unchanged) << "20 % is within the fallback's 25 %";
-    EXPECT_NE(none.note.find("no band; check's rule at 25.0%"), std::string::npos) << none.note;
+    EXPECT_NE(none.note.find("(2): 3 more run(s) needed for a band; check's rule at 25.0%"), std::string::npos)
+        << none.note;
     EXPECT_THROW(parse_history_tolerance("automatic", rule), UsageError);
 }
 
@@ -174,7 +181,7 @@ TEST(HistoryBand, LeaveOneOutOnADriftingMachineFalseAlarmsUnderTheOldRuleAndNotU
     const PointKey drifting = band_file(drifting_run(0, h.g, 0), "x.json").points.front().key;
     for (const SeriesNoise& n : band.series) {
         const bool drifts = n.series->key == drifting;
-        EXPECT_NEAR(n.band.spread, drifts ? 0.10 : 0.01, drifts ? 0.05 : 0.007) << n.series->key.label();
+        EXPECT_NEAR(n.band.own_spread, drifts ? 0.10 : 0.01, drifts ? 0.05 : 0.007) << n.series->key.label();
     }
 }
 
@@ -208,10 +215,13 @@ TEST(HistoryBandCli, AutoNeedsRunsBaseCommitNeedsItsRunsAndTheSummaryStaysShort)
     Outcome few = run_suite({"history", "check", run, "--db", h.db, "--tolerance=auto"});
     EXPECT_EQ(few.status, 2) << describe(few);
     expect_one_line_error(few, "--tolerance=auto needs 5 runs of a point in the window");
+    expect_one_line_error(few, "has is 3; add 2 more run(s)");
     // With a fixed tolerance the same history gates by check's rule, and says which figures.
     Outcome fixed = run_suite({"history", "check", run, "--db", h.db});
     EXPECT_EQ(fixed.status, 0) << describe(fixed);
-    EXPECT_NE(fixed.out.find("runs in the window: no band; check's rule at 10%"), std::string::npos) << fixed.out;
+    EXPECT_NE(fixed.out.find("runs in the window (the fewest 3: 2 more run(s) needed): no band; check's rule at 10%"),
+              std::string::npos)
+        << fixed.out;
     h.add(3, 5, 0.01, 1.0);
     // A base commit the history never ran, and a malformed one.
     Outcome unknown = run_suite({"history", "check", run, "--db", h.db, "--base-commit", "0123456789abcdef"});

@@ -1,7 +1,7 @@
 // The window gate (harness/results/history_gate.hpp): a run against the last N runs of its own
 // machine, build and points, pooled, and judged by check's own rule. A/A data passes; a run 30 %
 // slower regresses; the run's own commit and runs outside the window are left out; a window of
-// unstable runs is inconclusive. Then the same through `suite history check` (exit 0 / 1).
+// too few unstable runs is inconclusive, of enough is gated. Then the same through `suite history check` (exit 0 / 1).
 #include <gtest/gtest.h>
 
 #include "harness/results/check.hpp"
@@ -93,12 +93,24 @@ TEST(HistoryGate, TheRunsOwnCommitAndRunsBeforeTheWindowAreLeftOut) {
     EXPECT_EQ(f.gate(as_file(run, "run.json"), 4).count(Verdict::regressed), 0u);
 }
 
-TEST(HistoryGate, AWindowOfUnstableRunsIsInconclusive) {
+TEST(HistoryGate, AWindowOfTooFewUnstableRunsIsInconclusiveAndOfEnoughIsGated) {
     GateFixture f;
-    f.add_runs(0, 6, 1.0, true);
-    const CheckReport rep = f.gate(as_file(steady_run(20, f.g, 1.3), "slow.json"), 10);
+    f.add_runs(0, 4, 1.0, true);
+    const ResultFile slow = as_file(steady_run(20, f.g, 1.3), "slow.json");
+    const CheckReport rep = f.gate(slow, 10);
     EXPECT_EQ(rep.count(Verdict::regressed), 0u) << render_check_text(rep);
     EXPECT_EQ(rep.count(Verdict::inconclusive), 3u) << render_check_text(rep);
+    // Six flagged runs and no stable one: the window is the six, and the band they make gates
+    // the point (a DRAM point whose 5 repetitions always spread would otherwise never be gated).
+    f.add_runs(4, 2, 1.0, true);
+    WindowBaseline base;
+    f.gate(slow, 10, &base);
+    ASSERT_EQ(base.file.points.size(), 3u);
+    EXPECT_FALSE(base.file.points.front().unstable);
+    HistoryRule rule;
+    parse_history_tolerance("auto", rule);
+    const CheckReport banded = gate_with_bands(base, slow, rule);
+    EXPECT_EQ(banded.count(Verdict::regressed), 3u) << render_check_text(banded);
 }
 
 TEST(HistoryGate, PoolingConcatenatesRepetitionsAndTakesTheirMedian) {

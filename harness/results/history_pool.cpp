@@ -1,0 +1,146 @@
+#include "harness/results/history_pool.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/special_functions/digamma.hpp>
+#include <boost/math/special_functions/trigamma.hpp>
+
+#include "harness/common/stats.hpp"
+#include "harness/results/history_scale.hpp"
+
+namespace suite {
+
+namespace {
+
+constexpr double residual_clip = 2.5;
+// The weight given to the machine's spread is taken at the low end of what the series allow (below).
+constexpr double prior_quantile = 0.25;
+
+// y > 0 with trigamma(y) = x (trigamma falls from infinity to 0), by bisection on log y.
+double trigamma_inverse(double x) {
+    double lo = std::log(1e-6), hi = std::log(1e8);
+    for (int i = 0; i < 200 && hi - lo > 1e-10; ++i) {
+        const double mid = (lo + hi) / 2;
+        (boost::math::trigamma(std::exp(mid)) > x ? lo : hi) = mid;
+    }
+    return std::exp((lo + hi) / 2);
+}
+
+struct Fit {
+    std::size_t index;
+    double log_var, df;
+    std::map<std::int64_t, double> residual;  // by run: (log median - centre) / own spread, clipped
+};
+
+// The squared correlation of two series' residuals over the runs they share, adjusted for the
+// upward bias of r^2 on k pairs (1 - (1 - r^2)(k - 1)/(k - 2)); r itself in `r`. Fewer than 3
+// shared runs: 1 (nothing says they are apart).
+double squared_correlation(const Fit& a, const Fit& b, double& r) {
+    double ab = 0, aa = 0, bb = 0;
+    std::size_t k = 0;
+    for (const auto& [run, x] : a.residual) {
+        const auto it = b.residual.find(run);
+        if (it == b.residual.end()) continue;
+        ab += x * it->second;
+        aa += x * x;
+        bb += it->second * it->second;
+        ++k;
+    }
+    r = NAN;
+    if (k < 3) return 1;
+    if (!(aa > 0 && bb > 0)) return 0;
+    r = ab / std::sqrt(aa * bb);
+    const double kk = static_cast<double>(k);
+    return std::clamp(1 - (1 - r * r) * (kk - 1) / (kk - 2), 0.0, 1.0);
+}
+
+}  // namespace
+
+MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t min_runs) {
+    MachineNoise out;
+    out.series.resize(windows.size());
+    std::vector<Fit> fits;
+    for (std::size_t i = 0; i < windows.size(); ++i) {
+        const SeriesWindow& w = windows[i];
+        if (w.medians.size() < std::max<std::size_t>(min_runs, 2)) continue;
+        std::vector<double> logs;
+        for (double m : w.medians)
+            if (m > 0 && std::isfinite(m)) logs.push_back(std::log(m));
+        if (logs.size() != w.medians.size()) continue;
+        const ScaleEstimate q = qn_scale(logs);
+        PooledSpread& p = out.series[i];
+        p.own = p.sigma = q.sigma;
+        p.own_df = p.df = q.df;
+        // A series that never moves (an exact count) says nothing about the machine's noise.
+        if (!(q.sigma > 0)) continue;
+        Fit f{i, std::log(q.sigma * q.sigma), q.df, {}};
+        const double centre = median_of(logs);
+        for (std::size_t k = 0; k < logs.size() && k < w.runs.size(); ++k)
+            f.residual[w.runs[k]] = std::clamp((logs[k] - centre) / q.sigma, -residual_clip, residual_clip);
+        fits.push_back(std::move(f));
+    }
+    const std::size_t s = fits.size();
+    if (s < 3) return out;
+    // The prior by moments of log s^2: each minus its expectation given sigma, whose variance
+    // beyond the sampling part, trigamma(d / 2), is the spread of the series' true log variances.
+    double mean_e = 0, sampling = 0, mean_df = 0;
+    std::vector<double> e;
+    for (const Fit& f : fits) {
+        e.push_back(f.log_var - boost::math::digamma(f.df / 2) + std::log(f.df / 2));
+        mean_e += e.back();
+        sampling += boost::math::trigamma(f.df / 2);
+        mean_df += f.df;
+    }
+    const double sd = static_cast<double>(s);
+    mean_e /= sd;
+    sampling /= sd;
+    mean_df /= sd;
+    double var_e = 0;
+    for (double x : e) var_e += (x - mean_e) * (x - mean_e);
+    var_e /= sd - 1;
+    // The variance of the true log variances: its estimate places the prior (s0), and its 75 %
+    // upper bound, var_e (S - 1) / chi^2_{S-1}(0.25), weighs it (d0). Four series whose spreads
+    // happen to look alike say little about how alike they are: weighed at the estimate, the
+    // noisiest of four series of 2 to 6 % was pulled toward the others and its band left 12 % of
+    // unchanged runs out at a 5 % alpha; at the bound, 10 %, and the four together 6 %
+    // (tests/results/history_pool_test.cpp).
+    const boost::math::chi_squared chi(sd - 1);
+    const double excess = var_e - sampling;
+    const double excess_high = var_e * (sd - 1) / boost::math::quantile(chi, prior_quantile) - sampling;
+    const double d0_point = excess > 0 ? 2 * trigamma_inverse(excess) : INFINITY;
+    const double d0_fitted = excess_high > 0 ? 2 * trigamma_inverse(excess_high) : INFINITY;
+    // E[log s^2] = log sigma0^2 + digamma(d0 / 2) - log(d0 / 2) under the prior (0 as d0 grows).
+    const double log_s0 =
+        mean_e + (std::isfinite(d0_point) ? boost::math::digamma(d0_point / 2) - std::log(d0_point / 2) : 0);
+    // The cap: the other series' degrees of freedom, as many as their correlation leaves.
+    double rho2 = 0, rho = 0;
+    std::size_t pairs = 0, measured = 0;
+    for (std::size_t a = 0; a < s; ++a)
+        for (std::size_t b = a + 1; b < s; ++b) {
+            double r;
+            rho2 += squared_correlation(fits[a], fits[b], r);
+            ++pairs;
+            if (std::isfinite(r)) {
+                rho += r;
+                ++measured;
+            }
+        }
+    rho2 /= static_cast<double>(pairs);
+    out.shared = measured ? rho / static_cast<double>(measured) : NAN;
+    out.effective_series = sd / (1 + (sd - 1) * rho2);
+    const double others = (sd - 1) / (1 + (sd - 2) * rho2);
+    const double d0 = std::min(d0_fitted, mean_df * others);
+    out.prior = std::exp(log_s0 / 2);
+    out.prior_df = d0;
+    const double s0 = out.prior * out.prior;
+    for (const Fit& f : fits) {
+        PooledSpread& p = out.series[f.index];
+        p.sigma = std::sqrt((d0 * s0 + f.df * p.own * p.own) / (d0 + f.df));
+        p.df = d0 + f.df;
+    }
+    return out;
+}
+
+}  // namespace suite

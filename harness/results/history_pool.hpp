@@ -1,0 +1,54 @@
+#pragma once
+// The noise model of one machine and build: its series share their runs, and much of what moves
+// one run moves every point of it (this VM's memory changes state from run to run), so each
+// series' spread is pooled with the others' instead of being guessed from its own few runs.
+//
+// Each series' own spread s_i (Qn of its window's log medians, d_i degrees of freedom:
+// history_scale.hpp) is shrunk toward the machine's, as limma shrinks gene variances (Smyth
+// 2004): s_i^2 is taken as sigma_i^2 chi^2_{d_i} / d_i, and sigma_i^2 as drawn from a scaled
+// inverse chi-square of d0 degrees of freedom about s0^2. d0 and s0 come from the series
+// themselves by moments of log s_i^2: the more their spreads differ beyond what d_i allows, the
+// smaller d0 and the less pooling. The pooled spread is (d0 s0^2 + d_i s_i^2) / (d0 + d_i), and a
+// t interval built on it has d0 + d_i degrees of freedom.
+//
+// What pooling really gives: the series are not independent, since their runs share the
+// machine's state. The pooled variance of S series of d degrees of freedom each whose residuals
+// correlate by rho_ij has the variance of one of d S^2 / sum_ij rho_ij^2 degrees of freedom
+// (normal residuals: Cov(s_i^2, s_j^2) = 2 rho_ij^2 sigma^4 / d). So d0 is capped at the sum of
+// the d_i over 1 + (S - 1) times the mean rho_ij^2 of the pairs: S series that move together
+// count as one. The correlations are measured on the runs the series share (residuals from each
+// series' centre, in units of its own spread, clipped at 2.5 so that a stray run cannot make two
+// series look alike), adjusted for their small-sample bias; a pair sharing fewer than 3 runs
+// counts as fully correlated.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace suite {
+
+// One series' window: its runs' medians (in the figure's units) and the runs they came from.
+struct SeriesWindow {
+    std::vector<double> medians;
+    std::vector<std::int64_t> runs;
+};
+
+struct PooledSpread {
+    double own = NAN, own_df = 0;  // the series' own Qn of its log medians, and its degrees of freedom
+    double sigma = NAN, df = 0;    // pooled with the machine's: what its band is built on
+};
+
+struct MachineNoise {
+    double prior = NAN;   // s0: the machine's typical spread (log units)
+    double prior_df = 0;  // d0, after the cap
+    double shared = NAN;  // mean correlation of the series' residuals: the share of between-run noise they share
+    double effective_series = 0;       // S / (1 + (S - 1) mean rho^2)
+    std::vector<PooledSpread> series;  // one per window, in order
+};
+
+// The pooled spreads of `windows` (one machine, build and figure). A window with fewer than
+// `min_runs` medians, or one that is not positive, gets no spread (sigma NAN) and adds nothing.
+// Fewer than 3 windows with a spread: no pooling (d0 = 0), each series its own.
+MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t min_runs);
+
+}  // namespace suite
