@@ -38,7 +38,7 @@ suite_tests_label(instruments "Counter*:TeamCountersTest.*:Energy*:PerfPower.*:P
 suite_tests_label(machine "Pinning.*:Placement.*:Topology.*:HugePages*:RankShare.*:E2E.ResultRecordsPinningAndPagesAsObserved")
 suite_tests_label(measure "CacheProbe.*:CacheSteps.*:Plan.*:PlanParams.*:PlanVariants.*:ParseFinite.*:RunOptionsCli.*")
 suite_tests_label(cli "Cli*:Cases/CliErrorTest.*:CpuMask.*:E2E.*:Signals/*:ExitStatus.*:Faults.*:DirectoryOfOutputs.*:Memory.*:\
-ValuesUsedSilently.*:Output.*:Readme.*:CommandFrame.*")
+ValuesUsedSilently.*:Output.*:Readme.*:CommandFrame.*:Hardening.*")
 suite_tests_label(bench "Bench.*")
 suite_tests_label(other "*")
 # A change of the labels changes the discovery commands, which run after suite_tests is linked:

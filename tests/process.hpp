@@ -239,4 +239,13 @@ inline Outcome validate_against_schema(const std::string& file) {
     return validate_against_schema(std::vector<std::string>{file});
 }
 
+// Validates files the suite wrote, each against the schema of its own kind (a run's result,
+// a roofline file, a placement: tests/validate_result.py --by-kind).
+inline Outcome validate_by_kind(const std::vector<std::string>& files, double timeout_s = 60) {
+    std::vector<std::string> argv{SUITE_PYTHON, validator_path, "--by-kind",
+                                  std::string(SUITE_SOURCE_DIR) + "/results/schema"};
+    argv.insert(argv.end(), files.begin(), files.end());
+    return run_program(argv, timeout_s);
+}
+
 }  // namespace suite::test

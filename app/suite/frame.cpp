@@ -117,6 +117,11 @@ int CommandFrame::finish(int status, const std::string& done, bool complete) {
         std::cerr << program_ << ": note: the earlier run's files in " << dir_.path()
                   << " are kept; this run's are discarded (it failed)\n";
         dir_.release();
+    } else if (!complete && stop_signal() != 0 && dir_.replacing()) {
+        // An interrupted run never replaces a complete earlier set: what it finished is kept apart.
+        const std::string kept = dir_.keep_incomplete();
+        std::cerr << program_ << ": note: the earlier run's files in " << dir_.path()
+                  << " are kept; this run's, incomplete, are in " << kept << "\n";
     } else {
         dir_.commit();
     }

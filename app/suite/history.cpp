@@ -100,6 +100,7 @@ int history_add(const std::vector<std::string>& args) {
     if (!parse_command_line(app, "suite history add", args)) return 0;
     if (paths.empty())
         throw UsageError("history add needs at least one result file, e.g. ./suite history add results/latest.json");
+    commit = commit_option(commit, "--commit");
     if (branch.empty())
         if (const char* ci = std::getenv("GITHUB_REF_NAME"); ci && *ci) branch = ci;
     // Every file is read and checked before the database is opened: a bad one changes nothing.

@@ -1,6 +1,7 @@
 #pragma once
 // What the `suite history` subcommands share: the database and filter options, and the series
 // they select. history.cpp has add, list, steps and html; history_check.cpp has check and noise.
+#include <cctype>
 #include <cstdio>
 #include <set>
 #include <string>
@@ -31,6 +32,23 @@ inline void add_filter_options(CLI::App& app, HistoryArgs& a) {
     app.add_option("--kernel", a.kernel, "only this kernel's series");
     app.add_option("--machine", a.machine,
                    "only this machine: a part of its label (host, CPU) or the start of its fingerprint");
+}
+
+// The one rule for a commit named on the command line (--commit, --base-commit): a hash of 7 to
+// 40 hex digits, either case, kept in lower case as git writes it. Anything else (a branch name,
+// `ab`, text with `;` or a newline) would be stored, or matched, as if it were one.
+inline std::string commit_option(const std::string& text, const std::string& option) {
+    if (text.empty()) return text;
+    const bool hex = text.find_first_not_of("0123456789abcdefABCDEF") == std::string::npos;
+    if (!hex || text.size() < 7 || text.size() > 40) {
+        std::string shown;
+        for (char c : text) shown += (c == '\n' ? std::string("\\n") : std::string(1, c));
+        throw UsageError(option + "='" + shown + "': give a commit's hash, 7 to 40 hex digits, e.g. " + option +
+                         "=\"$(git rev-parse HEAD)\"");
+    }
+    std::string lower = text;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return lower;
 }
 
 inline HistoryOptions history_options(const HistoryArgs& a) {

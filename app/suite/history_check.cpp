@@ -124,11 +124,8 @@ int history_check(const std::vector<std::string>& args) {
     parse_history_tolerance(tolerance, rule);
     rule.gate.alpha = parse_alpha(alpha);
     rule.confirmed = !confirm.empty();
-    if (!base_commit.empty() &&
-        (base_commit.size() < 7 || base_commit.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos))
-        throw UsageError("--base-commit='" + base_commit +
-                         "': give a commit's hash, at least 7 hex digits, e.g. --base-commit \"$(git merge-base "
-                         "origin/main HEAD)\"");
+    base_commit = commit_option(base_commit, "--base-commit");
+    commit = commit_option(commit, "--commit");
     OutputFile md;
     if (!markdown.empty())
         md = OutputFile::claim(markdown, "--markdown",

@@ -3,7 +3,9 @@
 // usage error, 128+N a signal.
 #include <signal.h>
 
+#include <cstdio>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,32 @@
 #include "app/suite/commands.hpp"
 #include "app/suite/data_dir.hpp"
 #include "harness/common/units.hpp"
+
+namespace {
+
+// An error is one line: a value typed with a newline or another control character in it
+// (`--sizes=$'64KiB\n'`) is shown escaped, not as a second line that looks like another message.
+std::string one_line(const std::string& text) {
+    std::string out;
+    for (unsigned char c : text) {
+        if (c == '\n')
+            out += "\\n";
+        else if (c == '\r')
+            out += "\\r";
+        else if (c == '\t')
+            out += "\\t";
+        else if (c < 0x20 || c == 0x7f) {
+            char b[8];
+            std::snprintf(b, sizeof b, "\\x%02x", c);
+            out += b;
+        } else {
+            out += static_cast<char>(c);
+        }
+    }
+    return out;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace suite;
@@ -50,13 +78,18 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return 0;
         std::string msg = e.what();
-        std::cerr << "suite: error: " << msg << " (see ./suite --help)\n";
+        std::cerr << "suite: error: " << one_line(msg) << " (see ./suite --help)\n";
         return 2;
     } catch (const UsageError& e) {
-        std::cerr << "suite: error: " << e.what() << "\n";
+        std::cerr << "suite: error: " << one_line(e.what()) << "\n";
         return 2;
+    } catch (const std::bad_alloc&) {
+        // Past every estimate made before the work: say what ran out, not "std::bad_alloc".
+        std::cerr << "suite: error: out of memory: an allocation failed beyond the estimate made before the run "
+                     "(the machine's memory, or the address-space limit of ulimit -v); give a smaller size\n";
+        return 1;
     } catch (const std::exception& e) {
-        std::cerr << "suite: error: " << e.what() << "\n";
+        std::cerr << "suite: error: " << one_line(e.what()) << "\n";
         return 1;
     }
 }

@@ -222,6 +222,15 @@ void check_step_resolves_the_fall(const mpm::State& st, const Options& o, double
     const double g = std::sqrt(m.gravity[0] * m.gravity[0] + m.gravity[1] * m.gravity[1] + m.gravity[2] * m.gravity[2]);
     const double height = m.region.hi[2] - m.region.lo[2];
     const double fall = std::sqrt(2 * height / g);
+    // The implicit tangent is M / (β dt²) + K, and M / (β dt²) outgrows K as (stable / dt)²: once
+    // that passes 1 / ε the stiffness is lost in rounding and Newton meets NaN. Refused here.
+    if (m.integrator == mpm::Integrator::implicit && m.dt > 0 &&
+        st.dt < stable * std::sqrt(std::numeric_limits<double>::epsilon())) {
+        char least[64];
+        std::snprintf(least, sizeof least, "%.3g", stable * std::sqrt(std::numeric_limits<double>::epsilon()));
+        throw UsageError("--dt=" + o.dt + ": so short that the implicit step's inertia term swamps the stiffness " +
+                         "beyond what a double resolves; give at least " + least + " s");
+    }
     if (st.dt <= fall) return;
     char numbers[256];
     std::snprintf(numbers, sizeof numbers,

@@ -16,12 +16,17 @@ std::string fmt(const char* f, double v) {
     return b;
 }
 
+// NaN when no step was timed (--steps=0, or stopped before the first): not measured, never 0.
 double particle_rate(const ReportInput& in) {
     const mpm::Outcome& r = in.outcome;
-    return r.stepping_s > 0
+    return r.stepping_s > 0 && r.steps_done > 0
                ? static_cast<double>(in.st.particles.size()) * static_cast<double>(r.steps_done) / r.stepping_s
-               : 0;
+               : NAN;
 }
+
+nlohmann::json or_null(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
+
+const char* const no_step = "no step was taken (--steps=0, or the run stopped before its first step)";
 
 // Over the steps after --warm-steps (rows[k] is after k steps); NaN when none ran after them.
 double rate_after_warm(const ReportInput& in) {
@@ -77,8 +82,8 @@ nlohmann::json summary_json(const ReportInput& in) {
         {"timing",
          {{"wall_seconds", r.wall_s},
           {"stepping_seconds", r.stepping_s},
-          {"particle_steps_per_second", rate},
-          {"particle_steps_per_second_per_thread", rate / in.setup.threads},
+          {"particle_steps_per_second", or_null(rate)},
+          {"particle_steps_per_second_per_thread", or_null(rate / in.setup.threads)},
           {"particle_steps_per_second_after_warm",
            std::isnan(rate_after_warm(in)) ? nlohmann::json(nullptr) : nlohmann::json(rate_after_warm(in))},
           {"warm_steps", in.warm_steps},
@@ -87,8 +92,8 @@ nlohmann::json summary_json(const ReportInput& in) {
            "stepping: mpm::advance alone (the steps and the reorderings due); wall: the loop with the checks, "
            "snapshots and progress"}}},
         {"front",
-         {{"initial", r.rows.empty() ? 0.0 : r.rows.front().front},
-          {"final", r.rows.empty() ? 0.0 : r.rows.back().front},
+         {{"initial", r.rows.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rows.front().front)},
+          {"final", r.rows.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rows.back().front)},
           {"column_width", in.setup.settings.region.hi[0]}}},
         {"mass",
          {{"initial", r.mass_initial},
@@ -96,7 +101,8 @@ nlohmann::json summary_json(const ReportInput& in) {
           {"drift_relative", (r.mass_final - r.mass_initial) / r.mass_initial},
           {"nodal", r.nodal_mass},
           {"nodal_error_relative", r.nodal_error}}},
-        {"dt_range", {{"min", st.dt_min}, {"max", st.dt_max}}},
+        {"dt_range",
+         r.steps_done == 0 ? nlohmann::json(nullptr) : nlohmann::json{{"min", st.dt_min}, {"max", st.dt_max}}},
         {"energy",
          r.rows.empty()
              ? nlohmann::json(nullptr)
@@ -133,27 +139,35 @@ nlohmann::json summary_json(const ReportInput& in) {
                                "H; undamped: the mean "
                                "over the run, stress not compared"}}},
         {"clamped", st.clamped},
-        {"implicit", st.settings.integrator == mpm::Integrator::explicit_step
-                         ? nlohmann::json(nullptr)
-                         : nlohmann::json{{"newton_iterations", st.implicit.newton},
-                                          {"newton_max_per_step", st.implicit.max_newton},
-                                          {"cg_iterations", st.implicit.solver_iterations},
-                                          {"backtracks", st.implicit.backtracks},
-                                          {"cholmod_fallbacks", st.implicit.fallbacks},
-                                          {"worst_final_residual", st.implicit.worst_residual},
-                                          {"last_residuals", st.implicit.last_residuals},
-                                          {"active_rows", st.implicit.active_rows},
-                                          {"nonzeros", st.implicit.nonzeros},
-                                          {"patterns_built", st.system.patterns},
-                                          {"detail",
-                                           "Newton iterations and CG iterations over all steps; residuals ||r_k|| / "
-                                           "max(||r_0||, ||m g||) of the last step"}}},
+        {"implicit",
+         st.settings.integrator == mpm::Integrator::explicit_step
+             ? nlohmann::json(nullptr)
+             : nlohmann::json{{"newton_iterations",
+                               r.steps_done == 0 ? nlohmann::json(nullptr) : nlohmann::json(st.implicit.newton)},
+                              {"newton_max_per_step", st.implicit.max_newton},
+                              {"cg_iterations", st.implicit.solver_iterations},
+                              {"backtracks", st.implicit.backtracks},
+                              {"cholmod_fallbacks", st.implicit.fallbacks},
+                              {"worst_final_residual", r.steps_done == 0 ? nlohmann::json(nullptr)
+                                                                         : nlohmann::json(st.implicit.worst_residual)},
+                              {"last_residuals", st.implicit.last_residuals},
+                              {"active_rows", st.implicit.active_rows},
+                              {"nonzeros", st.implicit.nonzeros},
+                              {"patterns_built", st.system.patterns},
+                              {"detail",
+                               "Newton iterations and CG iterations over all steps; residuals ||r_k|| / "
+                               "max(||r_0||, ||m g||) of the last step"}}},
         {"verification", {{"passed", r.passed()}, {"checks", checks}}},
         {"snapshots", snapshots},
         {"files",
          {{"front_csv", "front.csv"},
           {"collection", r.snapshots.empty() ? nlohmann::json(nullptr) : nlohmann::json("particles.pvd")}}},
     };
+    if (r.steps_done == 0) {
+        // What stands for nothing is null above; this says why, once.
+        doc["not_measured"] = no_step;
+        doc["timing"]["rate_reason"] = no_step;
+    }
     if (!r.passed()) doc["verification"]["failure"] = r.failure;
     if (r.signal) doc["interrupted_by_signal"] = r.signal;
     if (in.png.empty())
@@ -197,7 +211,10 @@ std::string summary_text(const ReportInput& in) {
                       (r.steps_done == in.run.steps ? "" : " of " + std::to_string(in.run.steps)) + ", simulated " +
                       fmt("%.4g s", st.time));
     line("wall", fmt("%.3f s", r.wall_s) + " (stepping " + fmt("%.3f s", r.stepping_s) + ")");
-    line("rate", fmt("%.4g particle-steps/s", rate) + fmt(" (%.4g per thread)", rate / s.threads));
+    if (std::isnan(rate))
+        line("rate", std::string("not measured: ") + no_step);
+    else
+        line("rate", fmt("%.4g particle-steps/s", rate) + fmt(" (%.4g per thread)", rate / s.threads));
     if (!std::isnan(rate_after_warm(in)))
         line("after warm-up", fmt("%.4g particle-steps/s", rate_after_warm(in)) + " over steps " +
                                   std::to_string(in.warm_steps + 1) + " to " + std::to_string(r.steps_done));

@@ -1,6 +1,9 @@
 // `suite roofline`: this machine's ceilings, measured (harness/measure/roofline.hpp), as a table,
 // a JSON file and a figure; and the points of a run placed on them (harness/results/
 // roofline_place.hpp). Everything given is checked before anything is measured or written.
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -13,8 +16,10 @@
 #include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
 #include "app/suite/plotter.hpp"
+#include "harness/common/input_file.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/arena.hpp"
 #include "harness/machine/team.hpp"
 #include "harness/measure/roofline.hpp"
 #include "harness/results/context.hpp"
@@ -88,6 +93,14 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     // Everything checked first.
     if (!ceilings.empty() && place.empty())
         throw UsageError("--ceilings=" + ceilings + " is read to place a run: give --place=RESULT.json too");
+    if (!ceilings.empty())
+        for (const char* measuring : {"--threads", "--pin", "--dram-size", "--min-time", "--no-probe"})
+            if (app.count(measuring) > 0)
+                throw UsageError(std::string(measuring) + " says how to measure the ceilings, and --ceilings=" +
+                                 ceilings + " gives them measured: drop " + measuring + " or --ceilings");
+    if (!out.empty() && !no_png && figure_path(out) == out)
+        throw UsageError("--out=" + out + ": the JSON goes there and the figure beside it as FILE.png; give --out=" +
+                         "a .json name (or --no-png)");
     if (!(min_time > 0 && min_time <= 60))
         throw UsageError("--min-time=" + format_number(min_time) + ": expected seconds between 0 and 60");
     const Topology topo = Topology::load();
@@ -112,6 +125,19 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     const std::uint64_t dram_bytes = dram_size.empty() ? 0 : parse_bytes(dram_size);
     if (!dram_size.empty() && dram_bytes < (1ULL << 20))
         throw UsageError("--dram-size=" + dram_size + ": expected at least 1MiB, e.g. 1GiB");
+    // A memory footprint the caches hold measures a cache, not memory.
+    const std::uint64_t last_level = topo.last_level_cache_total_bytes();
+    if (!dram_size.empty() && dram_bytes <= last_level)
+        throw UsageError("--dram-size=" + dram_size + ": the last-level cache holds " + format_bytes(last_level) +
+                         " (as hwloc reports it); the memory ceiling needs more, e.g. " +
+                         format_bytes(std::max<std::uint64_t>(4 * last_level, 1ULL << 20)));
+    if (dram_bytes > 0) {
+        const std::uint64_t have = available_memory_bytes(MemoryPolicy{});
+        if (dram_bytes > have)
+            throw UsageError("--dram-size=" + dram_size + " needs about " + format_bytes(dram_bytes) +
+                             ", more than the " + format_bytes(have) +
+                             " of memory available (or left by ulimit -v); give less");
+    }
     std::vector<int> threads;
     if (!given) {
         threads = parse_thread_list(threads_text, topo.pu_count());
@@ -124,6 +150,10 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     std::vector<FileIdentity> inputs = identify_inputs({place, ceilings});
     CommandFrame frame("suite");
     const OutputFile* output = out.empty() ? nullptr : &frame.claim_file(out, "--out", inputs);
+    // The figure is an output like the JSON: claimed and checked against every input now.
+    OutputFile figure_file;
+    // (A placement on ceilings measured now draws none: they are not kept for the script.)
+    if (figure && (place.empty() || given)) figure_file = OutputFile::claim(figure_path(out), "--out's figure", inputs);
 
     RooflineFile roof;
     if (given) {
@@ -162,8 +192,12 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     std::string done =
         std::to_string(roof.roofline.ceilings.size()) + " of " + std::to_string(threads.size()) + " thread count(s)";
     if (!output) return frame.finish(0, done, complete);
-    output->write(doc.dump(2) + "\n");
-    std::printf("\nwrote %s\n", out.c_str());
+    const std::string wrote = output->write(doc.dump(2) + "\n", complete);
+    if (wrote != out)
+        std::fprintf(stderr,
+                     "suite roofline: note: %s holds a complete roofline and is kept; this one, incomplete, is in %s\n",
+                     out.c_str(), wrote.c_str());
+    std::printf("\nwrote %s\n", wrote.c_str());
     if (figure && complete) {
         const Plotter p = find_plotter("roofline.py");
         std::vector<std::string> plot_args;
@@ -174,8 +208,18 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
             plot_args = {out};
         }
         if (!plot_args.empty()) {
-            plot_args.insert(plot_args.end(), {"--out", figure_path(out)});
-            const std::string why = p.reason.empty() ? draw_with(p, plot_args, directory_of(out)) : p.reason;
+            // Drawn beside, then written through the claimed figure like any output.
+            const std::string drawn = directory_of(out) + "/.roofline-figure." + std::to_string(getpid()) + ".png";
+            plot_args.insert(plot_args.end(), {"--out", drawn});
+            std::string why = p.reason.empty() ? draw_with(p, plot_args, directory_of(out)) : p.reason;
+            if (why.empty()) {
+                const InputText png = read_regular_file(drawn, 1ULL << 30);
+                if (png.ok && figure_file.claimed())
+                    figure_file.write(png.text);
+                else
+                    why = drawn + ": " + png.reason;
+            }
+            unlink(drawn.c_str());
             if (why.empty())
                 std::printf("wrote %s\n", figure_path(out).c_str());
             else

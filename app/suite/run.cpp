@@ -265,15 +265,18 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         }
         if (console_table) std::cout << table_row(i + 1, total, rec) << std::flush;
         doc.records.push_back(std::move(rec));
-        if (to_file) out->write(doc.render(format, false));
+        if (to_file) out->write(doc.render(format, false), false);
     }
     if (progress) std::fprintf(stderr, "\r\033[K");
     if (console_table) std::cout << stability_summary(doc.records) << std::flush;
     // Complete when every point was measured, whenever a signal came.
     const bool complete = doc.records.size() == total;
     if (to_file) {
-        out->write(doc.render(format, complete));
-        if (!plan.quiet)
+        const std::string wrote = out->write(doc.render(format, complete), complete);
+        if (wrote != plan.out_path)
+            std::cerr << "suite: note: " << plan.out_path << " holds a complete result and is kept; this run's "
+                      << doc.records.size() << " record(s), incomplete, are in " << wrote << "\n";
+        else if (!plan.quiet)
             std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path
                       << (complete ? "" : " (incomplete: interrupted)") << "\n";
     } else if (plan.format != "table") {

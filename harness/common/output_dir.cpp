@@ -30,15 +30,18 @@ using output_detail::errno_text;
 const char* const lock_name = ".suite.lock";
 const char* const manifest_name = ".suite-files";
 const std::string staging_prefix = ".suite-new.";
+// An interrupted replacement's files, kept beside the earlier complete set they did not replace.
+const char* const incomplete_name = ".suite-incomplete";
 
 bool is_real_directory(const std::string& path) {
     struct stat st {};
     return lstat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-// A staging directory of this code's naming: `.suite-new.PID`, and a real directory.
+// A staging directory of this code's naming: `.suite-new.PID` or an interrupted run's kept
+// `.suite-incomplete`, and a real directory. The next claim of the directory removes them.
 bool is_staging(const std::string& dir, const std::string& name) {
-    static const std::regex pattern(R"(\.suite-new\.[0-9]+)");
+    static const std::regex pattern(R"(\.suite-new\.[0-9]+|\.suite-incomplete)");
     return std::regex_match(name, pattern) && is_real_directory(dir + "/" + name);
 }
 
@@ -322,6 +325,17 @@ void OutputDir::commit() {
         output_detail::replace_file(dir_ + "/" + manifest_name, manifest_text(policy_.command, written_));
     }
     committed_ = true;
+}
+
+std::string OutputDir::keep_incomplete() {
+    if (!lock_.held() || committed_ || !staging_) return "";
+    const std::string kept = dir_ + "/" + incomplete_name;
+    remove_tree(kept);
+    if (rename(writing_.c_str(), kept.c_str()) != 0)
+        throw std::runtime_error("cannot keep the interrupted run's files as " + kept + ": " + errno_text(errno) +
+                                 "; they are in " + writing_);
+    committed_ = true;  // the earlier set stays; nothing of this run's is to be removed
+    return kept;
 }
 
 void OutputDir::release() noexcept {

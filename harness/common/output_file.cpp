@@ -8,6 +8,9 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
+#include "harness/common/input_file.hpp"
 #include "harness/common/output_detail.hpp"
 #include "harness/common/sysfs_file.hpp"  // file_kind
 #include "harness/common/units.hpp"
@@ -228,6 +231,26 @@ void check_output_target(const std::string& path, const std::string& option, con
     check_target(path, option, inputs, true);
 }
 
+namespace {
+
+// Whether `path` holds a document that says `"complete": true` (a run's result, a roofline file):
+// an incomplete one must not replace it.
+bool holds_complete_result(const std::string& path) {
+    const InputText in = read_regular_file(path, 256ULL << 20);
+    if (!in.ok) return false;
+    const nlohmann::json doc = nlohmann::json::parse(in.text, nullptr, false);
+    return doc.is_object() && doc.contains("complete") && doc["complete"] == true;
+}
+
+}  // namespace
+
+std::string incomplete_path(const std::string& path) {
+    const auto dot = path.rfind('.');
+    const auto slash = path.rfind('/');
+    const bool ext = dot != std::string::npos && (slash == std::string::npos || dot > slash + 1);
+    return ext ? path.substr(0, dot) + ".incomplete" + path.substr(dot) : path + ".incomplete";
+}
+
 OutputFile OutputFile::claim(const std::string& path, const std::string& option,
                              const std::vector<FileIdentity>& inputs) {
     check_target(path, option, inputs, true);
@@ -236,13 +259,38 @@ OutputFile OutputFile::claim(const std::string& path, const std::string& option,
     f.option_ = option;
     f.inputs_ = inputs;
     f.lock_ = OutputLock(path + ".lock", take_lock(path + ".lock", option + "=" + path));
+    f.earlier_complete_ = holds_complete_result(path);
+    // Where an interrupted run's records would go: refused now, like the target, if it cannot be.
+    if (f.earlier_complete_) check_target(incomplete_path(path), option, inputs, true);
     return f;
 }
 
-void OutputFile::write(const std::string& content) const {
+void OutputFile::write(const std::string& content) const { write(content, true); }
+
+std::string OutputFile::write(const std::string& content, bool complete) const {
     if (!lock_.held()) throw std::logic_error("OutputFile::write on a file that was not claimed");
+    if (!complete && earlier_complete_) {
+        const std::string side = incomplete_path(path_);
+        check_target(side, option_, inputs_, false);
+        replace_file(side, content);
+        wrote_incomplete_ = true;
+        return side;
+    }
     check_target(path_, option_, inputs_, false);
     replace_file(path_, content);
+    // Complete now: an incomplete document beside it (this run's interim records, or an earlier
+    // interrupted run's) is superseded. Only a regular file that says so is removed.
+    if (complete) {
+        const std::string side = incomplete_path(path_);
+        struct stat st {};
+        if (lstat(side.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+            const InputText in = read_regular_file(side, 256ULL << 20);
+            const nlohmann::json doc = in.ok ? nlohmann::json::parse(in.text, nullptr, false) : nlohmann::json();
+            if (doc.is_object() && doc.contains("complete") && doc["complete"] == false) unlink(side.c_str());
+        }
+        wrote_incomplete_ = false;
+    }
+    return path_;
 }
 
 }  // namespace suite

@@ -64,6 +64,14 @@ public:
 
     // Replaces the file's content atomically (temporary file, fsync, rename, directory fsync).
     void write(const std::string& content) const;
+    // The same, for a document that says whether it is complete. An incomplete one (an
+    // interrupted run's) never replaces a file that held a complete result when it was claimed:
+    // it goes to incomplete_path() instead, and a complete write removes an incomplete document
+    // there (this run's, or an earlier interrupted run's).
+    // Returns the path written.
+    std::string write(const std::string& content, bool complete) const;
+    // Whether the file held a complete result (`"complete": true`) when it was claimed.
+    bool earlier_complete() const { return earlier_complete_; }
     const std::string& path() const { return path_; }
     bool claimed() const { return lock_.held(); }
     const std::string& lock_path() const { return lock_.path(); }
@@ -75,7 +83,12 @@ private:
     std::string path_, option_;
     std::vector<FileIdentity> inputs_;
     OutputLock lock_;
+    bool earlier_complete_ = false;
+    mutable bool wrote_incomplete_ = false;
 };
+
+// Where an incomplete document goes instead of a complete one at `path`: r.json -> r.incomplete.json.
+std::string incomplete_path(const std::string& path);
 
 // What a directory of outputs may hold when it is claimed, and who claims it.
 struct DirPolicy {
@@ -132,6 +145,10 @@ public:
     // cannot be moved or removed; the staging directory then keeps what was not moved, and the
     // manifest lists every file the directory may hold, so that a later --replace takes them.
     void commit();
+    // An interrupted replacement: this run's files, incomplete, are kept in DIR/.suite-incomplete
+    // (an older one removed) and the earlier complete set stays as it was. Returns that path,
+    // or "" when this claim replaces nothing (its files are in the directory already).
+    std::string keep_incomplete();
     // Whether this claim replaces an earlier run's files (they stay until commit()).
     bool replacing() const { return staging_ && !committed_; }
     // Drops the claim. Without commit(), a replacement is abandoned (the staging directory

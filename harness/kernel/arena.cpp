@@ -1,5 +1,7 @@
 #include "harness/kernel/arena.hpp"
 
+#include <sys/resource.h>
+
 #include <numa.h>
 #include <numaif.h>
 #include <sys/mman.h>
@@ -8,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -178,7 +181,24 @@ std::optional<std::uint64_t> anon_huge_bytes_in_smaps(const std::string& smaps, 
     return std::nullopt;
 }
 
-std::uint64_t available_memory_bytes(const MemoryPolicy& policy) {
+namespace {
+
+// What an address-space limit (ulimit -v, RLIMIT_AS) still lets this process map: the limit less
+// what is mapped now. Beyond it an allocation fails though the machine has memory to spare.
+std::uint64_t address_space_left() {
+    rlimit lim{};
+    if (getrlimit(RLIMIT_AS, &lim) != 0 || lim.rlim_cur == RLIM_INFINITY)
+        return std::numeric_limits<std::uint64_t>::max();
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    std::uint64_t mapped = 0;
+    while (std::getline(status, line))
+        if (line.rfind("VmSize:", 0) == 0) mapped = std::strtoull(line.c_str() + 7, nullptr, 10) * 1024;
+    const auto limit = static_cast<std::uint64_t>(lim.rlim_cur);
+    return limit > mapped ? limit - mapped : 0;
+}
+
+std::uint64_t memory_left(const MemoryPolicy& policy) {
     if ((policy.kind == PlacementKind::node || policy.kind == PlacementKind::remote) && numa_available() >= 0) {
         long long free_bytes = 0;
         if (numa_node_size64(policy.node, &free_bytes) >= 0 && free_bytes >= 0)
@@ -192,6 +212,12 @@ std::uint64_t available_memory_bytes(const MemoryPolicy& policy) {
     while (meminfo >> key >> kb >> unit)
         if (key == "MemAvailable:") return kb * 1024;
     return std::numeric_limits<std::uint64_t>::max();
+}
+
+}  // namespace
+
+std::uint64_t available_memory_bytes(const MemoryPolicy& policy) {
+    return std::min(memory_left(policy), address_space_left());
 }
 
 }  // namespace suite

@@ -88,7 +88,9 @@ private:
 nlohmann::json to_json(const ArrayPlacement& a);
 
 // Bytes of memory this process could still get: MemAvailable for local/interleave, the
-// target node's free memory for node/remote.
+// target node's free memory for node/remote; never more than an address-space limit
+// (RLIMIT_AS, `ulimit -v`) leaves beyond what is mapped already. Every estimate before a run
+// is held against this one number.
 std::uint64_t available_memory_bytes(const MemoryPolicy& policy);
 
 }  // namespace suite

@@ -133,9 +133,11 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
         return r;
     };
 
+    // The thread count being measured: kept as far as it got when a signal stops the work.
+    ThreadCeilings tc;
     try {
         for (int t : o.threads) {
-            ThreadCeilings tc;
+            tc = ThreadCeilings{};
             tc.threads = t;
             const KernelEntry* peak = find_kernel(o.peak_kernel);
             if (!peak)
@@ -180,10 +182,22 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
                 if (!memory) below = std::max(below, holds);
                 tc.bandwidth.push_back(lc);
             }
-            roof.ceilings.push_back(tc);
+            roof.ceilings.push_back(std::move(tc));
+            tc = ThreadCeilings{};
         }
     } catch (const Interrupted&) {
         roof.complete = false;
+        // What was measured of the interrupted thread count stays, each level it did not reach
+        // saying so (not a ceiling of 0).
+        if (!tc.peak.empty()) {
+            for (std::size_t i = tc.bandwidth.size(); i < roof.levels.size(); ++i) {
+                LevelCeiling lc;
+                lc.level = roof.levels[i].name;
+                lc.reason = "not measured: interrupted";
+                tc.bandwidth.push_back(lc);
+            }
+            roof.ceilings.push_back(std::move(tc));
+        }
     }
     if (stopped()) roof.complete = false;
     roof.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

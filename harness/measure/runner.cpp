@@ -53,10 +53,15 @@ Rates derive_rates(const Work& work, const TimeStats& time, Metric metric, int t
     r.units_per_second_best = work.units / time.min;
     if (work.flops > 0) r.gflops_best = work.flops / time.min / 1e9;
     if (metric == Metric::bandwidth) {
-        r.stream_gbps_best = work.stream_bytes / time.min / 1e9;
-        r.stream_gbps_median = work.stream_bytes / time.median / 1e9;
-        r.hardware_gbps_best = work.hardware_bytes / time.min / 1e9;
-        r.hardware_gbps_median = work.hardware_bytes / time.median / 1e9;
+        // A kernel that moves no bytes it counts (peak-flops) has no bandwidth: not 0 GB/s.
+        if (work.stream_bytes > 0) {
+            r.stream_gbps_best = work.stream_bytes / time.min / 1e9;
+            r.stream_gbps_median = work.stream_bytes / time.median / 1e9;
+        }
+        if (work.hardware_bytes > 0) {
+            r.hardware_gbps_best = work.hardware_bytes / time.min / 1e9;
+            r.hardware_gbps_median = work.hardware_bytes / time.median / 1e9;
+        }
     } else {
         // Each thread chases units/threads loads one after another.
         const double loads_per_thread = work.units / threads;

@@ -131,7 +131,23 @@ History History::open_for_reading(const std::string& path, const HistoryOptions&
     if (!exists)
         throw InputError(
             path + ": no history database there; add runs to it first: ./suite history add RUN.json --db " + path);
-    SqlDatabase db = SqlDatabase::open(path, {false, false, options.wait_ms});
+    // A rollback journal beside it: a `history add` was stopped mid-transaction (or is running).
+    // SQLite rolls a stopped one back on the next read, but only through a connection that may
+    // write; read-only, it would call the database read-only. So a reader that may write opens
+    // it so, and one that may not says what happened.
+    const std::string journal = path + "-journal";
+    struct stat js {};
+    const bool journal_exists = ::stat(journal.c_str(), &js) == 0 && js.st_size > 0;
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    const std::string dir = parent.empty() ? "." : parent.string();
+    const bool may_recover = journal_exists && ::access(path.c_str(), W_OK) == 0 && ::access(dir.c_str(), W_OK) == 0;
+    if (journal_exists && !may_recover)
+        throw InputError(path + ": " + journal +
+                         " is there: a `suite history add` was stopped mid-transaction, and this user may not write " +
+                         dir +
+                         " to roll it back; run any history command as a user who may (the runs it was adding "
+                         "are not in the database), nothing was changed");
+    SqlDatabase db = SqlDatabase::open(path, {may_recover, false, options.wait_ms});
     check_history_integrity(db);
     const int version = history_file_version(db);
     if (version == 0)

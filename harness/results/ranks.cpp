@@ -34,7 +34,9 @@ RankRun rank_run_from_json(const nlohmann::json& record) {
     const nlohmann::json& v = rank_field(record, "verification", "");
     r.passed = rank_field(v, "passed", "verification.").get<bool>();
     r.detail = rank_field(v, "detail", "verification.").get<std::string>();
-    r.max_error = rank_field(v, "max_error", "verification.").get<double>();
+    // null: not measured (a solver that did not converge); 0 here takes nothing from the others.
+    const nlohmann::json& err = rank_field(v, "max_error", "verification.");
+    r.max_error = err.is_null() ? 0.0 : err.get<double>();
     r.solver_failed = v.value("solver_failed", false);
     const nlohmann::json& pin = rank_field(record, "pin", "");
     r.held = rank_field(pin, "held_during_run", "pin.").get<bool>();

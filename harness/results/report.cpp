@@ -110,7 +110,9 @@ nlohmann::json to_json(const Record& r) {
             {"stream", {{"best", opt(r.rates.stream_gbps_best)}, {"median", opt(r.rates.stream_gbps_median)}}},
             {"hardware_estimate",
              {{"best", opt(r.rates.hardware_gbps_best)}, {"median", opt(r.rates.hardware_gbps_median)}}}};
-    else
+    if (r.metric == Metric::bandwidth && r.work.stream_bytes <= 0)
+        j["bandwidth_gbps"]["reason"] = "the kernel moves no bytes it counts (its work is flops): no bandwidth";
+    else if (r.metric != Metric::bandwidth)
         j["bandwidth_gbps"] = nullptr;
     if (r.metric == Metric::latency)
         j["latency_ns"] = {{"best", opt(r.rates.ns_per_load_best)}, {"median", opt(r.rates.ns_per_load_median)}};
@@ -123,7 +125,12 @@ nlohmann::json to_json(const Record& r) {
     if (r.stability.assessed) j["stability"] = to_json(r.stability);  // absent: not judged (under valgrind)
     j["verification"] = {
         {"passed", r.verification.passed}, {"detail", r.verification.detail}, {"max_error", r.verification.max_error}};
-    if (r.verification.solver_failed) j["verification"]["solver_failed"] = true;
+    if (r.verification.solver_failed) {
+        j["verification"]["solver_failed"] = true;
+        // No converged answer was compared with the expected one: the error is not 0, it is unknown.
+        j["verification"]["max_error"] = nullptr;
+        j["verification"]["max_error_reason"] = "the solver did not converge: no answer was compared";
+    }
     j["seed"] = r.seed;
     if (!r.mesh.empty()) j["mesh"] = r.mesh;
     if (!r.params.empty()) {

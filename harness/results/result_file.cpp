@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/common/input_file.hpp"
 #include "harness/common/stats.hpp"
 #include "harness/results/context_fields.hpp"
 #include "harness/results/result_fields.hpp"
@@ -313,18 +314,10 @@ ResultFile parse_result_text(const std::string& text, const std::string& path) {
 }
 
 std::string read_input_file(const std::string& path, const std::string& example) {
-    struct stat st {};
-    if (stat(path.c_str(), &st) != 0) throw InputError(path + ": cannot read it: " + std::strerror(errno));
-    if (S_ISDIR(st.st_mode)) throw InputError(path + ": is a directory; give " + example);
-    if (st.st_size > (1LL << 30)) throw InputError(path + ": larger than 1 GiB; not a file suite wrote");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": cannot open it: " + std::strerror(errno));
-    std::ostringstream s;
-    s << in.rdbuf();
-    if (in.bad()) throw InputError(path + ": read error");
-    std::string text = s.str();
-    if (text.empty()) throw InputError(path + ": the file is empty; give " + example);
-    return text;
+    const InputText in = read_regular_file(path, 1ULL << 30);
+    if (!in.ok) throw InputError(path + ": " + in.reason + "; give " + example);
+    if (in.text.empty()) throw InputError(path + ": the file is empty; give " + example);
+    return in.text;
 }
 
 ResultFile load_result_file(const std::string& path) {

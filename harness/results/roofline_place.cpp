@@ -32,6 +32,13 @@ struct RoofReader {
             fail(where + "." + name, "expected a number >= 0");
         return v.get<double>();
     }
+    // A rate or count that no measurement gives as 0: a ceiling of 0 would place every point at
+    // "0 % of nothing".
+    double positive(const json& j, const char* name, const std::string& where) const {
+        const double v = number(j, name, where);
+        if (!(v > 0)) fail(where + "." + name, "is 0; expected a measured number > 0 (`suite roofline` writes them)");
+        return v;
+    }
     std::optional<double> optional_number(const json& j, const char* name, const std::string& where) const {
         if (!j.is_object() || !j.contains(name) || j.at(name).is_null()) return std::nullopt;
         return number(j, name, where);
@@ -50,7 +57,8 @@ struct RoofReader {
 
 std::optional<BandwidthFigure> read_roof_figure(const RoofReader& r, const json& j, const std::string& where) {
     if (j.is_null()) return std::nullopt;
-    return BandwidthFigure{r.text(j, "kernel", where), r.number(j, "gbps", where), r.number(j, "hardware_gbps", where)};
+    return BandwidthFigure{r.text(j, "kernel", where), r.positive(j, "gbps", where),
+                           r.positive(j, "hardware_gbps", where)};
 }
 
 // A level that holds at least half of this footprint keeps part of it (see the header).
@@ -79,9 +87,21 @@ RooflineFile parse_roofline_text(const std::string& text, const std::string& pat
     f.context = r.field(doc, "context", "");
     if (!f.context.is_object()) r.fail("context", "expected an object");
     f.fingerprint = machine_fingerprint(f.context);
+    // The fingerprint written must be its context's: a file edited by hand (or another's context
+    // pasted in) would otherwise place runs of one machine on another's ceilings.
+    const json& written = r.field(doc, "fingerprint", "");
+    if (!written.is_string() || written.get<std::string>() != f.fingerprint)
+        r.fail("fingerprint", written.dump() + " is not its context's (" + f.fingerprint +
+                                  "): the file was edited; measure the ceilings again (`suite roofline --out=FILE`)");
     Roofline& roof = f.roofline;
     const json& complete = r.field(doc, "complete", "");
-    roof.complete = complete.is_boolean() && complete.get<bool>();
+    if (!complete.is_boolean()) r.fail("complete", "expected true or false");
+    roof.complete = complete.get<bool>();
+    // An interrupted measurement lacks thread counts or levels: nothing is placed on part of a roof.
+    if (!roof.complete)
+        throw InputError(path +
+                         ": \"complete\": false, the measurement was interrupted; place on a complete one "
+                         "(`suite roofline --out=FILE` run to its end)");
     const json& levels = r.array(doc, "levels", "");
     for (std::size_t i = 0; i < levels.size(); ++i) {
         const std::string at = "levels[" + std::to_string(i) + "]";
@@ -98,12 +118,12 @@ RooflineFile parse_roofline_text(const std::string& text, const std::string& pat
     for (std::size_t i = 0; i < ceilings.size(); ++i) {
         const std::string at = "ceilings[" + std::to_string(i) + "]";
         ThreadCeilings tc;
-        tc.threads = static_cast<int>(r.number(ceilings[i], "threads", at));
+        tc.threads = static_cast<int>(r.positive(ceilings[i], "threads", at));
         const json& peak = r.array(ceilings[i], "peak", at);
         for (std::size_t k = 0; k < peak.size(); ++k) {
             const std::string pat = at + ".peak[" + std::to_string(k) + "]";
             tc.peak.push_back(
-                {r.text(peak[k], "isa", pat), r.text(peak[k], "kernel", pat), r.number(peak[k], "gflops", pat)});
+                {r.text(peak[k], "isa", pat), r.text(peak[k], "kernel", pat), r.positive(peak[k], "gflops", pat)});
         }
         const json& bw = r.array(ceilings[i], "bandwidth", at);
         for (std::size_t k = 0; k < bw.size(); ++k) {

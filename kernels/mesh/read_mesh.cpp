@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "harness/common/input_file.hpp"
 #include "kernels/mesh/mesh_error.hpp"
 #include "kernels/mesh/readers.hpp"
 
@@ -51,17 +52,9 @@ void check_read_mesh(const Mesh& m, const std::vector<std::uint32_t>& element_li
 }
 
 Mesh read_mesh_file(const std::string& path) {
-    struct stat st {};
-    if (stat(path.c_str(), &st) != 0)
-        throw MeshError(path, 0, std::string("cannot open the mesh file: ") + std::strerror(errno));
-    if (!S_ISREG(st.st_mode))
-        throw MeshError(path, 0, "not a regular file; give a mesh file (.msh or the thesis's .txt format)");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw MeshError(path, 0, std::string("cannot open the mesh file: ") + std::strerror(errno));
-    std::ostringstream buf;
-    buf << in.rdbuf();
-    if (in.bad()) throw MeshError(path, 0, std::string("cannot read the mesh file: ") + std::strerror(errno));
-    const std::string text = buf.str();
+    const InputText in = read_regular_file(path, 1ULL << 32);
+    if (!in.ok) throw MeshError(path, 0, in.reason + "; give a mesh file (.msh or the thesis's .txt format)");
+    const std::string& text = in.text;
     const std::size_t first = text.find_first_not_of(" \t\r\n");
     if (first != std::string::npos && text.compare(first, 11, "$MeshFormat") == 0) return read_msh(text, path);
     return read_text_mesh(text, path);

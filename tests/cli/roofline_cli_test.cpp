@@ -12,6 +12,7 @@
 
 #include "harness/results/history.hpp"
 #include "harness/results/roofline_place.hpp"
+#include "tests/cli/roofline_size.hpp"
 #include "tests/process.hpp"
 
 using namespace suite;
@@ -34,8 +35,8 @@ struct Measured {
         roof = dir + "/roof.json";
         run = dir + "/run.json";
         peak = dir + "/peak.json";
-        Outcome r =
-            run_suite({"roofline", "--threads=1", "--min-time=0.02", "--dram-size=48MiB", "--no-png", "--out=" + roof});
+        Outcome r = run_suite(
+            {"roofline", "--threads=1", "--min-time=0.02", roofline_test_dram_size(), "--no-png", "--out=" + roof});
         EXPECT_EQ(r.status, 0) << r.err;
         Outcome s = run_suite(
             {"--kernel=triad,latency", "--sizes=64KiB", "--threads=1", "--reps=3", "--quiet", "--out=" + run});
@@ -72,7 +73,7 @@ TEST(Roofline, WritesEveryWidthAndLevelValidAgainstItsSchema) {
     ASSERT_EQ(c["bandwidth"].size(), doc["levels"].size());
     EXPECT_EQ(doc["levels"].back()["name"], "DRAM");
     const json& dram = c["bandwidth"].back();
-    EXPECT_EQ(dram["footprint_bytes"], 48u << 20);
+    EXPECT_EQ(dram["footprint_bytes"], roofline_test_dram_bytes());
     for (const auto& l : c["bandwidth"]) {
         if (l["gbps"].is_null()) continue;
         double best = 0;
