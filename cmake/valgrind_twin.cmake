@@ -24,7 +24,8 @@ if(SUITE_VALGRIND_TWIN)
                  ${CMAKE_BINARY_DIR}/generated/build_parts.cpp)
   add_dependencies(suite-x86-64-v3 git_revision)
   target_include_directories(suite-x86-64-v3 PRIVATE ${CMAKE_SOURCE_DIR})
-  target_compile_options(suite-x86-64-v3 PRIVATE -march=x86-64-v3 -Wall -Wextra)
+  # The warnings of every other target (suite_usage: -Wall -Wextra, -Werror where asked).
+  target_compile_options(suite-x86-64-v3 PRIVATE -march=x86-64-v3 $<TARGET_PROPERTY:suite_usage,INTERFACE_COMPILE_OPTIONS>)
   # The same libraries and definitions as suite_core and suite_front (keep in step with
   # CMakeLists.txt); one -O level for all of it, as it only counts instructions.
   target_link_libraries(suite-x86-64-v3 PRIVATE OpenMP::OpenMP_CXX CLI11::CLI11 nlohmann_json::nlohmann_json PkgConfig::HWLOC suite::numa suite::pfm
