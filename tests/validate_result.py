@@ -1,23 +1,28 @@
 #!/usr/bin/python3
 """Validate suite result files against a JSON Schema.
 
-Usage: validate_result.py SCHEMA FILE...
+Usage: validate_result.py SCHEMA|SCHEMA_DIR FILE...
+
+With a directory (results/schema), each file is validated against DIR/vN.json for its own
+schema_version N, so that files of every version the suite reads (1 and 2) are checked by the
+schema that describes them; with a file, every file against that one schema.
 
 Prints one line per violation, "FILE: $.json.path: message", and a summary line per file.
 Exit status: 0 all files valid, 1 at least one file invalid or unreadable, 2 usage error
 (wrong arguments, or a schema that cannot be read or is not itself a valid schema).
 
 Needs the jsonschema package (Debian: python3-jsonschema, 4.x); run it with /usr/bin/python3.
-The validator class follows the schema's "$schema" (draft 2020-12 for results/schema/v1.json).
+The validator class follows the schema's "$schema" (draft 2020-12 for results/schema/v2.json).
 """
 
 import json
+import os
 import sys
 
 
 def usage(message):
     print(f"validate_result.py: {message}", file=sys.stderr)
-    print("usage: validate_result.py SCHEMA FILE...", file=sys.stderr)
+    print("usage: validate_result.py SCHEMA|SCHEMA_DIR FILE...", file=sys.stderr)
     return 2
 
 
@@ -32,6 +37,25 @@ def error_path(error):
     return out
 
 
+class SchemaError(Exception):
+    pass
+
+
+def load_validator(jsonschema, validator_for, schema_path):
+    """The validator of one schema file; SchemaError when it cannot be read or is not a schema."""
+    try:
+        with open(schema_path, encoding="utf-8") as f:
+            schema = json.load(f)
+    except (OSError, ValueError) as e:
+        raise SchemaError(f"cannot read schema {schema_path}: {e}")
+    cls = validator_for(schema, default=jsonschema.Draft202012Validator)
+    try:
+        cls.check_schema(schema)
+    except jsonschema.exceptions.SchemaError as e:
+        raise SchemaError(f"{schema_path} is not a valid {cls.__name__} schema: {e.message} at {error_path(e)}")
+    return cls(schema)
+
+
 def main(argv):
     if len(argv) < 3 or argv[1] in ("-h", "--help"):
         return usage("need a schema and at least one file")
@@ -42,18 +66,13 @@ def main(argv):
         return usage(f"the jsonschema module is missing for {sys.executable} (install python3-jsonschema)")
 
     schema_path = argv[1]
+    by_version = os.path.isdir(schema_path)
+    validators = {}
     try:
-        with open(schema_path, encoding="utf-8") as f:
-            schema = json.load(f)
-    except (OSError, ValueError) as e:
-        return usage(f"cannot read schema {schema_path}: {e}")
-
-    cls = validator_for(schema, default=jsonschema.Draft202012Validator)
-    try:
-        cls.check_schema(schema)
-    except jsonschema.exceptions.SchemaError as e:
-        return usage(f"{schema_path} is not a valid {cls.__name__} schema: {e.message} at {error_path(e)}")
-    validator = cls(schema)
+        if not by_version:
+            validators[None] = load_validator(jsonschema, validator_for, schema_path)
+    except SchemaError as e:
+        return usage(str(e))
 
     all_valid = True
     for path in argv[2:]:
@@ -64,7 +83,20 @@ def main(argv):
             print(f"{path}: cannot read JSON: {e}")
             all_valid = False
             continue
-        errors = sorted(validator.iter_errors(doc), key=lambda e: (error_path(e), e.message))
+        key = None
+        if by_version:
+            key = doc.get("schema_version") if isinstance(doc, dict) else None
+            schema_file = os.path.join(schema_path, f"v{key}.json")
+            if not isinstance(key, int) or isinstance(key, bool) or not os.path.isfile(schema_file):
+                print(f"{path}: $.schema_version: {key!r} has no schema in {schema_path}")
+                all_valid = False
+                continue
+            if key not in validators:
+                try:
+                    validators[key] = load_validator(jsonschema, validator_for, schema_file)
+                except SchemaError as e:
+                    return usage(str(e))
+        errors = sorted(validators[key].iter_errors(doc), key=lambda e: (error_path(e), e.message))
         for e in errors:
             print(f"{path}: {error_path(e)}: {e.message}")
         if errors:

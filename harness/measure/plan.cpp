@@ -273,7 +273,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
 
     // Parameters: --NAME=X, a finite number, for a parameter at least one selected kernel
     // declares; each kernel gets its declared ones, at their defaults unless given.
-    std::map<std::string, double> given_params;
+    Params given_params;
     for (const auto& [name, text] : o.params) {
         std::vector<std::string> takers;
         for (const auto& e : kernels())
@@ -344,7 +344,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
             return std::find(threads.begin(), threads.end(), 1) != threads.end() ? std::vector<int>{1}
                                                                                  : std::vector<int>{};
         };
-        std::map<std::string, double> kparams = default_params(info);
+        Params kparams = default_params(info);
         for (const auto& [name, value] : given_params)
             if (kparams.count(name)) kparams[name] = value;
         // A kernel's refusal names a parameter by its value as a number (--cg-max=1e+300); the
@@ -356,7 +356,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
                 std::string what = e.what();
                 for (const auto& [name, text] : o.params) {
                     if (!kparams.count(name)) continue;
-                    const std::string shown = "--" + name + "=" + format_number(kparams.at(name)),
+                    const std::string shown = "--" + name + "=" + param_text(kparams.at(name)),
                                       typed = "--" + name + "=" + text;
                     for (auto at = what.find(shown); at != std::string::npos; at = what.find(shown, at + typed.size()))
                         if (at + shown.size() == what.size() ||

@@ -164,7 +164,7 @@ std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const
                     .bind(7, static_cast<std::int64_t>(k.threads))
                     .bind(8, k.pin)
                     .bind(9, k.placement);
-                record.bind(10, json(k.params).dump()).bind(11, p.hugepages).bind(12, m.name).bind(13, m.unit);
+                record.bind(10, params_json(k.params).dump()).bind(11, p.hugepages).bind(12, m.name).bind(13, m.unit);
                 record.bind(14, std::string(direction_text(m.direction)))
                     .bind(15, m.median)
                     .bind(16, m.noise)
@@ -232,7 +232,7 @@ std::vector<Series> History::series(const SeriesFilter& filter) const {
             k.threads = static_cast<int>(s.integer(9));
             k.pin = cols[10];
             k.placement = cols[11];
-            k.params = json::parse(cols[12]).get<std::map<std::string, double>>();
+            k.params = params_from_json(json::parse(cols[12]), k.kernel);
             k.rank_scope = cols[16];
             x.figure = cols[13];
             x.unit = cols[14];
