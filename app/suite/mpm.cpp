@@ -33,24 +33,6 @@ namespace suite {
 namespace mpm_command {
 namespace {
 
-// The cases of --case, from their table: each name and its help, wrapped under the name.
-std::string cases_text() {
-    std::string out =
-        "The cases (--case), each in the grid's box (box:NX,NY,NZ is the unit cube), at rest and\n"
-        "unstressed at the start, under gravity (9.81 m/s² down z), the box's faces slip walls; the\n"
-        "elastic ones take --young, --poisson, --density, the fluid --sound-speed, --viscosity, --density:\n";
-    for (const auto& c : mpm::cases().all()) {
-        std::string line = "  " + c.name + std::string(c.name.size() < 14 ? 14 - c.name.size() : 1, ' ');
-        std::size_t width = line.size();
-        for (const auto& word : split(c.help, ' ')) {
-            if (width + word.size() + 1 > 100) line += "\n" + std::string(16, ' '), width = 16;
-            line += (width > 16 ? " " : "") + word, width += word.size() + (width > 16 ? 1 : 0);
-        }
-        out += line + "\n";
-    }
-    return out;
-}
-
 const char* const footer =
     R"(Explicit MPM, update stress last, linear tetrahedra (kernels/mpm/mpm.hpp). dt is --courant times
 the stable step (the smallest element altitude over the wave speed; for the fluid over the sound
@@ -308,7 +290,11 @@ int cmd_mpm(const std::vector<std::string>& args) {
     CLI::App app{
         "suite mpm: the Material Point Method's dam collapse, dam break or settling column, with particle snapshots "
         "for ParaView, the front and the particles' order against time"};
-    app.footer("\n" + cases_text() + footer);
+    app.footer(
+        "\nThe cases (--case), each in the grid's box (box:NX,NY,NZ is the unit cube), at rest and\n"
+        "unstressed at the start, under gravity (9.81 m/s² down z), the box's faces slip walls; the\n"
+        "elastic ones take --young, --poisson, --density, the fluid --sound-speed, --viscosity, --density:\n" +
+        mpm::cases().listed() + footer);
     app.get_formatter()->column_width(30);
     Options o;
     app.add_option(

@@ -64,6 +64,24 @@ public:
         for (const auto& c : choices_) out.push_back(c.help.empty() ? c.name : c.name + " (" + c.help + ")");
         return join(out, ", ");
     }
+    // A --help block: a line a choice, "  name  help", the help wrapped at 100 columns under itself.
+    std::string listed() const {
+        std::size_t indent = 0;
+        for (const auto& c : choices_) indent = std::max(indent, c.name.size() + 4);
+        std::string out;
+        for (const auto& c : choices_) {
+            std::string line = "  " + c.name + std::string(indent - 2 - c.name.size(), ' ');
+            std::size_t width = indent;
+            for (const auto& word : split(c.help, ' ')) {
+                const bool first = width == indent;
+                if (!first && width + 1 + word.size() > 100) line += "\n" + std::string(indent, ' '), width = indent;
+                line += (width == indent ? "" : " ") + word;
+                width += word.size() + (width == indent ? 0 : 1);
+            }
+            out += line + "\n";
+        }
+        return out;
+    }
     // The name that replaced a retired one; "" when `name` was never retired.
     std::string renamed(std::string_view name) const {
         for (const auto& [old_name, new_name] : retired_)
