@@ -24,7 +24,7 @@ endfunction()
 set(registry "AllKernels/Registry.*")
 set(choices "AllChoices/RegistryChoice.*")
 suite_tests_label(stats "Stats.*")
-suite_tests_label(common "FormatBytes.*:Nearest.*:Parse*List.*:ParseBytes.*:ParseSeed.*:WholeNumbers.*:OutputDir.*:OutputFile.*:SysfsFile.*")
+suite_tests_label(common "ChoiceTable.*:FormatBytes.*:Nearest.*:Parse*List.*:ParseBytes.*:ParseSeed.*:WholeNumbers.*:OutputDir.*:OutputFile.*:SysfsFile.*")
 suite_tests_label(stream "${registry}/copy_*:${registry}/scale_*:${registry}/add_*:${registry}/triad_*:${registry}/sin_add_*:\
 ${registry}/load_*:${registry}/store_*:${registry}/latency_*:RegistryContents.*:\
 E2E.NonTemporal*:E2E.StoreNt*:E2E.RandomAdd*")
