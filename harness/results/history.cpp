@@ -252,11 +252,26 @@ std::vector<Series> History::series(const SeriesFilter& filter) const {
         e.count_per_call = s.real(25);
         out.back().entries.push_back(std::move(e));
     }
-    std::stable_sort(out.begin(), out.end(), [](const Series& a, const Series& b) {
-        return std::tie(a.machine, a.fingerprint, a.context_class, a.key, a.figure, a.unit) <
-               std::tie(b.machine, b.fingerprint, b.context_class, b.key, b.figure, b.unit);
-    });
-    return out;
+    const auto identity = [](const Series& x) {
+        return std::tie(x.machine, x.fingerprint, x.context_class, x.key, x.figure, x.unit);
+    };
+    std::stable_sort(out.begin(), out.end(),
+                     [&](const Series& a, const Series& b) { return identity(a) < identity(b); });
+    // A build before result schema 2 stored a named parameter as its index, which params_from_json
+    // reads as the name: such rows join the series of the same point stored by name.
+    std::vector<Series> merged;
+    for (auto& x : out) {
+        if (merged.empty() || identity(merged.back()) != identity(x)) {
+            merged.push_back(std::move(x));
+            continue;
+        }
+        auto& e = merged.back().entries;
+        e.insert(e.end(), x.entries.begin(), x.entries.end());
+        std::stable_sort(e.begin(), e.end(), [](const SeriesEntry& a, const SeriesEntry& b) {
+            return std::tie(a.date, a.run_id) < std::tie(b.date, b.run_id);
+        });
+    }
+    return merged;
 }
 
 std::size_t History::run_count() const {

@@ -9,7 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/kernel/kernel.hpp"
+#include "harness/results/history.hpp"
 #include "harness/results/result_file.hpp"
+#include "harness/results/sqlite_db.hpp"
 #include "tests/results/result_fixtures.hpp"
 
 namespace {
@@ -66,6 +68,36 @@ TEST(ResultSchema, Version1IndexOfANamedParameterReadsAsTheName) {
     json bad = doc;
     bad["results"][1]["parameters"]["case"] = "dam-break";
     EXPECT_THROW(parse_result_text(bad.dump(), "bad-v1.json"), InputError);
+}
+
+TEST(ResultSchema, HistoryPutsBothVersionsOfAPointOnOneSeries) {
+    TempDir dir;
+    ASSERT_TRUE(dir.ok());
+    json doc = load(fixture(v1_file));
+    const ResultFile v1 = parse_result_text(doc.dump(), v1_file);
+    doc["schema_version"] = 2;
+    doc["results"][0]["parameters"]["case"] = "dam-collapse";
+    doc["results"][1]["parameters"]["case"] = "dam-break";
+    doc["context"]["date"] = "2030-01-01T00:00:00";
+    const ResultFile v2 = parse_result_text(doc.dump(), "v2.json");
+    {
+        History h = History::open_for_adding(dir.file("h.db"));
+        h.add({v1}, "aaaaaaaaaaaa", "main");
+        h.add({v2}, "bbbbbbbbbbbb", "main");
+    }
+    // The first run's rows as a build before schema 2 stored them: the case as its index.
+    SqlDatabase::open(dir.file("h.db"), {true, false, 1000})
+        .exec(
+            "UPDATE records SET params = replace(replace(params, '\"dam-collapse\"', '0'), '\"dam-break\"', '1') "
+            "WHERE run_id = (SELECT MIN(id) FROM runs)");
+    const History h = History::open_for_reading(dir.file("h.db"));
+    std::size_t checked = 0;
+    for (const auto& s : h.series({"mpm-step", {}, ""})) {
+        ASSERT_TRUE(std::holds_alternative<std::string>(s.key.params.at("case"))) << s.key.label();
+        EXPECT_EQ(s.entries.size(), 2u) << s.key.label() << " " << s.figure << ": one entry a version";
+        ++checked;
+    }
+    EXPECT_GT(checked, 0u);
 }
 
 TEST(ResultSchema, Version1FixtureIsValidAgainstVersion1Schema) {
