@@ -9,7 +9,7 @@ import re
 import sys
 
 
-KNOWN_SCHEMA_VERSIONS = {1}
+KNOWN_SCHEMA_VERSIONS = {1, 2}  # 2: a named parameter is its name; 1: its index (shown as the number)
 
 
 def fail(message):

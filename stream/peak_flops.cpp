@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
 
@@ -116,33 +117,32 @@ __attribute__((noinline)) void peak_loop(double* x, double m_in, double a_in, st
 
 using Loop = void (*)(double*, double, double, std::int64_t);
 
-struct Isa {
-    const char* name;
-    int lanes;
-    Loop loop;
-    const char* instruction;
+// What an --isa choice runs: its lanes, its loop, the instruction's suffix the objdump test looks for.
+struct Width {
+    int lanes = 1;
+    Loop loop = nullptr;
+    const char* instruction = "";
 };
 
-// The widths this build has, narrowest first.
-const std::vector<Isa>& isas() {
-    static const std::vector<Isa> list = {
-        {"scalar", Scalar::lanes, &peak_loop<Scalar>, "sd"},
-        {"sse", Sse::lanes, &peak_loop<Sse>, "pd xmm"},
+// The widths this build has, narrowest first: --isa's choices, one table.
+const ChoiceTable<Width>& isas() {
+    static const ChoiceTable<Width> table{
+        "instruction width",
+        {
+            {"scalar", "1 double per instruction", {Scalar::lanes, &peak_loop<Scalar>, "sd"}},
+            {"sse", "2 doubles (xmm)", {Sse::lanes, &peak_loop<Sse>, "pd xmm"}},
 #ifdef __AVX__
-        {"avx", Avx::lanes, &peak_loop<Avx>, "pd ymm"},
+            {"avx", "4 doubles (ymm)", {Avx::lanes, &peak_loop<Avx>, "pd ymm"}},
 #endif
 #ifdef __AVX512F__
-        {"avx512", Avx512::lanes, &peak_loop<Avx512>, "pd zmm"},
+            {"avx512", "8 doubles (zmm)", {Avx512::lanes, &peak_loop<Avx512>, "pd zmm"}},
 #endif
-    };
-    return list;
+        }};
+    return table;
 }
 
-const Isa& isa_of(const std::string& variant) {
-    for (const auto& i : isas())
-        if (variant == i.name) return i;
-    return isas().back();
-}
+using Isa = Width;
+const Isa& isa_of(const std::string& variant) { return isas().at(variant).what; }
 
 // Each thread's accumulators and its count of calls, on cache lines of their own.
 struct alignas(64) ThreadState {
@@ -237,8 +237,7 @@ const bool registered = [] {
     e.info.unit = "fma-lane";
     e.info.axis = AccessAxis::pattern;
     e.info.accesses = {"registers"};
-    for (const auto& i : isas()) e.info.variants.push_back(i.name);
-    e.info.variants.erase(e.info.variants.begin());  // no plain kernel: every width is named
+    e.info.variants = isas().names();  // no plain kernel: every width is named
     e.info.default_variants = e.info.variants;
     e.info.variant_option = "isa";
     e.info.size_kind = SizeKind::count;

@@ -53,7 +53,7 @@ try:
     check(r.returncode == 0, "cmake --install into a temporary prefix (%d: %s)" % (r.returncode, r.stderr.strip()[-300:]))
     suite = os.path.join(prefix, "bin", "suite")
     for f in ("bin/suite", "share/suite/plots/plot.py", "share/suite/plots/safe_output.py", "share/suite/schema/v1.json",
-              "share/man/man1/suite.1", "share/doc/suite/README.md"):
+              "share/suite/schema/v2.json", "share/man/man1/suite.1", "share/doc/suite/README.md"):
         check(os.path.isfile(os.path.join(prefix, f)), "installed: " + f)
     built = os.path.join(build, "suite")
     has_strace = shutil.which("strace") is not None

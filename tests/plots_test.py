@@ -70,6 +70,23 @@ expect_figures([fx("vm-native.json"), fx("vm-native-latency.json")],
 # Counters and energy (hand-made blocks on real records).
 expect_figures([fx("vm-native-HANDMADE-counters-energy.json")], ["bandwidth_vs_footprint", "patterns", "counters", "energy"])
 
+# Both schema versions: a version-1 file (a named parameter as its index) beside the same records
+# as version 2 writes them (the name), on one figure.
+with tempfile.TemporaryDirectory() as tmp:
+    doc = json.load(open(fx("v1-mpm-case-index.json")))
+    doc["schema_version"] = 2
+    for r, name in zip(doc["results"], ("dam-collapse", "dam-break")):
+        r["parameters"]["case"] = name
+    v2 = os.path.join(tmp, "v2.json")
+    json.dump(doc, open(v2, "w"))
+    out = os.path.join(tmp, "figures")
+    r = run([fx("v1-mpm-case-index.json"), v2, "--svg"], out)
+    check(r.returncode == 0, f"both versions: exit {r.returncode}\n{r.stderr}")
+    svg = open(os.path.join(out, "orderings.svg"), encoding="utf-8").read() if r.returncode == 0 else ""
+    # Version 2's names label their series; version 1's indices stay the numbers they are.
+    for label in ("case=dam-collapse", "case=dam-break", "case=0", "case=1"):
+        check(label in svg, f"the two-version figure lacks the label {label!r}")
+
 # Two builds of one machine: one line per machine, labelled by host, CPU and -march.
 with tempfile.TemporaryDirectory() as out:
     r = run([fx("vm-native.json"), fx("vm-x86-64-v3.json"), "--svg"], out)

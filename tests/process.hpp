@@ -223,18 +223,21 @@ inline std::string join(const std::vector<std::string>& v, const std::string& se
     return s;
 }
 
-// The published result schema and the script that checks files against it.
-inline const std::string schema_path = std::string(SUITE_SOURCE_DIR) + "/results/schema/v1.json";
+// The published result schema of the files the suite writes, the folder of every version's
+// (v1.json for the files it still reads), and the script that checks files against them.
+inline const std::string schema_path = std::string(SUITE_SOURCE_DIR) + "/results/schema/v2.json";
+inline const std::string schema_dir = std::string(SUITE_SOURCE_DIR) + "/results/schema";
 inline const std::string validator_path = std::string(SUITE_SOURCE_DIR) + "/tests/validate_result.py";
 
-// Validates result files against results/schema/v1.json with Debian's python3-jsonschema.
+// Validates result files against results/schema/vN.json, N each file's schema_version, with
+// Debian's python3-jsonschema.
 inline Outcome validate_against_schema(const std::vector<std::string>& files, double timeout_s = 60) {
-    std::vector<std::string> argv{SUITE_PYTHON, validator_path, schema_path};
+    std::vector<std::string> argv{SUITE_PYTHON, validator_path, schema_dir};
     argv.insert(argv.end(), files.begin(), files.end());
     return run_program(argv, timeout_s);
 }
 
-// Validates one result file against results/schema/v1.json.
+// Validates one result file against the schema of its version.
 inline Outcome validate_against_schema(const std::string& file) {
     return validate_against_schema(std::vector<std::string>{file});
 }

@@ -37,7 +37,15 @@ std::string accesses_text(const KernelInfo& info) {
 
 nlohmann::json params_json(const KernelInfo& info) {
     nlohmann::json out = nlohmann::json::array();
-    for (const auto& p : info.params) out.push_back({{"name", p.name}, {"default", p.default_value}, {"help", p.help}});
+    for (const auto& p : info.params) {
+        nlohmann::json one{{"name", p.name}, {"help", p.help}};
+        // A named parameter's default is its first name, and the names are listed.
+        if (p.choices.empty())
+            one["default"] = p.default_value;
+        else
+            one["default"] = p.choices.front(), one["choices"] = p.choices;
+        out.push_back(one);
+    }
     return out;
 }
 

@@ -24,6 +24,7 @@
 #include "harness/common/units.hpp"
 #include "harness/kernel/arena.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mpm/choices.hpp"
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/mpm/simulation.hpp"
 #include "kernels/mpm/vtk.hpp"
@@ -32,17 +33,8 @@ namespace suite {
 namespace mpm_command {
 namespace {
 
-const char* const footer = R"(
-The cases (--case), each in the grid's box (box:NX,NY,NZ is the unit cube), at rest and
-unstressed at the start, under gravity (9.81 m/s² down z), the box's faces slip walls:
-  dam-collapse  an elastic column [0,X]x[0,Y]x[0,Z] (--column, default 0.4,0.4,0.8) in the
-                corner: it sags and rocks (--young, --poisson, --density)
-  dam-break     water [0,0.3]x[0,1]x[0,0.6] against the x = 0 wall: it runs along the floor,
-                hits the far wall and mixes; a weakly compressible Newtonian fluid (--sound-speed,
-                --viscosity, --density)
-  column        an elastic layer [0,1]x[0,1]x[0,Z] filling the box's width (--column=1,1,Z): the
-                one-dimensional settlement rho g Z^2 / (2 M) at its top (docs/mpm.md)
-Explicit MPM, update stress last, linear tetrahedra (kernels/mpm/mpm.hpp). dt is --courant times
+const char* const footer =
+    R"(Explicit MPM, update stress last, linear tetrahedra (kernels/mpm/mpm.hpp). dt is --courant times
 the stable step (the smallest element altitude over the wave speed; for the fluid over the sound
 speed plus the fastest particle's speed, again before every step) unless --dt gives one; a dt
 above the stable step is refused without --force. The front is the largest x of any particle.
@@ -110,22 +102,22 @@ double material_value(const std::string& text, const char* option, const char* w
 
 // The setup the options ask for, every number checked; `given` tells which options were typed.
 mpm::Setup setup_of(const Options& o, const CLI::App& given) {
-    require_known({o.case_name}, {"dam-collapse", "dam-break", "column"}, "case");
-    require_known({o.ordering}, {"natural", "random", "morton", "hilbert"}, "grid ordering");
-    if (o.particles == "unsorted")
-        throw UsageError("--particles=unsorted: now called shuffled; particle orders: " +
-                         std::string(mpm::particle_orders_accepted));
-    require_known({o.particles}, {"seeded", "shuffled", "sorted", "dynamic"}, "particle order");
-    const bool fluid = o.case_name == "dam-break";
+    const mpm::Case& the_case = mpm::cases().at(o.case_name).what;
+    mpm::grid_orderings().at(o.ordering);
+    const mpm::ParticleOrder order = mpm::particle_orders().at(o.particles).what;
+    const bool fluid = the_case.fluid();
     // An option of another case's material or region is refused, not ignored.
     const std::string takes = fluid ? " (a fluid: it takes --sound-speed, --viscosity and --density)"
                                     : " (an elastic solid: it takes --young, --poisson and --density)";
-    for (const char* option : fluid ? std::vector<const char*>{"--young", "--poisson", "--column"}
+    for (const char* option : fluid ? std::vector<const char*>{"--young", "--poisson"}
                                     : std::vector<const char*>{"--sound-speed", "--viscosity"})
         if (given.count(option) > 0)
             throw UsageError(std::string(option) + " does not apply to --case=" + o.case_name + takes);
+    if (the_case.column == mpm::ColumnOption::none && given.count("--column") > 0)
+        throw UsageError("--column does not apply to --case=" + o.case_name +
+                         (fluid ? takes : std::string(" (its region is the case's own)")));
     mpm::Setup s;
-    s.settings = mpm::case_settings(o.case_name);
+    s.settings = the_case.settings;
     s.mesh = o.mesh;
     s.ordering = o.ordering;
     s.particles = o.particles;
@@ -133,14 +125,13 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     s.threads = o.threads;
     s.seed = o.seed;
     s.force = o.force;
-    const std::string strategy = o.strategy.empty() ? (o.threads == 1 ? "serial" : "partition") : o.strategy;
-    require_known({strategy}, {"serial", "atomic", "colour", "partition"}, "strategy");
-    s.strategy = mpm::parse_strategy(strategy);
+    s.strategy = o.strategy.empty() ? (o.threads == 1 ? mpm::Strategy::serial : mpm::Strategy::partition)
+                                    : mpm::strategies().at(o.strategy).what;
     if (o.threads > omp_get_thread_limit())
         throw UsageError("--threads=" + std::to_string(o.threads) + ": OpenMP allows at most " +
                          std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT); ask for fewer or unset it");
     // An option the run would not use is refused rather than recorded as if it had been.
-    if (given.count("--sort-every") > 0 && o.particles != "sorted" && o.particles != "dynamic")
+    if (given.count("--sort-every") > 0 && !order.sorts)
         throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=" + o.particles +
                          " never reorders; give --particles=sorted or dynamic, "
                          "or leave --sort-every out");
@@ -166,7 +157,8 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
             throw UsageError("--viscosity=" + o.viscosity +
                              ": the fluid's dynamic viscosity is a number of Pa s from 0 to 1e30");
     } else {
-        m.material.young = material_value(o.young, "--young", "Young's modulus E must be > 0 (Pa)");
+        if (!o.young.empty())
+            m.material.young = material_value(o.young, "--young", "Young's modulus E must be > 0 (Pa)");
         m.material.poisson = parse_finite(o.poisson, "--poisson");
         if (!(m.material.poisson > -1 && m.material.poisson < 0.5))
             throw UsageError("--poisson=" + o.poisson +
@@ -175,13 +167,11 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     }
     m.material.density = material_value(o.density, "--density", "the density must be > 0 (kg/m³)");
     if (!o.column.empty()) parse_column(o.column, m.region.hi);
-    if (o.case_name == "column" && (m.region.hi[0] != 1 || m.region.hi[1] != 1))
-        throw UsageError(
-            "--column=" + o.column +
-            " with --case=column: the one-dimensional answer needs the layer to fill the box's width, --column=1,1,Z");
+    if (the_case.column == mpm::ColumnOption::full_width && (m.region.hi[0] != 1 || m.region.hi[1] != 1))
+        throw UsageError("--column=" + o.column + " with --case=" + o.case_name +
+                         ": the one-dimensional answer needs the layer to fill the box's width, --column=1,1,Z");
     m.courant = parse_finite(o.courant, "--courant");
-    require_known({o.integration}, {"mixed", "particle"}, "integration");
-    m.integration = o.integration == "mixed" ? mpm::Integration::mixed : mpm::Integration::particle;
+    m.integration = mpm::integrations().at(o.integration).what;
     m.damping = parse_finite(o.damping, "--damping");
     if (m.damping < 0)
         throw UsageError("--damping=" + o.damping + ": the damping is a rate in 1/s, >= 0 (0, the default: none)");
@@ -198,8 +188,7 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
         throw UsageError(
             "--courant applies to --integrator=explicit; an implicit step is --dt (default 10 times the stable step)");
     m.implicit.solver = mpm::parse_linear_solver(o.solver);
-    require_known({o.strain}, {"large", "small"}, "--strain");
-    m.implicit.large_strain = o.strain == "large";
+    m.implicit.large_strain = mpm::strains().at(o.strain).what;
     m.implicit.newton_max = o.newton_max;
     const std::vector<std::string> nm = split(o.newmark, ',');
     if (nm.size() != 2)
@@ -242,7 +231,8 @@ void check_step_resolves_the_fall(const mpm::State& st, const Options& o, double
     if (m.material.model == mpm::Material::Model::fluid)
         throw UsageError("--sound-speed=" + o.sound_speed + " --viscosity=" + o.viscosity + ": " + numbers + wave +
                          ": no step could resolve the fall; give a larger --sound-speed");
-    throw UsageError("--young=" + o.young + " --density=" + o.density + ": " + numbers + wave +
+    throw UsageError("--young=" + (o.young.empty() ? format_number(m.material.young) : o.young) +
+                     " --density=" + o.density + ": " + numbers + wave +
                      ": no step could resolve the collapse; give a stiffer (larger --young) or lighter (smaller "
                      "--density) material");
 }
@@ -309,33 +299,35 @@ int cmd_mpm(const std::vector<std::string>& args) {
     CLI::App app{
         "suite mpm: the Material Point Method's dam collapse, dam break or settling column, with particle snapshots "
         "for ParaView, the front and the particles' order against time"};
-    app.footer(footer);
+    app.footer(
+        "\nThe cases (--case), each in the grid's box (box:NX,NY,NZ is the unit cube), at rest and\n"
+        "unstressed at the start, under gravity (9.81 m/s² down z), the box's faces slip walls; the\n"
+        "elastic ones take --young, --poisson, --density, the fluid --sound-speed, --viscosity, --density:\n" +
+        mpm::cases().listed() + footer);
     app.get_formatter()->column_width(30);
     Options o;
-    app.add_option("--case", o.case_name,
-                   "the simulation: dam-collapse (elastic), dam-break (water), column (elastic, the analytical "
-                   "settlement) (default dam-collapse)");
+    app.add_option(
+        "--case", o.case_name,
+        "the simulation: " + mpm::cases().accepted() + " (default " + mpm::cases().all().front().name + "; below)");
     app.add_option(
         "--mesh", o.mesh,
         "the background grid, tetrahedra: box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default box:16,16,16)");
     app.add_option(
         "--ordering", o.ordering,
-        "the grid's element and node order, applied once: natural, random, morton, hilbert (default natural)");
-    app.add_option(
-        "--particles", o.particles,
-        "the particles' order: seeded (as seeded, element by element, never reordered), shuffled (once), sorted (along "
-        "the curve every "
-        "--sort-every steps), dynamic (sorted, and the grid renumbered active elements first) (default seeded)");
+        "the grid's element and node order, applied once: " + mpm::grid_orderings().accepted() + " (default natural)");
+    app.add_option("--particles", o.particles,
+                   "the particles' order: " + mpm::particle_orders().described() + " (default seeded)");
     add_whole_option(
         app, "--sort-every", o.sort_every, 0, 1000000000,
         "steps between reorderings; 0: at the start only (default 5, the fastest measured; see docs/mpm.md)");
     app.add_option("--strategy", o.strategy,
-                   "how threads share the scatters to nodes: serial, atomic, colour, partition (default serial for 1 "
-                   "thread, partition for more)");
+                   "how threads share the scatters to nodes: " + mpm::strategies().accepted() +
+                       " (default serial for 1 thread, partition for more)");
     add_whole_option(app, "--threads,-t", o.threads, 1, 1024, "OpenMP threads, 1 to 1024 (default 1)");
     add_whole_option(app, "--ppe", o.ppe, 1, 1000,
                      "particles seeded in each element of the column, 1 to 1000 (default 4)");
-    app.add_option("--young", o.young, "Young's modulus E in Pa, > 0 (elastic cases; default 1e5)");
+    app.add_option("--young", o.young,
+                   "Young's modulus E in Pa, > 0 (elastic cases; default the case's: 1e5, free-fall 1e7)");
     app.add_option("--poisson", o.poisson, "Poisson's ratio ν, in (-1, 0.5) (elastic cases; default 0.3)");
     app.add_option(
         "--sound-speed", o.sound_speed,
@@ -348,27 +340,22 @@ int cmd_mpm(const std::vector<std::string>& args) {
                    "column: 1,1,0.5)");
     app.add_option("--courant", o.courant, "dt as a fraction of the stable step, in (0, 1] (default 0.8)");
     app.add_option("--integration", o.integration,
-                   "how P2G integrates the stress: mixed (an element inside the material over its own volume, as "
-                   "Anura3D), particle (over its particles "
-                   "alone, the grid-crossing error; see docs/mpm.md) (default mixed)");
+                   "how P2G integrates the stress: " + mpm::integrations().described() + " (default mixed)");
     app.add_option(
         "--damping", o.damping,
         "c in 1/s: a nodal force -c m v that brings the material to rest, for a quasi-static answer (default 0: none)");
     app.add_option("--dt", o.dt, "the time step in s, at most the stable one; 0: from --courant (default 0)");
     app.add_flag("--force", o.force, "run a dt or Courant number above the stable step anyway");
-    app.add_option("--integrator", o.integrator,
-                   "explicit (USL), implicit (Newmark and Newton, any --dt; default 10x the stable step), static (each "
-                   "step an equilibrium) (elastic cases; default explicit)");
+    app.add_option("--integrator", o.integrator, mpm::integrators().described() + " (elastic cases; default explicit)");
     app.add_option("--solver", o.solver,
-                   "the implicit linear solve: cg (own, Jacobi-preconditioned), cholmod (SuiteSparse) (default cg)");
+                   "the implicit linear solve: " + mpm::linear_solvers().described() + " (default cg)");
     app.add_option("--newmark", o.newmark,
                    "BETA,GAMMA with 1/2 <= GAMMA <= 2 BETA <= 1 (implicit; default 0.25,0.5, average acceleration)");
     add_whole_option(
         app, "--newton-max", o.newton_max, 1, 1000,
         "Newton iterations a step may take, 1 to 1000; beyond it the run stops with status 3 (implicit; default 25)");
-    app.add_option(
-        "--strain", o.strain,
-        "the implicit step's strain: large (Green-Lagrange, geometric stiffness), small (linear) (default large)");
+    app.add_option("--strain", o.strain,
+                   "the implicit step's strain: " + mpm::strains().described() + " (default large)");
     add_seed_option(
         app, o.seed,
         "seed of the random grid ordering and the particles' shuffle, 0 to 18446744073709551615 (default 1)");
@@ -430,7 +417,8 @@ int cmd_mpm(const std::vector<std::string>& args) {
 
     mpm::SimulationSettings run;
     run.steps = o.steps;
-    run.column = o.case_name == "column";
+    run.column = mpm::cases().at(o.case_name).what.reference == mpm::Reference::settlement;
+    run.free_fall = mpm::cases().at(o.case_name).what.reference == mpm::Reference::free_fall;
     run.vtk_every = o.vtk_every;
     run.stop = frame.stop_flag();
     Progress progress(o.quiet, o.steps, st.particles.size());

@@ -18,7 +18,7 @@ struct Options {
     std::string strategy;  // "": serial for 1 thread, partition for more
     int threads = 1;
     int ppe = 4;
-    std::string young = "1e5", poisson = "0.3", density = "1000";
+    std::string young, poisson = "0.3", density = "1000";  // young "": the case's (mpm::cases())
     std::string sound_speed = "35", viscosity = "1e-3";
     std::string column;  // "": the case's
     std::string courant = "0.8", dt = "0", damping = "0";

@@ -138,6 +138,16 @@ nlohmann::json summary_json(const ReportInput& in) {
                                "of the steps and the RMS of szz + rho g (H - z0) over all particles relative to rho g "
                                "H; undamped: the mean "
                                "over the run, stress not compared"}}},
+        {"free_fall", r.fall_steps == 0
+                          ? nlohmann::json(nullptr)
+                          : nlohmann::json{{"steps_in_flight", r.fall_steps},
+                                           {"worst_from_exact", r.fall_worst},
+                                           {"mean_from_analytic", r.fall_analytic},
+                                           {"step_bound", r.fall_bound},
+                                           {"detail",
+                                            "before a wall acted: the largest distance of a particle from "
+                                            "the explicit step's exact fall, and the mean fall's distance "
+                                            "from g t^2 / 2 against g t dt / 2, m"}}},
         {"clamped", st.clamped},
         {"implicit",
          st.settings.integrator == mpm::Integrator::explicit_step

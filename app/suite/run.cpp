@@ -16,6 +16,7 @@
 #include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/store_variants.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
@@ -92,18 +93,23 @@ void add_param_options(CLI::App& app, RunOptions& o) {
     }
 }
 
-std::string params_label(const std::map<std::string, double>& params) {
+std::string params_label(const Params& params) {
     std::string out;
-    for (const auto& [name, value] : params) {
-        // A named choice by its name (the record keeps its index).
-        std::string shown = format_number(value);
-        for (const auto& e : kernels())
-            for (const auto& p : e.info.params)
-                if (p.name == name && !p.choices.empty() && value >= 0 && value < static_cast<double>(p.choices.size()))
-                    shown = p.choices[static_cast<std::size_t>(value)];
-        out += " " + name + "=" + shown;
-    }
+    for (const auto& [name, value] : params) out += " " + name + "=" + param_text(value);
     return out;
+}
+
+// The names `--OPTION` gives variants, gathered from the kernels that take it (KernelInfo::
+// variant_option), in the order they declare them: those kernels' choice tables, never a copy.
+std::string variant_names(const std::string& option) {
+    std::vector<std::string> names;
+    for (const auto& e : kernels()) {
+        if (e.info.variant_option != option) continue;
+        for (const auto& v : e.info.variants)
+            if (!v.empty() && !is_store_variant(v) && std::find(names.begin(), names.end(), v) == names.end())
+                names.push_back(v);
+    }
+    return join(names, ", ");
 }
 
 }  // namespace
@@ -111,20 +117,15 @@ std::string params_label(const std::map<std::string, double>& params) {
 
 std::string param_users(const std::string& name) {
     std::vector<std::string> users, with_defaults, shown;
-    std::vector<double> defaults;
     for (const auto& e : kernels())
         for (const auto& p : e.info.params)
             if (p.name == name) {
                 users.push_back(e.info.name);
-                defaults.push_back(p.default_value);
-                // A named choice's default by its name, not its index.
-                const auto d = static_cast<std::size_t>(p.default_value);
-                shown.push_back(p.choices.empty() || d >= p.choices.size() ? format_number(p.default_value)
-                                                                           : p.choices[d]);
+                shown.push_back(param_text(default_params(e.info).at(name)));
                 with_defaults.push_back(e.info.name + " (default " + shown.back() + ")");
             }
     if (users.empty()) return "";
-    if (std::all_of(defaults.begin(), defaults.end(), [&](double d) { return d == defaults.front(); }))
+    if (std::all_of(shown.begin(), shown.end(), [&](const std::string& d) { return d == shown.front(); }))
         return "default " + shown.front() + " (" + join(users, ", ") + ")";
     return join(with_defaults, ", ");
 }
@@ -145,15 +146,13 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
                    "strategies of the kernels that have them, each measured as its own point (see ./suite list; "
                    "default: the kernel's own)");
     app.add_option("--particles", o.particles,
-                   "particle orders of the MPM kernels, each its own point: unsorted, sorted, dynamic (default: all "
-                   "that the kernel has)");
+                   "particle orders of the MPM kernels, each its own point: " +
+                       run_command::variant_names("particles") + " (default: all that the kernel has)");
     app.add_option("--isa", o.isas,
-                   "instruction widths of peak-flops, each its own point: scalar, sse, avx, avx512 (those the build "
-                   "targets; default: all)");
+                   "instruction widths of peak-flops, each its own point: " + run_command::variant_names("isa") +
+                       " (those this build targets; default: all)");
     run_command::add_param_options(app, o);
-    app.add_option("--stores", o.stores,
-                   "default | nt (non-temporal stores; copy, scale, add, triad, store) | rep (string instructions rep "
-                   "movsb / rep stosq; copy, store); sequential only");
+    app.add_option("--stores", o.stores, store_variants().described() + "; sequential only");
     app.add_option("--size", o.size, "footprint of all the kernel's arrays together, e.g. 64MiB");
     app.add_option("--sizes", o.sizes,
                    "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");

@@ -19,6 +19,7 @@
 
 #include "harness/kernel/arena.hpp"
 #include "harness/kernel/comm.hpp"
+#include "harness/kernel/param_value.hpp"
 
 namespace suite {
 
@@ -33,10 +34,9 @@ struct Access {
     std::string label() const { return name == "strided" ? name + ":" + std::to_string(stride) : name; }
 };
 
-// The variants --stores picks, as opposed to the choices of a kernel's variant option: "nt"
-// (non-temporal stores) and "rep" (the x86 string instructions rep movsb / rep stosq, which a
-// CPU with fast strings (ERMS) runs in whole lines, as glibc's memcpy and memset do).
-inline bool is_store_variant(const std::string& v) { return v == "nt" || v == "rep"; }
+// Whether `v` is one of the variants --stores picks (store_variants.hpp), as opposed to the
+// choices of a kernel's variant option.
+bool is_store_variant(const std::string& v);
 
 struct KernelConfig {
     Access access;
@@ -46,14 +46,16 @@ struct KernelConfig {
     int threads = 1;
     std::string mesh = "";  // kernels on a mesh: the --mesh spec; "" = a generated mesh of about `size` elements
     // The values of the kernel's declared parameters (KernelInfo::params), defaults filled in.
-    std::map<std::string, double> params = {};
+    Params params = {};
     // The ranks of the run (comm.hpp): nullptr in a run of one process. A kernel that
     // distributes its work takes its share from communicator(); no other kernel looks.
     const Comm* comm = nullptr;
     const Comm& communicator() const { return comm ? *comm : single_process(); }
-    // One of them; a name the kernel did not declare (or a config built without them) is a
-    // std::logic_error, not a silent 0.
+    // One of them: a number (param) or a named parameter's name (choice); a name the kernel did
+    // not declare, a config built without them, or the other kind is a std::logic_error, not a
+    // silent 0.
     double param(const std::string& name) const;
+    const std::string& choice(const std::string& name) const;
 };
 
 // What one repetition does, counted once, from which the runner derives every rate.
@@ -101,16 +103,19 @@ public:
     virtual std::vector<Fact> facts() const { return {}; }
 };
 
-// A number that configures a kernel, given on the command line as --NAME=X (e.g. --tol=1e-10).
-// The harness parses it (a finite number) and fills in the default; the kernel's `validate`
-// checks its range.
+// A value that configures a kernel, given on the command line as --NAME=X (e.g. --tol=1e-10).
+// The harness parses it (a finite number, or one of a named parameter's names) and fills in the
+// default; the kernel's `validate` checks its range.
 struct ParamInfo {
     std::string name;  // lower case, digits and '-': "delta", "tol"
     double default_value = 0;
     std::string help;  // one line for --help and ./suite list
-    // A named choice (--case=dam-break): one of these names, recorded as its index (the
-    // record's parameters are numbers); empty: a number.
+    // A named parameter (--case=dam-break) takes one of these names (a choice table's, in its
+    // order), defaults to the first, and is recorded as the name; empty: a number.
     std::vector<std::string> choices = {};
+    // The names in the order schema-1 records stored them as indices 0, 1, ... (frozen with that
+    // schema: result_file.cpp reads an old file's index through it); empty where none were stored.
+    std::vector<std::string> v1_order = {};
 };
 
 // Facts about a kernel, as data.
@@ -178,10 +183,10 @@ const std::vector<KernelEntry>& kernels();
 const KernelEntry* find_kernel(const std::string& name);
 std::vector<std::string> kernel_names();
 // Every declared parameter of `info` at its default value.
-std::map<std::string, double> default_params(const KernelInfo& info);
-// --NAME=TEXT as the value a parameter keeps: a finite number, or a named choice's index
+Params default_params(const KernelInfo& info);
+// --NAME=TEXT as the value a parameter keeps: a finite number, or one of a named parameter's names
 // (ParamInfo::choices). Throws UsageError for anything else, naming what is accepted.
-double parse_param(const std::string& name, const std::string& text);
+ParamValue parse_param(const std::string& name, const std::string& text);
 // Whether `variant` of `info` runs on one thread only (KernelInfo::single_thread_variants).
 bool single_thread_only(const KernelInfo& info, const std::string& variant);
 

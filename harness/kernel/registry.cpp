@@ -45,6 +45,11 @@ void check_info(const KernelInfo& info) {
                                    "' must be lower-case letters, digits and '-', starting with a letter");
         for (std::size_t j = 0; j < i; ++j)
             if (info.params[j].name == n) throw std::logic_error(who + "parameter '" + n + "' declared twice");
+        // An old record's index must still name a choice this build has.
+        for (const auto& old : info.params[i].v1_order)
+            if (std::find(info.params[i].choices.begin(), info.params[i].choices.end(), old) ==
+                info.params[i].choices.end())
+                throw std::logic_error(who + "parameter '" + n + "': schema-1 name '" + old + "' is not a choice");
     }
 }
 }  // namespace
@@ -74,21 +79,25 @@ std::vector<std::string> kernel_names() {
     return names;
 }
 
-std::map<std::string, double> default_params(const KernelInfo& info) {
-    std::map<std::string, double> out;
-    for (const auto& p : info.params) out[p.name] = p.default_value;
+Params default_params(const KernelInfo& info) {
+    Params out;
+    for (const auto& p : info.params)
+        out[p.name] = p.choices.empty() ? ParamValue(p.default_value) : ParamValue(p.choices.front());
     return out;
 }
 
-double parse_param(const std::string& name, const std::string& text) {
+std::string param_text(const ParamValue& v) {
+    if (const auto* name = std::get_if<std::string>(&v)) return *name;
+    return format_number(std::get<double>(v));
+}
+
+ParamValue parse_param(const std::string& name, const std::string& text) {
     const std::vector<std::string>* choices = nullptr;
     for (const auto& e : table())
         for (const auto& p : e.info.params)
             if (p.name == name && !p.choices.empty()) choices = &p.choices;
     if (!choices) return parse_finite(text, "--" + name);
-    // A named choice: its index, as the record keeps numbers.
-    const auto it = std::find(choices->begin(), choices->end(), text);
-    if (it != choices->end()) return static_cast<double>(it - choices->begin());
+    if (std::find(choices->begin(), choices->end(), text) != choices->end()) return text;
     const std::string hint = nearest(text, *choices);
     throw UsageError("unknown --" + name + " '" + text + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
                      "; accepted: " + join(*choices, ", "));
@@ -99,13 +108,29 @@ bool single_thread_only(const KernelInfo& info, const std::string& variant) {
            info.single_thread_variants.end();
 }
 
-double KernelConfig::param(const std::string& name) const {
+namespace {
+const ParamValue& find_param(const Params& params, const std::string& name) {
     auto it = params.find(name);
     if (it == params.end())
         throw std::logic_error("KernelConfig has no parameter '" + name +
                                "' (not declared in KernelInfo::params, or the config was built "
                                "without default_params)");
     return it->second;
+}
+}  // namespace
+
+double KernelConfig::param(const std::string& name) const {
+    const ParamValue& v = find_param(params, name);
+    if (!std::holds_alternative<double>(v))
+        throw std::logic_error("parameter '" + name + "' is a named one: read it with KernelConfig::choice");
+    return std::get<double>(v);
+}
+
+const std::string& KernelConfig::choice(const std::string& name) const {
+    const ParamValue& v = find_param(params, name);
+    if (!std::holds_alternative<std::string>(v))
+        throw std::logic_error("parameter '" + name + "' is a number: read it with KernelConfig::param");
+    return std::get<std::string>(v);
 }
 
 void require_team_size(int got, int asked) {

@@ -25,7 +25,7 @@ struct PointAxes {
     bool default_size = true;                  // neither --size nor --sizes
     std::string store_variant;                 // "" or --stores' "nt" / "rep"
     std::vector<std::string> with_variant;     // the kernels that have store_variant
-    std::map<std::string, double> parameters;  // --NAME=X as numbers
+    Params parameters;  // --NAME=X: a number, or a named choice's name
 };
 
 // plan_settings.cpp
@@ -52,7 +52,7 @@ Variants plan_variants(const KernelInfo& info, const std::string& stores_variant
 std::vector<std::string> first_of(const std::vector<std::pair<std::string, std::string>>& pairs);
 
 // plan_points.cpp
-std::map<std::string, double> plan_parameters(const RunOptions& o, const std::vector<PlannedKernel>& ks);
+Params plan_parameters(const RunOptions& o, const std::vector<PlannedKernel>& ks);
 void check_mesh(const RunOptions& o, const std::vector<PlannedKernel>& ks, bool default_size);
 void plan_kernel_points(const RunOptions& o, const Topology& topo, const PlannedKernel& k, const PointAxes& axes,
                         Plan& plan);

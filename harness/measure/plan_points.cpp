@@ -58,7 +58,7 @@ const DefaultSize* same_place(const std::vector<DefaultSize>& at_t, const Defaul
 
 // The kernel's check of one configuration. Its refusal names a parameter by its value as a number
 // (--cg-max=1e+300); the user reads it as typed (--cg-max=1e300).
-void validate(const RunOptions& o, const KernelEntry& k, const std::map<std::string, double>& kparams,
+void validate(const RunOptions& o, const KernelEntry& k, const Params& kparams,
               const KernelConfig& cfg) {
     try {
         k.validate(cfg);
@@ -66,7 +66,7 @@ void validate(const RunOptions& o, const KernelEntry& k, const std::map<std::str
         std::string what = e.what();
         for (const auto& [name, text] : o.params) {
             if (!kparams.count(name)) continue;
-            const std::string shown = "--" + name + "=" + format_number(kparams.at(name)),
+            const std::string shown = "--" + name + "=" + param_text(kparams.at(name)),
                               typed = "--" + name + "=" + text;
             for (auto at = what.find(shown); at != std::string::npos; at = what.find(shown, at + typed.size()))
                 if (at + shown.size() == what.size() ||
@@ -119,8 +119,8 @@ std::vector<Access> kernel_accesses(const RunOptions& o, const PlannedKernel& k)
 }  // namespace
 
 // --NAME=X, a finite number, for a parameter at least one selected kernel declares.
-std::map<std::string, double> plan_parameters(const RunOptions& o, const std::vector<PlannedKernel>& ks) {
-    std::map<std::string, double> given;
+Params plan_parameters(const RunOptions& o, const std::vector<PlannedKernel>& ks) {
+    Params given;
     for (const auto& [name, text] : o.params) {
         std::vector<std::string> takers;
         for (const auto& e : kernels())
@@ -185,7 +185,7 @@ void plan_kernel_points(const RunOptions& o, const Topology& topo, const Planned
                                                                                             : std::vector<int>{};
     };
     const std::vector<Access> accesses = kernel_accesses(o, k);
-    std::map<std::string, double> kparams = default_params(info);
+    Params kparams = default_params(info);
     for (const auto& [name, value] : axes.parameters)
         if (kparams.count(name)) kparams[name] = value;
     const std::size_t points_before = plan.points.size();

@@ -83,10 +83,10 @@ struct Record {
     EnergyReadings energy;
     Stability stability;  // what else the machine did around the repetitions; unstable: a noisy point
     std::uint64_t seed = 0;
-    std::string mesh;                      // the --mesh spec of a kernel on a mesh; "" otherwise
-    std::map<std::string, double> params;  // the kernel's declared parameters, as it ran (KernelConfig::params)
-    std::vector<Fact> facts;               // what the kernel reported about its last run (Kernel::facts)
-    RankScope mpi;                         // the rank it came from in an MPI run; Kind::none otherwise
+    std::string mesh;         // the --mesh spec of a kernel on a mesh; "" otherwise
+    Params params;            // the kernel's declared parameters, as it ran (KernelConfig::params)
+    std::vector<Fact> facts;  // what the kernel reported about its last run (Kernel::facts)
+    RankScope mpi;            // the rank it came from in an MPI run; Kind::none otherwise
 };
 
 // A size as people read it: "64MiB" for a footprint, "1000000" for a count.

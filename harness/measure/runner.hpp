@@ -26,7 +26,7 @@ struct Point {
     int threads = 1;
     std::string mesh = "";  // kernels on a mesh: the --mesh spec, or "" (see KernelConfig::mesh)
     // The kernel's declared parameters (KernelConfig::params); one missing here runs at its default.
-    std::map<std::string, double> params = {};
+    Params params = {};
     SizeRole role = {};  // the default size's role; empty name for a size given
 };
 

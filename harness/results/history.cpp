@@ -164,7 +164,7 @@ std::vector<AddOutcome> History::add(const std::vector<ResultFile>& files, const
                     .bind(7, static_cast<std::int64_t>(k.threads))
                     .bind(8, k.pin)
                     .bind(9, k.placement);
-                record.bind(10, json(k.params).dump()).bind(11, p.hugepages).bind(12, m.name).bind(13, m.unit);
+                record.bind(10, params_json(k.params).dump()).bind(11, p.hugepages).bind(12, m.name).bind(13, m.unit);
                 record.bind(14, std::string(direction_text(m.direction)))
                     .bind(15, m.median)
                     .bind(16, m.noise)
@@ -232,7 +232,7 @@ std::vector<Series> History::series(const SeriesFilter& filter) const {
             k.threads = static_cast<int>(s.integer(9));
             k.pin = cols[10];
             k.placement = cols[11];
-            k.params = json::parse(cols[12]).get<std::map<std::string, double>>();
+            k.params = params_from_json(json::parse(cols[12]), k.kernel);
             k.rank_scope = cols[16];
             x.figure = cols[13];
             x.unit = cols[14];
@@ -252,11 +252,26 @@ std::vector<Series> History::series(const SeriesFilter& filter) const {
         e.count_per_call = s.real(25);
         out.back().entries.push_back(std::move(e));
     }
-    std::stable_sort(out.begin(), out.end(), [](const Series& a, const Series& b) {
-        return std::tie(a.machine, a.fingerprint, a.context_class, a.key, a.figure, a.unit) <
-               std::tie(b.machine, b.fingerprint, b.context_class, b.key, b.figure, b.unit);
-    });
-    return out;
+    const auto identity = [](const Series& x) {
+        return std::tie(x.machine, x.fingerprint, x.context_class, x.key, x.figure, x.unit);
+    };
+    std::stable_sort(out.begin(), out.end(),
+                     [&](const Series& a, const Series& b) { return identity(a) < identity(b); });
+    // A build before result schema 2 stored a named parameter as its index, which params_from_json
+    // reads as the name: such rows join the series of the same point stored by name.
+    std::vector<Series> merged;
+    for (auto& x : out) {
+        if (merged.empty() || identity(merged.back()) != identity(x)) {
+            merged.push_back(std::move(x));
+            continue;
+        }
+        auto& e = merged.back().entries;
+        e.insert(e.end(), x.entries.begin(), x.entries.end());
+        std::stable_sort(e.begin(), e.end(), [](const SeriesEntry& a, const SeriesEntry& b) {
+            return std::tie(a.date, a.run_id) < std::tie(b.date, b.run_id);
+        });
+    }
+    return merged;
 }
 
 std::size_t History::run_count() const {

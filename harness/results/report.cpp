@@ -6,6 +6,7 @@
 
 #include "harness/common/units.hpp"
 #include "harness/measure/instrument_set.hpp"
+#include "harness/results/result_file.hpp"
 
 namespace suite {
 
@@ -133,11 +134,7 @@ nlohmann::json to_json(const Record& r) {
     }
     j["seed"] = r.seed;
     if (!r.mesh.empty()) j["mesh"] = r.mesh;
-    if (!r.params.empty()) {
-        nlohmann::json params = nlohmann::json::object();
-        for (const auto& [name, value] : r.params) params[name] = value;
-        j["parameters"] = params;
-    }
+    if (!r.params.empty()) j["parameters"] = params_json(r.params);
     if (!r.facts.empty()) {
         nlohmann::json facts = nlohmann::json::object();
         for (const auto& f : r.facts) facts[f.name] = {{"value", finite_or_null(f.value)}, {"unit", f.unit}};
@@ -163,9 +160,9 @@ std::string domain_label(const DomainEnergy& d) { return d.domain + (d.socket ? 
 
 }  // namespace
 
-std::string params_text(const std::map<std::string, double>& params) {
+std::string params_text(const Params& params) {
     std::string out;
-    for (const auto& [name, value] : params) out += (out.empty() ? "" : ";") + name + "=" + format_number(value);
+    for (const auto& [name, value] : params) out += (out.empty() ? "" : ";") + name + "=" + param_text(value);
     return out;
 }
 

@@ -12,7 +12,8 @@
 
 namespace suite {
 
-constexpr int schema_version = 1;
+// The result files this suite writes (results/schema/v2.json); result_file.hpp says which it reads.
+constexpr int schema_version = 2;
 
 nlohmann::json to_json(const Record& r);
 nlohmann::json to_json(const Stability& s);
@@ -23,7 +24,7 @@ std::string csv_header(const Record* first = nullptr);  // first: where counter 
 // `context`: the run's context, whose host, CPU model, date and git revision each row repeats.
 std::string to_csv_row(const Record& r, const nlohmann::json& context = {});
 // A record's parameters as the CSV column holds them: "delta=0.05;tol=1e-08" ("" for none).
-std::string params_text(const std::map<std::string, double>& params);
+std::string params_text(const Params& params);
 
 // The console table: a header, then one row per record as it arrives, with the kernel's facts
 // (Record::facts) on an indented line under it when it reported any.

@@ -11,6 +11,7 @@
 
 #include "harness/common/input_file.hpp"
 #include "harness/common/stats.hpp"
+#include "harness/kernel/kernel.hpp"
 #include "harness/results/context_fields.hpp"
 #include "harness/results/result_fields.hpp"
 
@@ -123,8 +124,18 @@ void read_callgrind(const FieldReader& r, const json& block, const std::string& 
     add("callgrind LL misses", r.number(per_call, "DLmr", at) + r.number(per_call, "DLmw", at));
 }
 
-LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
-                       const std::optional<LoadedMpiJob>& job) {
+// Whether parameter `name` of `kernel` may hold a name: a named parameter of a kernel this build
+// has, or any parameter of a kernel it lacks (another build's); a number parameter never.
+bool may_be_named(const std::string& kernel, const std::string& name) {
+    const KernelEntry* k = find_kernel(kernel);
+    if (!k) return true;
+    for (const auto& p : k->info.params)
+        if (p.name == name) return !p.choices.empty();
+    return true;
+}
+
+LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index, const std::optional<LoadedMpiJob>& job,
+                       int version) {
     const std::string where = "results[" + std::to_string(index) + "]";
     if (!rec.is_object()) r.fail(where, "expected an object");
     LoadedPoint p;
@@ -149,13 +160,19 @@ LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
     k.placement = r.string(r.field(rec, "placement", where), "requested", where + ".placement");
     p.verified = r.boolean(r.field(rec, "verification", where), "passed", where + ".verification");
     // The kernel's parameters (absent in older files, and for kernels without any) tell points
-    // apart as the size does; any finite number, negative ones included.
+    // apart as the size does: any finite number, negative ones included, or a named parameter's name.
     if (auto it = rec.find("parameters"); it != rec.end()) {
-        if (!it->is_object()) r.fail(where + ".parameters", "expected an object of numbers");
+        if (!it->is_object()) r.fail(where + ".parameters", "expected an object of numbers and names");
         for (const auto& [name, value] : it->items()) {
+            if (value.is_string() && version >= 2 && may_be_named(k.kernel, name)) {
+                k.params[name] = value.get<std::string>();
+                continue;
+            }
             if (!value.is_number() || !std::isfinite(value.get<double>()))
-                r.fail(where + ".parameters." + name, "expected a finite number");
-            k.params[name] = value.get<double>();
+                r.fail(where + ".parameters." + name,
+                       version >= 2 ? "expected a finite number or a name" : "expected a finite number");
+            k.params[name] =
+                version >= 2 ? ParamValue(value.get<double>()) : v1_param(k.kernel, name, value.get<double>());
         }
     }
     p.mpi = read_rank_origin(r, rec, where, job);
@@ -246,12 +263,38 @@ LoadedPoint read_point(const FieldReader& r, const json& rec, std::size_t index,
 
 std::string PointKey::size_label() const { return size_kind == "bytes" ? format_bytes(size) : std::to_string(size); }
 
+ParamValue v1_param(const std::string& kernel, const std::string& name, double value) {
+    const KernelEntry* k = find_kernel(kernel);
+    if (!k) return value;
+    for (const auto& p : k->info.params)
+        if (p.name == name && !p.v1_order.empty() && value >= 0 && value == std::floor(value) &&
+            value < static_cast<double>(p.v1_order.size()))
+            return p.v1_order[static_cast<std::size_t>(value)];
+    return value;
+}
+
+json params_json(const Params& params) {
+    json out = json::object();
+    for (const auto& [name, value] : params)
+        out[name] = std::holds_alternative<std::string>(value) ? json(std::get<std::string>(value))
+                                                               : json(std::get<double>(value));
+    return out;
+}
+
+Params params_from_json(const json& j, const std::string& kernel) {
+    Params out;
+    for (const auto& [name, value] : j.items())
+        out[name] =
+            value.is_string() ? ParamValue(value.get<std::string>()) : v1_param(kernel, name, value.get<double>());
+    return out;
+}
+
 std::string PointKey::label() const { return label_with_threads("t=" + std::to_string(threads)); }
 
 std::string PointKey::label_with_threads(const std::string& threads_text) const {
     std::string out = (variant.empty() ? kernel : kernel + "-" + variant) + " " + access + " " + size_label() + " " +
                       threads_text + " " + pin + "/" + placement;
-    for (const auto& [name, value] : params) out += " " + name + "=" + format_number(value);
+    for (const auto& [name, value] : params) out += " " + name + "=" + param_text(value);
     if (!rank_scope.empty()) out += " " + rank_scope;
     return out;
 }
@@ -287,13 +330,14 @@ ResultFile parse_result_text(const std::string& text, const std::string& path) {
             path + ": not a suite result file (no schema_version; suite writes schema_version, context and results)");
     const json& version = doc["schema_version"];
     if (!version.is_number_integer()) r.fail("schema_version", "expected an integer");
-    if (version.get<std::int64_t>() != readable_schema_version)
-        throw InputError(path + ": schema_version " + std::to_string(version.get<std::int64_t>()) +
-                         " is not one this suite reads (it reads " + std::to_string(readable_schema_version) +
-                         "); use the suite version that wrote it");
+    const std::int64_t v = version.get<std::int64_t>();
+    if (v < oldest_readable_schema_version || v > readable_schema_version)
+        throw InputError(path + ": schema_version " + std::to_string(v) + " is not one this suite reads (it reads " +
+                         std::to_string(oldest_readable_schema_version) + " to " +
+                         std::to_string(readable_schema_version) + "); use the suite version that wrote it");
     ResultFile f;
     f.path = path;
-    f.schema_version = readable_schema_version;
+    f.schema_version = static_cast<int>(v);
     f.complete = r.boolean(doc, "complete", "$");
     f.context = r.field(doc, "context", "$");
     if (!f.context.is_object()) r.fail("context", "expected an object");
@@ -302,7 +346,7 @@ ResultFile parse_result_text(const std::string& text, const std::string& path) {
     if (!results.is_array()) r.fail("results", "expected an array");
     std::set<PointKey> seen;
     for (std::size_t i = 0; i < results.size(); ++i) {
-        LoadedPoint p = read_point(r, results[i], i, f.mpi);
+        LoadedPoint p = read_point(r, results[i], i, f.mpi, f.schema_version);
         if (!seen.insert(p.key).second) {
             f.notes.push_back(path + ": results[" + std::to_string(i) + "] repeats " + p.key.label() +
                               "; the first one is used");

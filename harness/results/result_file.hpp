@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/common/units.hpp"
+#include "harness/kernel/param_value.hpp"
 
 namespace suite {
 
@@ -22,8 +23,20 @@ struct InputError : UsageError {
     using UsageError::UsageError;
 };
 
-// The result-file versions these tools read.
-constexpr int readable_schema_version = 1;
+// A record's "parameters" object: numbers as numbers, a named parameter as its name.
+nlohmann::json params_json(const Params& params);
+// Its inverse for `kernel`'s record; a number where a named parameter is expected is a schema-1
+// index, read as its name (v1_param). Throws nlohmann::json::exception for anything else.
+Params params_from_json(const nlohmann::json& j, const std::string& kernel);
+// A schema-1 record's value of parameter `name`: a named parameter's index read as its name through
+// the order that version used (ParamInfo::v1_order, frozen with it); a number, or an index this
+// build cannot name (a kernel it lacks), as the number.
+ParamValue v1_param(const std::string& kernel, const std::string& name, double value);
+
+// The result-file versions these tools read: 1 (a named parameter stored as its index, read as
+// its name through ParamInfo::v1_order) and 2 (stored as its name).
+constexpr int oldest_readable_schema_version = 1;
+constexpr int readable_schema_version = 2;
 
 enum class Direction { higher_is_better, lower_is_better };
 
@@ -54,7 +67,7 @@ struct PointKey {
     std::uint64_t size = 0;               // as requested
     int threads = 0;                      // of the process; of all ranks together in an MPI aggregate
     std::string pin, placement;
-    std::map<std::string, double> params;  // the record's "parameters"; empty when it has none
+    Params params;  // the record's "parameters"; empty when it has none
     // An MPI run (suite-mpi) writes each point once per rank and once for all ranks together:
     // "rank 3 of 4", "aggregate of 4 ranks" (rank_scope_text); "" for a run of one process.
     std::string rank_scope;

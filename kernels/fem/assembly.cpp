@@ -60,25 +60,21 @@ void zero_rows(const Matrices& out) {
 
 }  // namespace
 
-Strategy parse_strategy(const std::string& name) {
-    if (name == "serial") return Strategy::serial;
-    if (name == "colour") return Strategy::colour;
-    if (name == "partition") return Strategy::partition;
-    if (name == "atomic") return Strategy::atomic;
-    throw UsageError("unknown assembly strategy '" + name + "'; accepted: serial, colour, partition, atomic");
+const ChoiceTable<Strategy>& assembly_strategies() {
+    static const ChoiceTable<Strategy> table{
+        "assembly strategy",
+        {{"serial", "one thread, elements in order", Strategy::serial},
+         {"colour", "elements coloured so that no two of one colour share a vertex", Strategy::colour},
+         {"partition", "one run of elements a thread, shared rows added apart", Strategy::partition},
+         {"atomic", "every addition an atomic add", Strategy::atomic}}};
+    return table;
 }
 
+Strategy parse_strategy(const std::string& name) { return assembly_strategies().at(name).what; }
+
 const char* strategy_name(Strategy s) {
-    switch (s) {
-        case Strategy::serial:
-            return "serial";
-        case Strategy::colour:
-            return "colour";
-        case Strategy::partition:
-            return "partition";
-        case Strategy::atomic:
-            return "atomic";
-    }
+    for (const auto& c : assembly_strategies().all())
+        if (c.what == s) return c.name.c_str();
     return "?";
 }
 

@@ -16,13 +16,16 @@
 #include <string>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
 #include "kernels/fem/csr.hpp"
 
 namespace suite::fem {
 
 enum class Strategy { serial, colour, partition, atomic };
 
-// "serial", "colour", "partition", "atomic"; throws UsageError otherwise.
+// --strategy's choices for the assembly, one table (choice_table.hpp): names, help lines, behaviour.
+const ChoiceTable<Strategy>& assembly_strategies();
+// The table's entry; throws UsageError for another name.
 Strategy parse_strategy(const std::string& name);
 const char* strategy_name(Strategy s);
 

@@ -86,17 +86,16 @@ const bool registered = [] {
     e.info.group = "fem";
     e.info.formula = "A[v_i, v_j] += A_e(i, j), M likewise";
     e.info.unit = "triangle";
-    e.info.variants = {"serial", "colour", "partition", "atomic"};
+    e.info.variants = assembly_strategies().names();
     e.info.variant_option = "strategy";
-    e.info.default_variants = {"serial", "colour", "partition", "atomic"};
-    e.info.single_thread_variants = {"serial"};
+    e.info.default_variants = e.info.variants;
+    e.info.single_thread_variants = {strategy_name(Strategy::serial)};
     e.info.params = {delta_param()};
     e.info.read_bytes_per_unit = 12 + 8 + 2 + 14 + 56;  // per triangle: corners, coordinates, rows, columns, values
     e.info.write_bytes_per_unit = 56;
     e.info.flops_per_unit = element_flops + 18;
-    e.info.notes =
-        "P1 Helmholtz assembly of A and M; --strategy=serial,colour,partition,atomic (default all; serial on one "
-        "thread)";
+    e.info.notes = "P1 Helmholtz assembly of A and M; --strategy=" + join(assembly_strategies().names(), ",") +
+                   " (default all; serial on one thread)";
     set_mesh_sizing(e);
     e.make = [](const KernelConfig& cfg) { return std::make_unique<FemAssembly>(cfg); };
     e.validate = [](const KernelConfig& cfg) {

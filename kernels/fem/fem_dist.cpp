@@ -362,17 +362,16 @@ bool dist_register(const char* name, DistSolve s, const char* formula, const cha
     e.info.group = "fem";
     e.info.formula = formula;
     e.info.unit = unit;
-    e.info.variants = {"curve", "metis"};
+    e.info.variants = partition_schemes().names();
     e.info.variant_option = "strategy";
-    e.info.default_variants = {"curve"};
+    e.info.default_variants = {partition_scheme_name(PartitionScheme::curve)};
     e.info.params = {delta_param()};
     for (ParamInfo& p : solver_params(s != DistSolve::spmv, s == DistSolve::eigen))
         e.info.params.push_back(std::move(p));
     e.info.read_bytes_per_unit = s == DistSolve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == DistSolve::spmv ? 2 : 0;
-    e.info.notes = notes +
-                   "; --strategy=curve (the ordering's rows in ranges balanced by nonzeros, default) or metis (METIS "
-                   "k-way); set-up replicated: every "
+    e.info.notes = notes + "; --strategy=" + partition_schemes().described() +
+                   " (default curve); set-up replicated: every "
                    "rank builds the whole mesh and matrices, partitions them and keeps its own rows; facts: ranks, "
                    "rows, halo, neighbours, "
                    "edge-cut, imbalance-rows, imbalance-nnz";

@@ -20,13 +20,13 @@ double param(const KernelConfig& cfg, const std::string& name) {
     const auto it = cfg.params.find(name);
     if (it == cfg.params.end())
         throw std::logic_error("finite element kernel: parameter '" + name + "' was not filled in");
-    return it->second;
+    return cfg.param(name);
 }
 
 void FemPoint::setup(Arena& arena, const KernelConfig& cfg, Build build) {
     spec = mesh_spec_of(cfg);
     threads = cfg.threads;
-    delta = cfg.params.count("delta") ? cfg.params.at("delta") : 0.0;
+    delta = cfg.params.count("delta") ? cfg.param("delta") : 0.0;
     const mesh::Mesh m = load_fem_mesh(spec, cfg.access.name, cfg.seed);
     const std::int64_t nv = static_cast<std::int64_t>(m.vertices()), ne = static_cast<std::int64_t>(m.elements());
     double* x = arena.allocate<double>("x", static_cast<std::size_t>(nv));

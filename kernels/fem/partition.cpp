@@ -14,13 +14,21 @@
 
 namespace suite::fem {
 
-PartitionScheme parse_partition_scheme(const std::string& name) {
-    if (name == "curve") return PartitionScheme::curve;
-    if (name == "metis") return PartitionScheme::metis;
-    throw UsageError("unknown partition '" + name + "'; accepted: curve, metis");
+const ChoiceTable<PartitionScheme>& partition_schemes() {
+    static const ChoiceTable<PartitionScheme> table{
+        "partition",
+        {{"curve", "the ordering's rows in ranges balanced by nonzeros", PartitionScheme::curve},
+         {"metis", "METIS k-way", PartitionScheme::metis}}};
+    return table;
 }
 
-const char* partition_scheme_name(PartitionScheme s) { return s == PartitionScheme::curve ? "curve" : "metis"; }
+PartitionScheme parse_partition_scheme(const std::string& name) { return partition_schemes().at(name).what; }
+
+const char* partition_scheme_name(PartitionScheme s) {
+    for (const auto& c : partition_schemes().all())
+        if (c.what == s) return c.name.c_str();
+    return "?";
+}
 
 namespace {
 

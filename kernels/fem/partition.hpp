@@ -13,13 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
 #include "kernels/fem/csr.hpp"
 
 namespace suite::fem {
 
 enum class PartitionScheme { curve, metis };
 
-// "curve" or "metis"; throws UsageError otherwise.
+// fem-dist's --strategy choices, one table (choice_table.hpp); parse throws UsageError for another name.
+const ChoiceTable<PartitionScheme>& partition_schemes();
 PartitionScheme parse_partition_scheme(const std::string& name);
 const char* partition_scheme_name(PartitionScheme s);
 

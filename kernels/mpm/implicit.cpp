@@ -7,42 +7,25 @@
 
 #include "harness/common/units.hpp"
 #include "kernels/fem/sparse_libs.hpp"
+#include "kernels/mpm/choices.hpp"
 #include "kernels/mpm/scatter.hpp"
 
 namespace suite::mpm {
 
-Integrator parse_integrator(const std::string& name) {
-    if (name == "explicit") return Integrator::explicit_step;
-    if (name == "implicit") return Integrator::implicit;
-    if (name == "static") return Integrator::quasi_static;
-    throw UsageError("--integrator=" + name + ": not an integrator; accepted: " + integrators_accepted);
-}
+Integrator parse_integrator(const std::string& name) { return integrators().at(name).what; }
 
-const char* integrator_name(Integrator i) {
-    switch (i) {
-        case Integrator::explicit_step:
-            return "explicit";
-        case Integrator::implicit:
-            return "implicit";
-        case Integrator::quasi_static:
-            return "static";
-    }
-    return "?";
-}
+const char* integrator_name(Integrator i) { return name_of(integrators(), i).c_str(); }
 
-LinearSolver parse_linear_solver(const std::string& name) {
-    if (name == "cg") return LinearSolver::cg;
-    if (name == "cholmod") return LinearSolver::cholmod;
-    throw UsageError("--solver=" + name + ": not a linear solver; accepted: " + linear_solvers_accepted);
-}
+LinearSolver parse_linear_solver(const std::string& name) { return linear_solvers().at(name).what; }
 
-const char* linear_solver_name(LinearSolver s) { return s == LinearSolver::cg ? "cg" : "cholmod"; }
+const char* linear_solver_name(LinearSolver s) { return name_of(linear_solvers(), s).c_str(); }
 
 void check_implicit(const Settings& s) {
     if (s.integrator == Integrator::explicit_step) return;
     if (s.material.model != Material::Model::elastic)
         throw UsageError(std::string("--integrator=") + integrator_name(s.integrator) +
-                         ": the implicit integrators have the elastic material only (--case=dam-collapse or column); "
+                         ": the implicit integrators have the elastic material only (--case=" + elastic_cases() +
+                         "); "
                          "the fluid runs --integrator=explicit");
     if (s.damping != 0)
         throw UsageError(

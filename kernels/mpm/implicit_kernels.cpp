@@ -28,6 +28,7 @@
 #include "harness/kernel/kernel.hpp"
 #include "kernels/fem/fem_checks.hpp"
 #include "kernels/fem/sparse_libs.hpp"
+#include "kernels/mpm/choices.hpp"
 #include "kernels/mpm/implicit.hpp"
 #include "kernels/mpm/kernel_checks.hpp"
 
@@ -37,7 +38,6 @@ namespace {
 
 enum class Phase { assembly, solve, step };
 
-constexpr const char* cases[] = {"dam-collapse", "dam-break", "column"};  // as the explicit kernels' --case
 // Per particle: elem, V, σ read (the tangent's values are counted by the matrix).
 constexpr double assembly_particle_bytes = 4 + 8 + 48;
 // The large-strain loop of implicit_assembly.cpp, counted (a multiply-add as two): F 72, E 63,
@@ -57,8 +57,8 @@ double cg_flops(double nnz, double rows) { return 2 * nnz + 12 * rows; }
 class ImplicitKernel final : public Kernel {
 public:
     ImplicitKernel(const KernelConfig& cfg, Phase phase, std::string name) : phase_(phase), name_(std::move(name)) {
-        case_ = cases[static_cast<std::size_t>(cfg.param("case"))];
-        setup_.settings = case_settings(case_);
+        case_ = cfg.choice("case");
+        setup_.settings = cases().at(case_).what.settings;
         setup_.settings.integrator = Integrator::implicit;
         warm_steps_ = static_cast<long>(cfg.param("warm-steps"));
         multiple_ = cfg.param("dt-multiple");
@@ -89,8 +89,8 @@ public:
         const double warm = static_cast<double>(st_->steps);
         warm_newton_ = static_cast<double>(st_->implicit.newton) / warm;
         warm_cg_ = static_cast<double>(st_->implicit.solver_iterations) / warm;
-        if (setup_.particles == "sorted" || setup_.particles == "dynamic") {
-            if (setup_.particles == "dynamic") renumber_active(*st_);
+        if (const ParticleOrder order = particle_orders().at(setup_.particles).what; order.sorts) {
+            if (order.renumbers) renumber_active(*st_);
             sort_particles(*st_);
         }
         touch_nodes(*st_, true);
@@ -380,10 +380,9 @@ void add(const std::string& name, Phase phase, const std::string& formula, const
     e.make = [phase, name](const KernelConfig& cfg) { return std::make_unique<ImplicitKernel>(cfg, phase, name); };
     e.validate = [name](const KernelConfig& cfg) {
         validate_mpm(cfg, name, cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh);
-        if (cases[static_cast<std::size_t>(cfg.param("case"))] == std::string("dam-break"))
-            throw UsageError(name +
-                             " --case=dam-break: the implicit integrator has the elastic material only; give "
-                             "--case=dam-collapse or column");
+        if (cases().at(cfg.choice("case")).what.fluid())
+            throw UsageError(name + " --case=" + cfg.choice("case") +
+                             ": the implicit integrator has the elastic material only; give --case=" + elastic_cases());
         const double m = cfg.param("dt-multiple");
         if (!(m > 0) || m > 1e4)
             throw UsageError("--dt-multiple=" + format_number(m) + " for " + name +
@@ -395,15 +394,16 @@ void add(const std::string& name, Phase phase, const std::string& formula, const
 const bool registered = [] {
     add("mpm-implicit-assembly", Phase::assembly,
         "f_i += V_p P ∇N_i; K_ij += V_p (∇N_i·S∇N_j I + λ G_i⊗G_j + μ (∇N_i·∇N_j) F Fᵀ + μ G_j⊗G_i)",
-        "implicit MPM: internal force and consistent tangent on the active grid; "
-        "--strategy=serial,atomic,colour,partition (default all; serial on one thread)");
+        "implicit MPM: internal force and consistent tangent on the active grid; --strategy=" +
+            join(strategies().names(), ",") + " (default all; serial on one thread)");
     add("mpm-implicit-solve", Phase::solve, "K δ = r by Jacobi-preconditioned CG, from δ = 0",
-        "implicit MPM: one Newton system's linear solve; --particles=seeded,shuffled,sorted,dynamic (dynamic renumbers "
-        "the grid and the system)");
+        "implicit MPM: one Newton system's linear solve; --particles=" + join(particle_orders().names(), ",") +
+            " (dynamic renumbers the grid and the system)");
     add("mpm-implicit-step", Phase::step,
         "K whole implicit steps (projection, Newton: assembly and CG, update, locate), then the reordering due",
-        "implicit MPM (Newmark, Newton; --case: dam-collapse, column), --dt-multiple, --sort-every=K steps a "
-        "repetition; --particles=seeded,shuffled,sorted,dynamic");
+        "implicit MPM (Newmark, Newton; --case: " + elastic_cases() +
+            "), --dt-multiple, --sort-every=K steps a repetition; --particles=" + join(particle_orders().names(), ",") +
+            "");
     return true;
 }();
 

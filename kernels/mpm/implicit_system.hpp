@@ -12,15 +12,13 @@ namespace suite::mpm {
 //   implicit   Newmark on the active nodes' displacement increment, Newton on the residual
 //   static     as implicit without the inertia: each step an equilibrium under the load
 enum class Integrator { explicit_step, implicit, quasi_static };
-inline constexpr const char* integrators_accepted = "explicit, implicit, static";
-Integrator parse_integrator(const std::string& name);  // throws UsageError
+Integrator parse_integrator(const std::string& name);  // throws UsageError (choices.hpp, integrators())
 const char* integrator_name(Integrator i);
 
 // The linear solve of a Newton iteration: the suite's own CG with a Jacobi preconditioner (what
 // is measured), or CHOLMOD's sparse Cholesky factorisation (the reference and the fallback).
 enum class LinearSolver { cg, cholmod };
-inline constexpr const char* linear_solvers_accepted = "cg, cholmod";
-LinearSolver parse_linear_solver(const std::string& name);  // throws UsageError
+LinearSolver parse_linear_solver(const std::string& name);  // throws UsageError (choices.hpp)
 const char* linear_solver_name(LinearSolver s);
 
 struct ImplicitSettings {

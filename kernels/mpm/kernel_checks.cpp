@@ -8,6 +8,7 @@
 #include "harness/kernel/arena.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mpm/choices.hpp"
 
 namespace suite::mpm {
 
@@ -31,22 +32,20 @@ KernelEntry mpm_entry(const std::string& name, const std::string& formula, const
     e.info.formula = formula;
     e.info.unit = unit;
     e.info.axis = AccessAxis::ordering;
-    e.info.accesses = {"natural", "random", "morton", "hilbert"};
+    e.info.accesses = grid_orderings().names();
     if (strategies) {
-        e.info.variants = {"serial", "atomic", "colour", "partition"};
+        e.info.variants = mpm::strategies().names();
         e.info.variant_option = "strategy";
-        e.info.single_thread_variants = {"serial"};
+        e.info.single_thread_variants = {strategy_name(Strategy::serial)};
     } else {
-        e.info.variants = {"seeded", "shuffled", "sorted", "dynamic"};
+        e.info.variants = particle_orders().names();
         e.info.variant_option = "particles";
     }
     e.info.default_variants = e.info.variants;
     e.info.params = {
         {"ppe", 4, "MPM particles per element of the material's column, a whole number >= 1 (mpm kernels)"},
-        {"case",
-         0,
-         "MPM case: dam-collapse, dam-break, column, as suite mpm --case (mpm kernels; recorded as its index 0, 1, 2)",
-         {"dam-collapse", "dam-break", "column"}},
+        {"case", 0, "MPM case: " + cases().accepted() + ", as suite mpm --case (mpm kernels)", cases().names(),
+         case_order_v1()},
         {"warm-steps", 5,
          "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
          "(mpm kernels), 0 to 10000000"}};
@@ -74,7 +73,7 @@ void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std:
             throw UsageError("--warm-steps=" + format_number(v) + " for " + kernel +
                              ": a whole number of untimed steps from 0 to 10000000");
     }
-    if (cfg.variant == "serial" && cfg.threads > 1)
+    if (cfg.variant == strategy_name(Strategy::serial) && cfg.threads > 1)
         throw UsageError(kernel + "'s serial strategy runs on one thread, not " + std::to_string(cfg.threads) +
                          "; the parallel ones: atomic, colour, partition");
     const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
@@ -251,6 +250,25 @@ std::uint64_t atomic_conflicts(const State& st) {
 std::uint64_t footprint(const State& st) {
     const std::uint64_t ne = st.grid.elements(), nv = st.grid.nodes(), np = st.particles.size();
     return np * (8 * 18 + 8) + ne * (16 * 8 + 16 + 16 + 4) + nv * (sizeof(NodeState) + 24 + 1);
+}
+
+// Each particle's mass indexed by its id, after checking that the ids are a permutation of
+// 0..n-1; `why` says what is wrong when they are not.
+std::vector<double> masses_by_id(const Particles& p, std::string& why) {
+    const std::size_t n = p.size();
+    std::vector<double> mass(n, 0);
+    std::vector<char> seen(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t id = p.id[i];
+        if (id >= n || seen[id]) {
+            why = "the particle ids are not a permutation of 0.." + std::to_string(n - 1) + " (id " +
+                  std::to_string(id) + " at position " + std::to_string(i) + ")";
+            return {};
+        }
+        seen[id] = 1;
+        mass[id] = p.mass[i];
+    }
+    return mass;
 }
 
 }  // namespace suite::mpm

@@ -56,4 +56,8 @@ std::uint64_t atomic_conflicts(const State& st);
 
 std::uint64_t footprint(const State& st);
 
+// Each particle's mass indexed by its id, after checking that the ids are a permutation of
+// 0..n-1; `why` says what is wrong when they are not (and the result is empty).
+std::vector<double> masses_by_id(const Particles& p, std::string& why);
+
 }  // namespace suite::mpm

@@ -156,15 +156,9 @@ struct Settings {
     ImplicitSettings implicit;
 };
 
-// The cases `suite mpm --case` and the kernels' `--case` run; each sets the material and the region.
-//   dam-collapse  an elastic column 0.4 x 0.4 x 0.8 in the corner (E = 1e5 Pa, ν = 0.3): it sags
-//                 and rocks; the particles stay near where they started
-//   dam-break     a water column 0.3 x 1 x 0.6 against the x = 0 wall, the box's whole width (c =
-//                 35 m/s, η = 1e-3 Pa s): it runs along the floor, hits the far wall and mixes
-//   column        an elastic layer 1 x 1 x 0.5 filling the box's width: the one-dimensional
-//                 settlement ρ g H² / (2 M) at its top, M = E (1 - ν) / ((1 + ν)(1 - 2ν))
-inline constexpr const char* cases_accepted = "dam-collapse, dam-break, column";
-Settings case_settings(const std::string& name);  // throws UsageError for an unknown name
+// The settings of a case that `suite mpm --case` and the kernels' `--case` run (choices.hpp, cases()):
+// material and region. Throws UsageError for an unknown name.
+Settings case_settings(const std::string& name);
 
 // The stable time step of a grid and material at rest: min_length / wave_speed (Courant number 1),
 // for a fluid also at most ρ0 l² / (6 η).
@@ -182,7 +176,7 @@ double next_step(const State& st);
 //              particles; nodes of one thread's run added directly, nodes two runs share
 //              added into per-thread slots and reduced
 enum class Strategy { serial, atomic, colour, partition };
-Strategy parse_strategy(const std::string& name);  // throws UsageError
+Strategy parse_strategy(const std::string& name);  // throws UsageError (choices.hpp, strategies())
 const char* strategy_name(Strategy s);
 
 // Particles grouped by element: the particles of element e are order[start[e] .. start[e + 1]).
@@ -319,10 +313,7 @@ struct Setup {
     std::uint64_t seed = 1;
     bool force = false;  // run a time step above the stable one
 };
-// The accepted names, for messages and --help.
-inline constexpr const char* orderings_accepted = "natural, random, morton, hilbert";
-inline constexpr const char* particle_orders_accepted = "seeded, shuffled, sorted, dynamic";
-// Throws UsageError for a name that is not a particle order, naming the old name's new one.
+// Throws UsageError for a name that is not a particle order (choices.hpp), naming the old name's new one.
 void check_particle_order(const std::string& name);
 // The memory a State takes at its peak while it is built, from the grid's counts alone: the grid
 // (shape functions, neighbours, keys), `particles` particles, and the mesh while it is loaded and

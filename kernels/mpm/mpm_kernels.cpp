@@ -27,6 +27,7 @@
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mpm/choices.hpp"
 #include "kernels/mpm/kernel_checks.hpp"
 #include "kernels/mpm/mpm.hpp"
 
@@ -77,16 +78,14 @@ constexpr double step_flops(Material::Model model) {
                ? 5 + p2g_flops + g2p_flops + velocity_and_strain + 20 + locate
                : p2g_flops + g2p_flops + velocity_and_strain + 162 + locate;  // fluid 446, elastic 583
 }
-constexpr const char* cases[] = {"dam-collapse", "dam-break",
-                                 "column"};                       // --case's choices, in the order of their indices
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();  // untimed steps before the first repetition:
                                                                   // velocities and stresses not zero
 
 class MpmKernel final : public Kernel {
 public:
     MpmKernel(const KernelConfig& cfg, Phase phase) : cfg_(cfg), phase_(phase) {
-        case_ = cases[static_cast<std::size_t>(cfg.param("case"))];
-        setup_.settings = case_settings(case_);
+        case_ = cfg.choice("case");
+        setup_.settings = cases().at(case_).what.settings;
         warm_steps_ = static_cast<long>(cfg.param("warm-steps"));
         setup_.mesh = cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh;
         setup_.ordering = cfg.access.name;
@@ -108,8 +107,8 @@ public:
         // of a flow), under the point's reordering schedule, as a simulation would; the timing
         // then starts right after a reordering, as every later repetition does.
         for (long k = 0; k < warm_steps_; ++k) advance(*st_, setup_);
-        if (setup_.particles == "sorted" || setup_.particles == "dynamic") {
-            if (setup_.particles == "dynamic") renumber_active(*st_);
+        if (const ParticleOrder order = particle_orders().at(setup_.particles).what; order.sorts) {
+            if (order.renumbers) renumber_active(*st_);
             sort_particles(*st_);
         }
         // The particle arrays kept their pages through the reorderings (each thread's block is
@@ -262,13 +261,14 @@ void add(const std::string& name, Phase phase, const std::string& formula, const
 
 const bool registered = [] {
     add("mpm-p2g", Phase::p2g, "m_n += w m_p; p_n += w m_p v_p; f_n += w m_p g - V_p σ_p ∇N_i",
-        "MPM particle-to-grid scatter; --strategy=serial,atomic,colour,partition (default all; serial on one thread)");
+        "MPM particle-to-grid scatter; --strategy=" + join(strategies().names(), ",") +
+            " (default all; serial on one thread)");
     add("mpm-g2p", Phase::g2p, "v_p += dt Σ w f_n / m_n; x_p += dt Σ w p_n / m_n",
-        "MPM grid-to-particle update; --particles=seeded,shuffled,sorted,dynamic (default all)");
+        "MPM grid-to-particle update; --particles=" + join(particle_orders().names(), ",") + " (default all)");
     add("mpm-step", Phase::step,
         "K whole USL steps (locate, P2G, grid, G2P, velocity, stress), then the reordering due",
-        "explicit MPM (--case: dam-collapse, dam-break, column), --sort-every=K steps a repetition; "
-        "--particles=seeded,shuffled,sorted,dynamic (default all)");
+        "explicit MPM (--case: " + cases().accepted() + "), --sort-every=K steps a repetition; --particles=" +
+            join(particle_orders().names(), ",") + " (default all)");
     return true;
 }();
 

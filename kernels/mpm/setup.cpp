@@ -6,6 +6,7 @@
 #include "harness/common/units.hpp"
 #include "harness/kernel/arena.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/mpm/choices.hpp"
 #include "kernels/mpm/mpm.hpp"
 #include "kernels/sfc/encode.hpp"
 #include "kernels/sfc/pipeline.hpp"
@@ -57,10 +58,8 @@ std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts
 }
 
 State build(const Setup& s, Arena* arena) {
-    const auto& names = {"natural", "random", "morton", "hilbert"};
-    if (std::find(names.begin(), names.end(), s.ordering) == names.end())
-        throw UsageError("unknown MPM grid ordering '" + s.ordering + "'; orderings: " + orderings_accepted);
-    check_particle_order(s.particles);
+    grid_orderings().at(s.ordering);
+    const ParticleOrder order = particle_orders().at(s.particles).what;
     if (s.sort_every < 0)
         throw UsageError("--sort-every=" + std::to_string(s.sort_every) +
                          ": a whole number of steps >= 0 (0: sort at the start only)");
@@ -81,17 +80,14 @@ State build(const Setup& s, Arena* arena) {
     mesh::Mesh m = mesh::load_mesh(spec);
     m = sfc::ordered(m, s.ordering, s.seed, sfc::max_depth(3));
     State st = make_state(make_grid(std::move(m)), s.settings, s.strategy, s.threads, s.force, arena);
-    if (s.particles == "shuffled")
-        shuffle_particles(st, s.seed);
-    else if (s.particles != "seeded") {
-        if (s.particles == "dynamic") renumber_active(st);
-        sort_particles(st);
-    }
+    if (order.shuffle) shuffle_particles(st, s.seed);
+    if (order.renumbers) renumber_active(st);
+    if (order.sorts) sort_particles(st);
     return st;
 }
 
 bool reorders_after(const Setup& s, std::uint64_t step) {
-    return (s.particles == "sorted" || s.particles == "dynamic") && s.sort_every > 0 &&
+    return particle_orders().at(s.particles).what.sorts && s.sort_every > 0 &&
            step % static_cast<std::uint64_t>(s.sort_every) == 0;
 }
 
@@ -99,7 +95,7 @@ void advance(State& st, const Setup& s) {
     step(st);
     if (!st.implicit.failure.empty()) return;  // a failed implicit step changed nothing: no reordering either
     if (!reorders_after(s, st.steps)) return;
-    if (s.particles == "dynamic") renumber_active(st);
+    if (particle_orders().at(s.particles).what.renumbers) renumber_active(st);
     sort_particles(st);
 }
 

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "harness/common/units.hpp"
+#include "kernels/mpm/free_fall.hpp"
 #include "kernels/mpm/kernel_checks.hpp"
 
 namespace suite::mpm {
@@ -26,6 +27,7 @@ std::string g(double v) {
     std::snprintf(b, sizeof b, "%.6g", v);
     return b;
 }
+// For the functions where g is gravity.
 std::string g6(double v) { return g(v); }
 
 // The first particle whose position or velocity is not finite, or that lies outside the grid's
@@ -73,25 +75,6 @@ double releasable_energy(const State& st) {
     return e;
 }
 constexpr double energy_margin = 1.5;
-
-// Each particle's mass indexed by its id, after checking that the ids are a permutation of
-// 0..n-1; `why` says what is wrong when they are not.
-std::vector<double> masses_by_id(const Particles& p, std::string& why) {
-    const std::size_t n = p.size();
-    std::vector<double> mass(n, 0);
-    std::vector<char> seen(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t id = p.id[i];
-        if (id >= n || seen[id]) {
-            why = "the particle ids are not a permutation of 0.." + std::to_string(n - 1) + " (id " +
-                  std::to_string(id) + " at position " + std::to_string(i) + ")";
-            return {};
-        }
-        seen[id] = 1;
-        mass[id] = p.mass[i];
-    }
-    return mass;
-}
 
 constexpr double column_tolerance = 0.05;
 
@@ -247,6 +230,7 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
     // A state that starts moving (a test's, or a restart) may have that much more to spend.
     const double kinetic0 = r.rows.front().kinetic;
     if (run.vtk_every > 0) snapshot();
+    FreeFall fall(st, run.free_fall && st.settings.integrator == Integrator::explicit_step && st.settings.damping == 0);
     for (std::uint64_t k = 1; k <= run.steps; ++k) {
         if (const int sig = run.stop ? run.stop->load() : 0) {
             r.signal = sig;
@@ -268,6 +252,7 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
             break;
         }
         r.steps_done = k;
+        fall.observe(st);
         row();  // the step that fails a check too: its front and energy may show how
         if (const std::string bad = first_bad_particle(st); !bad.empty()) {
             finite = {finite.name, false, "after step " + std::to_string(k) + " (t = " + g(st.time) + " s): " + bad};
@@ -360,6 +345,7 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
         }
 
     if (run.column && r.steps_done > 0) column_check(st, top_z, z0, top, r);
+    if (run.free_fall) r.checks.push_back(free_fall_check(fall, st, r));
 
     // Masses never change: each particle's must be its starting one exactly, whatever the
     // reorderings did to the particles' order (so the sums are taken in id order).

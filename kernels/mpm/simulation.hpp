@@ -23,6 +23,7 @@ struct SimulationSettings {
     // The column case: measure the settlement of the top particle layer and the stress against
     // the one-dimensional answer (a check at the end; docs/mpm.md, "The column").
     bool column = false;
+    bool free_fall = false;  // the free-fall case: the fall before a wall acts against the exact one (free_fall.hpp)
     std::uint64_t steps = 1000;
     std::uint64_t vtk_every = 50;            // 0: no snapshots
     const std::atomic<int>* stop = nullptr;  // non-zero (a signal's number): stop before the next step
@@ -73,6 +74,10 @@ struct Outcome {
     // exact at its particles' mean starting height (the profile, without the variation inside an
     // element that linear elements cannot represent).
     double stress_profile = NAN;
+    // The free fall (SimulationSettings::free_fall): the worst distance from the exact fall, the mean fall's distance
+    // from g t^2 / 2 and the step's g t dt / 2 at the last step before a wall acted, m; the steps before it.
+    double fall_worst = NAN, fall_analytic = NAN, fall_bound = NAN;
+    std::uint64_t fall_steps = 0;
     std::vector<Check> checks;  // "finite and inside the box", "energy bound", ("Newton": implicit and static), ("total
                                 // energy": a fluid and implicit; "Ritter front": a fluid), "mass", "nodal mass"
     std::string failure;        // the first failed check, as one line; "" when all passed

@@ -14,6 +14,7 @@
 #include "harness/common/units.hpp"
 #include "harness/kernel/arena.hpp"
 #include "harness/kernel/blocks.hpp"
+#include "kernels/mpm/choices.hpp"
 #include "kernels/mpm/implicit.hpp"
 #include "kernels/mpm/mpm.hpp"
 
@@ -110,27 +111,9 @@ void place_grid_arrays(State& st, Arena& arena) {
     st.element_volume = Array<double>::placed(ev, ne);
 }
 
-Strategy parse_strategy(const std::string& name) {
-    if (name == "serial") return Strategy::serial;
-    if (name == "atomic") return Strategy::atomic;
-    if (name == "colour") return Strategy::colour;
-    if (name == "partition") return Strategy::partition;
-    throw UsageError("unknown MPM strategy '" + name + "'; strategies: serial, atomic, colour, partition");
-}
+Strategy parse_strategy(const std::string& name) { return strategies().at(name).what; }
 
-const char* strategy_name(Strategy s) {
-    switch (s) {
-        case Strategy::serial:
-            return "serial";
-        case Strategy::atomic:
-            return "atomic";
-        case Strategy::colour:
-            return "colour";
-        case Strategy::partition:
-            return "partition";
-    }
-    return "?";
-}
+const char* strategy_name(Strategy s) { return name_of(strategies(), s).c_str(); }
 
 ScatterPlan plan_scatter(const Grid& g, Strategy s, int threads) {
     ScatterPlan plan;
@@ -317,27 +300,9 @@ State make_state(Grid grid, const Settings& s, Strategy strategy, int threads, b
     return st;
 }
 
-Settings case_settings(const std::string& name) {
-    Settings s;
-    s.integration = Integration::mixed;
-    if (name == "dam-collapse") return s;
-    if (name == "dam-break") {
-        s.material.model = Material::Model::fluid;
-        s.region = {{0, 0, 0}, {0.3, 1, 0.6}};
-        return s;
-    }
-    if (name == "column") {
-        s.region = {{0, 0, 0}, {1, 1, 0.5}};
-        return s;
-    }
-    throw UsageError("unknown MPM case '" + name + "'; cases: " + cases_accepted);
-}
+Settings case_settings(const std::string& name) { return cases().at(name).what.settings; }
 
-void check_particle_order(const std::string& name) {
-    if (name == "seeded" || name == "shuffled" || name == "sorted" || name == "dynamic") return;
-    throw UsageError("unknown particle order '" + name + "'" + (name == "unsorted" ? " (now called 'shuffled')" : "") +
-                     "; particle orders: " + particle_orders_accepted);
-}
+void check_particle_order(const std::string& name) { particle_orders().at(name); }
 
 Energy energy(const State& st) {
     const Particles& p = st.particles;

@@ -148,10 +148,10 @@ def check_topology(c, data, machine):
 
 
 def schema_validator():
-    """The validator of the result schema of this tree (results/schema/v1.json)."""
+    """The validator of the result schema of this tree (results/schema/v2.json)."""
     import jsonschema
     from jsonschema.validators import validator_for
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "results", "schema", "v1.json")
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "results", "schema", "v2.json")
     with open(path, encoding="utf-8") as f:
         schema = json.load(f)
     return validator_for(schema, default=jsonschema.Draft202012Validator)(schema)
@@ -276,7 +276,7 @@ def main(argv):
         if doc is None or not c.claim(name, "result file holds one record", len(doc.get("results", [])) == 1, f"{len(doc.get('results', []))} records"):
             continue
         errors = [f"{'/'.join(map(str, e.absolute_path))}: {e.message}" for e in validator.iter_errors(doc)]
-        c.claim(name, "result file valid against results/schema/v1.json", not errors, "; ".join(errors[:3]))
+        c.claim(name, "result file valid against results/schema/v2.json", not errors, "; ".join(errors[:3]))
         check_record(c, name, want, doc["results"][0], doc, slack)
         check_snapshot(c, name, want, doc["results"][0], data, machine, slack)
     c.claim("guest", "guest verdict: every run finished", data.get("guest/verdict", "").strip() == "0", data.get("guest/verdict", "missing").strip())

@@ -186,7 +186,7 @@ TEST(ValuesUsedSilently, OptionsTheRunWouldNotUseAndUnusableMaterialsAreRefusedA
     expect_refused(run_suite({"mpm", "--steps=200", "--warm-steps=200", "--dry-run"}),
                    {"--warm-steps=200", "--steps=200 leaves none"});
     expect_refused(run_suite({"mpm", "--particles=unsorted", "--dry-run"}),
-                   {"--particles=unsorted: now called shuffled"});
+                   {"unknown particle order 'unsorted' (now called 'shuffled')"});
     expect_refused(run_suite({"--kernel=mpm-step", "--particles=unsorted", "--dry-run"}),
                    {"no particle order 'unsorted' (did you mean 'shuffled'?)"});
     expect_refused(run_suite({"--kernel=mpm-g2p", "--case=dambreak", "--dry-run"}),

@@ -83,3 +83,56 @@ TEST_P(Registry, VerificationFailsWhenTheKernelNeverRan) {
 
 INSTANTIATE_TEST_SUITE_P(AllKernels, Registry, testing::ValuesIn(all_cases()),
                          [](const testing::TestParamInfo<Case>& info) { return info.param.label; });
+
+namespace {
+
+// Every name of every named parameter (ParamInfo::choices) but the default, which the walk above
+// runs: at the kernel's first access and variant, it must verify, or be refused by the kernel's
+// validate as a usage error (the implicit MPM kernels take the elastic cases only).
+struct ChoiceCase {
+    const KernelEntry* kernel;
+    std::string param, choice, label;
+};
+
+std::vector<ChoiceCase> all_choices() {
+    std::vector<ChoiceCase> out;
+    for (const auto& k : kernels())
+        for (const auto& p : k.info.params)
+            for (std::size_t i = 1; i < p.choices.size(); ++i) {
+                std::string label = k.info.name + "_" + p.name + "_" + p.choices[i];
+                for (auto& c : label)
+                    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                out.push_back({&k, p.name, p.choices[i], label});
+            }
+    return out;
+}
+
+void PrintTo(const ChoiceCase& c, std::ostream* os) { *os << c.label; }
+
+class RegistryChoice : public testing::TestWithParam<ChoiceCase> {};
+
+}  // namespace
+
+TEST_P(RegistryChoice, VerifiesAtTinySizeOrIsRefused) {
+    const ChoiceCase& c = GetParam();
+    const Topology topo = Topology::load();
+    const std::string& a = c.kernel->info.accesses.front();
+    Point p{c.kernel, {a, a == "strided" ? 4u : 0u}, c.kernel->info.variants.front(), c.kernel->test_size, 1};
+    p.params[c.param] = c.choice;
+    KernelConfig cfg{p.access, p.variant, p.size, 1, 1, "", default_params(c.kernel->info)};
+    cfg.params[c.param] = c.choice;
+    try {
+        c.kernel->validate(cfg);
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find(c.choice), std::string::npos)
+            << "a refusal names the choice: " << e.what();
+        return;
+    }
+    Record r = run_point(p, tiny_settings(topo), topo);
+    EXPECT_TRUE(r.verification.passed) << r.verification.detail;
+    EXPECT_EQ(r.params.at(c.param), ParamValue(c.choice));
+    EXPECT_NE(r.verification.detail.find(c.choice), std::string::npos) << "the detail names the choice";
+}
+
+INSTANTIATE_TEST_SUITE_P(AllChoices, RegistryChoice, testing::ValuesIn(all_choices()),
+                         [](const testing::TestParamInfo<ChoiceCase>& info) { return info.param.label; });

@@ -124,7 +124,7 @@ TEST(MpmParticleOrders, SeededIsTheElementLoopsOrderAndShuffledIsNone) {
         ADD_FAILURE() << "the old name was accepted";
     } catch (const UsageError& e) {
         EXPECT_NE(std::string(e.what()).find(
-                      "'unsorted' (now called 'shuffled'); particle orders: seeded, shuffled, sorted, dynamic"),
+                      "'unsorted' (now called 'shuffled'); accepted: seeded, shuffled, sorted, dynamic"),
                   std::string::npos)
             << e.what();
     }

@@ -135,12 +135,10 @@ TEST(PlanParams, DefaultsAreFilledAndGivenValuesOverrideThem) {
     RunOptions o = solver_options();
     Plan plan = make_plan(o, two_socket());
     ASSERT_FALSE(plan.points.empty());
-    for (const auto& p : plan.points)
-        EXPECT_EQ(p.params, (std::map<std::string, double>{{"delta", 0.5}, {"tol", 1e-8}, {"wrong", 0}}));
+    for (const auto& p : plan.points) EXPECT_EQ(p.params, (Params{{"delta", 0.5}, {"tol", 1e-8}, {"wrong", 0.0}}));
     o.params = {{"delta", "-0.25"}, {"tol", "1E-10"}};
     plan = make_plan(o, two_socket());
-    for (const auto& p : plan.points)
-        EXPECT_EQ(p.params, (std::map<std::string, double>{{"delta", -0.25}, {"tol", 1e-10}, {"wrong", 0}}));
+    for (const auto& p : plan.points) EXPECT_EQ(p.params, (Params{{"delta", -0.25}, {"tol", 1e-10}, {"wrong", 0.0}}));
     // A kernel beside it that declares none: the option applies (one selected kernel takes it),
     // and that kernel's points have no parameters.
     o.kernels = std::string("sfc-build,") + suite::test::solver_kernel;
@@ -153,7 +151,7 @@ TEST(PlanParams, DefaultsAreFilledAndGivenValuesOverrideThem) {
         if (p.kernel->info.name == "sfc-build")
             EXPECT_TRUE(p.params.empty());
         else
-            EXPECT_EQ(p.params.at("delta"), 0.1);
+            EXPECT_EQ(p.params.at("delta"), ParamValue(0.1));
     }
 }
 

@@ -32,7 +32,7 @@ const Topology& topology() {
     return topo;
 }
 
-Record solve(const std::map<std::string, double>& params, const std::string& variant = "jacobi") {
+Record solve(const Params& params, const std::string& variant = "jacobi") {
     RunSettings s;
     s.pin = parse_pin("compact", topology());
     s.placement = parse_placement("local", topology());
@@ -60,7 +60,7 @@ TEST(ParamsFacts, TheRunnerFillsDefaultsAndReadsFactsAfterVerify) {
     const Record r = solve({{"delta", 0.25}});
     EXPECT_TRUE(r.verification.passed) << r.verification.detail;
     EXPECT_FALSE(r.verification.solver_failed);
-    EXPECT_EQ(r.params, (std::map<std::string, double>{{"delta", 0.25}, {"tol", 1e-8}, {"wrong", 0}}));
+    EXPECT_EQ(r.params, (Params{{"delta", 0.25}, {"tol", 1e-8}, {"wrong", 0.0}}));
     ASSERT_EQ(r.facts.size(), 3u);
     EXPECT_EQ(r.facts[0].name, "x0");
     EXPECT_NEAR(r.facts[0].value, 1 / 1.25, 1e-7);
@@ -111,7 +111,7 @@ TEST(ParamsFacts, JsonValidatesAgainstTheSchemaAndReadsBack) {
     ASSERT_EQ(f.points.size(), 3u);
     EXPECT_TRUE(f.notes.empty()) << f.notes.front();
     EXPECT_EQ(f.points[0].key.params, a.params);
-    EXPECT_EQ(f.points[1].key.params.at("delta"), 0.5);
+    EXPECT_EQ(f.points[1].key.params.at("delta"), ParamValue(0.5));
     EXPECT_FALSE(f.points[2].verified);
     EXPECT_NE(f.points[0].key.label().find("delta=0.25 tol=1e-08 wrong=0"), std::string::npos)
         << f.points[0].key.label();

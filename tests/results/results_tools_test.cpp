@@ -99,9 +99,9 @@ TEST(Compare, BadInputIsOneLineAndExitTwo) {
     expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), fixture("vm-native.json"), "--format=html"}),
                           "markdown");
     json future = load(fixture("vm-native.json"));
-    future["schema_version"] = 2;
-    save(future, dir.file("v2.json"));
-    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), dir.file("v2.json")}), "schema_version 2");
+    future["schema_version"] = 3;
+    save(future, dir.file("v3.json"));
+    expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), dir.file("v3.json")}), "schema_version 3");
     save(json{{"context", json::object()}, {"benchmarks", json::array()}}, dir.file("gb.json"));
     expect_one_line_error(run_suite({"compare", fixture("vm-native.json"), dir.file("gb.json")}), "Google Benchmark");
 }

@@ -1,4 +1,4 @@
-// The result file against its published schema (results/schema/v1.json): the real binary
+// The result file against its published schema (results/schema/v2.json): the real binary
 // writes files for every registered kernel and for the non-temporal variants, and each must
 // pass tests/validate_result.py (Debian's python3 with jsonschema). A few facts the schema
 // cannot express are checked here directly, and broken copies of a valid file must fail, so
@@ -51,7 +51,7 @@ std::string small_thread_list() {
 // The checks the schema cannot express. `where` names the file in failure messages.
 void check_content(const json& doc, const std::string& where, int reps) {
     SCOPED_TRACE(where);
-    EXPECT_EQ(doc.at("schema_version"), 1);
+    EXPECT_EQ(doc.at("schema_version"), 2);
     EXPECT_EQ(doc.at("complete"), true);
     ASSERT_TRUE(doc.at("results").is_array());
     EXPECT_FALSE(doc.at("results").empty());
@@ -94,7 +94,9 @@ TEST(ResultSchema, SchemaAndValidatorArePresent) {
     // The schema file is JSON and says what it is.
     const json schema = load(schema_path);
     EXPECT_EQ(schema.at("$schema"), "https://json-schema.org/draft/2020-12/schema");
-    EXPECT_EQ(schema.at("properties").at("schema_version").at("const"), 1);
+    EXPECT_EQ(schema.at("properties").at("schema_version").at("const"), 2);
+    // The version before it stays, for the files the suite still reads.
+    EXPECT_EQ(load(schema_dir + "/v1.json").at("properties").at("schema_version").at("const"), 1);
     // Usage errors are 2, not 0 or 1.
     Outcome usage = run_program({SUITE_PYTHON, validator_path}, kTimeoutS);
     EXPECT_EQ(usage.status, 2) << describe(usage);
@@ -222,7 +224,12 @@ TEST(ResultSchema, BrokenFilesFailValidation) {
         {"ordering_on_pattern", [](json& d) { d["results"][0]["ordering"] = "morton"; }, "$.results[0].ordering"},
         {"node_string", [](json& d) { d["results"][0]["placement"]["node"] = "0"; }, "$.results[0].placement.node"},
         {"extra_key", [](json& d) { d["results"][0]["speedup"] = 2; }, "$.results[0]"},
-        {"version_2", [](json& d) { d["schema_version"] = 2; }, "$.schema_version"},
+        {"version_3", [](json& d) { d["schema_version"] = 3; }, "$.schema_version"},
+        {"choice_index",
+         [](json& d) {
+             d["results"][0]["parameters"] = {{"case", "Dam Break"}};
+         },
+         "$.results[0].parameters.case"},
         {"energy_no_reason",
          [](json& d) {
              d["context"]["instruments"]["energy"] = {{"available", false}};
