@@ -14,6 +14,7 @@
 #include <regex>
 
 #include "harness/common/sysfs_file.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/instruments/counters.hpp"
 #include "rapl/energy.hpp"

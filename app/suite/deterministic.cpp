@@ -25,6 +25,7 @@
 #include "app/suite/parse.hpp"
 #include "app/suite/run.hpp"
 #include "harness/common/output_file.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/instruments/callgrind_marks.hpp"
 #include "harness/measure/plan.hpp"

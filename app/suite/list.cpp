@@ -12,6 +12,7 @@
 #include "app/suite/commands.hpp"
 #include "app/suite/parse.hpp"
 #include "app/suite/run.hpp"
+#include "harness/common/text.hpp"
 #include "harness/instruments/counters.hpp"
 #include "harness/kernel/kernel.hpp"
 

@@ -13,6 +13,7 @@
 
 #include "app/suite/commands.hpp"
 #include "app/suite/data_dir.hpp"
+#include "harness/common/did_you_mean.hpp"
 #include "harness/common/units.hpp"
 
 namespace {

@@ -24,6 +24,7 @@
 #include "app/suite/parse.hpp"
 #include "app/suite/plotter.hpp"
 #include "harness/common/output_file.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/arena.hpp"
 #include "kernels/fem/fem_mesh.hpp"

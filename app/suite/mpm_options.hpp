@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "kernels/mpm/mpm.hpp"
@@ -31,6 +32,9 @@ struct Options {
     std::string out;
     bool no_png = false, dry_run = false, quiet = false, replace = false;
 };
+
+// Declares every option of `suite mpm` on `app`, its help and the help's footer (mpm_cli.cpp).
+void add_mpm_options(CLI::App& app, Options& o);
 
 // Every option's value as used: the "settings" of mpm.json.
 nlohmann::json options_json(const Options& o, const mpm::Setup& s);

@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "harness/common/did_you_mean.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite {

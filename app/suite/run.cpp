@@ -15,6 +15,7 @@
 #include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
 #include "harness/common/output_file.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/store_variants.hpp"
 #include "harness/measure/cache_probe.hpp"

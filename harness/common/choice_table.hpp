@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "harness/common/did_you_mean.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite {
@@ -82,6 +84,8 @@ public:
         }
         return out;
     }
+    // The names no longer accepted, each with the one that replaced it.
+    const std::vector<std::pair<std::string, std::string>>& retired() const { return retired_; }
     // The name that replaced a retired one; "" when `name` was never retired.
     std::string renamed(std::string_view name) const {
         for (const auto& [old_name, new_name] : retired_)

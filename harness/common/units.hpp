@@ -5,17 +5,13 @@
 #include <cstdint>
 #include <cstdio>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace suite {
+#include "harness/common/usage_error.hpp"
 
-// A mistake in what the user asked for: reported as one line on stderr, exit status 2.
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+namespace suite {
 
 // A decimal whole number: digits only (no sign, space, point, exponent or unit) and at most
 // `hi`; nullopt for anything else, an overflow included. For numbers read from the system as
@@ -78,13 +74,5 @@ std::vector<int> parse_cpu_list(std::string_view text);
 
 // 64MiB -> "64MiB"; 1.5 GiB -> "1.5GiB"; 1000 -> "1000B".
 std::string format_bytes(std::uint64_t bytes);
-
-// Levenshtein distance, for "did you mean ...?" suggestions.
-std::size_t edit_distance(std::string_view a, std::string_view b);
-// The candidate nearest to `word`, or "" when none is reasonably close.
-std::string nearest(std::string_view word, const std::vector<std::string>& candidates);
-
-std::vector<std::string> split(std::string_view text, char sep);
-std::string join(const std::vector<std::string>& parts, std::string_view sep);
 
 }  // namespace suite

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "harness/common/sysfs_file.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 
 namespace suite {

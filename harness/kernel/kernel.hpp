@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "harness/kernel/arena.hpp"
@@ -130,6 +131,9 @@ struct KernelInfo {
     // The command-line option that picks variants other than "" and the store variants: "phase" (--phase, where
     // "all" names the plain kernel ""), "strategy" (--strategy), "particles" or "isa".
     std::string variant_option = "phase";
+    // Names the variant option no longer accepts, each with the one that replaced it (a refusal
+    // says "did you mean" the new one).
+    std::vector<std::pair<std::string, std::string>> retired_variants = {};
     // The variants run when that option is not given; empty: the plain kernel "" alone.
     std::vector<std::string> default_variants;
     // The name the variant option gives the plain kernel "" where it is one of the choices

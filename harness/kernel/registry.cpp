@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "harness/common/did_you_mean.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
 

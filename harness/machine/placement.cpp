@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "harness/common/did_you_mean.hpp"
 #include "harness/common/sysfs_file.hpp"
 #include "harness/common/units.hpp"
 

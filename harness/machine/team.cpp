@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/common/did_you_mean.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"  // require_team_size
 

@@ -4,6 +4,7 @@
 
 #include "harness/common/output_file.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/store_variants.hpp"
 #include "harness/measure/plan_parts.hpp"
 
 namespace suite {
@@ -28,8 +29,7 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         throw UsageError("--size and --sizes cannot be used together; give one of them");
     axes.default_size = o.size.empty() && o.sizes.empty();
     // Stores: "nt" or "rep" is a variant of the kernels that have it (is_store_variant).
-    if (o.stores != "default" && !is_store_variant(o.stores))
-        throw UsageError("unknown --stores '" + o.stores + "'; accepted: default, nt, rep");
+    store_variants().at(o.stores);  // refuses a name its table does not have
     axes.store_variant = o.stores == "default" ? "" : o.stores;
     for (const auto& e : kernels())
         if (std::ranges::count(e.info.variants, axes.store_variant)) axes.with_variant.push_back(e.info.name);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 
+#include "harness/common/did_you_mean.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/measure/plan_parts.hpp"
 
@@ -58,8 +60,7 @@ const DefaultSize* same_place(const std::vector<DefaultSize>& at_t, const Defaul
 
 // The kernel's check of one configuration. Its refusal names a parameter by its value as a number
 // (--cg-max=1e+300); the user reads it as typed (--cg-max=1e300).
-void validate(const RunOptions& o, const KernelEntry& k, const Params& kparams,
-              const KernelConfig& cfg) {
+void validate(const RunOptions& o, const KernelEntry& k, const Params& kparams, const KernelConfig& cfg) {
     try {
         k.validate(cfg);
     } catch (const UsageError& e) {

@@ -5,6 +5,8 @@
 
 #include <omp.h>
 
+#include "harness/common/did_you_mean.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/measure/plan_parts.hpp"
 

@@ -2,6 +2,8 @@
 // ones (a section of make_plan: plan_parts.hpp).
 #include <algorithm>
 
+#include "harness/common/did_you_mean.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/measure/plan_parts.hpp"
 
@@ -58,9 +60,10 @@ Variants plan_variants(const KernelInfo& info, const std::string& stores_variant
         for (const auto& name : parse_name_list(text, "--" + option)) {
             auto it = std::find_if(choices.begin(), choices.end(), [&](const auto& c) { return c.first == name; });
             if (it == choices.end()) {
-                // A name a kernel has retired: its new one (MPM's unsorted particles are shuffled).
-                std::string hint = option == "particles" && name == "unsorted" ? std::string("shuffled")
-                                                                               : nearest(name, first_of(choices));
+                // A name the kernel has retired: the one that replaced it; else the nearest.
+                std::string hint = nearest(name, first_of(choices));
+                for (const auto& [old_name, new_name] : info.retired_variants)
+                    if (old_name == name) hint = new_name;
                 throw UsageError("kernel '" + info.name + "' has no " +
                                  (option == "particles" ? "particle order" : option) + " '" + name + "'" +
                                  (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + plural(option) +

@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "kernels/fem/element.hpp"

@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "kernels/mesh/edges.hpp"
 #include "kernels/mesh/generate.hpp"

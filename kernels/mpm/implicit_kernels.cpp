@@ -22,6 +22,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/arena.hpp"
 #include "harness/kernel/blocks.hpp"
@@ -30,6 +31,7 @@
 #include "kernels/fem/sparse_libs.hpp"
 #include "kernels/mpm/choices.hpp"
 #include "kernels/mpm/implicit.hpp"
+#include "kernels/mpm/implicit_work.hpp"
 #include "kernels/mpm/kernel_checks.hpp"
 
 namespace suite::mpm {
@@ -37,22 +39,6 @@ namespace suite::mpm {
 namespace {
 
 enum class Phase { assembly, solve, step };
-
-// Per particle: elem, V, σ read (the tangent's values are counted by the matrix).
-constexpr double assembly_particle_bytes = 4 + 8 + 48;
-// The large-strain loop of implicit_assembly.cpp, counted (a multiply-add as two): F 72, E 63,
-// S 38, P 45, the forces 72, G and F Fᵀ 105; per corner pair ∇N_i·∇N_j 6, ∇N_i·S∇N_j 27 and the
-// nine entries 90.
-constexpr double assembly_flops = 395 + 16 * 123;
-// A step's passes over the particle arrays besides the assemblies: the projection (w, elem, m,
-// v, a), the update (elem, w, σ, V, x, v, a read; σ, V, x, v, a written), locate (x, elem read;
-// w, elem written).
-constexpr double step_particle_bytes =
-    (32 + 4 + 8 + 24 + 24) + (4 + 32 + 48 + 8 + 24 + 24 + 24) + (48 + 8 + 24 + 24 + 24) + (24 + 4 + 32 + 4);
-// One CG iteration: the product (values, columns, p gathered, q written) and the vector updates
-// (x, r, z, p read and written, q and the diagonal read).
-double cg_bytes(double nnz, double rows) { return 12 * nnz + rows * 8 * (2 + 8 + 2); }
-double cg_flops(double nnz, double rows) { return 2 * nnz + 12 * rows; }
 
 class ImplicitKernel final : public Kernel {
 public:
@@ -214,28 +200,15 @@ public:
         Work w;
         switch (phase_) {
             case Phase::assembly:
-                w.units = np;
-                w.stream_bytes = np * assembly_particle_bytes + 8 * (nnz + rows);
-                w.flops = np * assembly_flops;
+                w = assembly_work(np, nnz, rows);
                 break;
-            case Phase::solve: {
-                const double its = static_cast<double>(std::max<long>(last_iterations_, 1));
-                w.units = its;
-                w.stream_bytes = its * cg_bytes(nnz, rows);
-                w.flops = its * cg_flops(nnz, rows);
+            case Phase::solve:
+                w = solve_work(static_cast<double>(std::max<long>(last_iterations_, 1)), nnz, rows);
                 break;
-            }
-            case Phase::step: {
-                // Per step, from the untimed steps' averages (the facts give the timed steps'):
-                // the Newton iterations (an assembly each, one more to confirm) and the CG iterations.
-                const double newton = warm_newton_, cg = warm_cg_;
-                const double k = steps_per_call();
-                w.units = np * k;
-                w.stream_bytes = k * (np * (step_particle_bytes + (newton + 1) * assembly_particle_bytes) +
-                                      (newton + 1) * 8 * (nnz + rows) + cg * cg_bytes(nnz, rows));
-                w.flops = k * (np * (newton + 1) * assembly_flops + cg * cg_flops(nnz, rows));
+            case Phase::step:
+                // From the untimed steps' averages (the facts give the timed steps').
+                w = step_work(steps_per_call(), np, warm_newton_, warm_cg_, nnz, rows);
                 break;
-            }
         }
         w.hardware_bytes = w.stream_bytes;
         w.footprint_bytes = footprint(st) + static_cast<std::uint64_t>(12 * nnz + 8 * 16 * rows);

@@ -40,6 +40,7 @@ KernelEntry mpm_entry(const std::string& name, const std::string& formula, const
     } else {
         e.info.variants = particle_orders().names();
         e.info.variant_option = "particles";
+        e.info.retired_variants = particle_orders().retired();
     }
     e.info.default_variants = e.info.variants;
     e.info.params = {

@@ -24,6 +24,7 @@
 #include <memory>
 #include <string>
 
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "kernels/mesh/mesh_spec.hpp"

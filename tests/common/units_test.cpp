@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "harness/common/did_you_mean.hpp"
 #include "harness/common/units.hpp"
 
 using namespace suite;

@@ -1,7 +1,7 @@
 // libFuzzer target of the thesis-format reader: any input must give either a mesh that keeps
 // the readers' promises or a MeshError; never a crash, an out-of-bounds access (ASan), undefined
 // behaviour (UBSan), a hang or an unbounded allocation.
-// SOURCES: kernels/mesh/mesh.cpp kernels/mesh/read_text.cpp kernels/mesh/read_msh.cpp kernels/mesh/read_mesh.cpp
+// SOURCES: kernels/mesh/mesh.cpp kernels/mesh/read_text.cpp kernels/mesh/read_msh.cpp kernels/mesh/read_mesh.cpp harness/common/input_file.cpp harness/common/sysfs_file.cpp
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>

@@ -2,7 +2,7 @@
 // Any input must either load or be refused with InputError (a UsageError: one line, exit 2);
 // another exception, a crash or a sanitizer report is a bug. Loaded points must keep the
 // reader's promises: finite figures, a headline, a known direction.
-// SOURCES: harness/results/result_file.cpp harness/results/result_file_mpi.cpp harness/results/context_fields.cpp harness/common/units.cpp harness/common/stats.cpp
+// SOURCES: harness/results/result_file.cpp harness/results/result_file_mpi.cpp harness/results/context_fields.cpp harness/common/units.cpp harness/common/text.cpp harness/common/did_you_mean.cpp harness/common/stats.cpp harness/common/input_file.cpp harness/common/sysfs_file.cpp harness/kernel/registry.cpp harness/kernel/store_variants.cpp
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

@@ -2,13 +2,14 @@
 // parsers of the command line.
 // Every input must either parse or throw UsageError; anything else (another exception, a crash,
 // a sanitizer report, a parse whose result breaks the parser's own promises) is a bug.
-// SOURCES: harness/common/units.cpp
+// SOURCES: harness/common/units.cpp harness/common/text.cpp
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 
 namespace {
