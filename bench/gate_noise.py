@@ -16,18 +16,18 @@ Usage: bench/gate_noise.py [--runs 10] [--gap 20] [--from RUN.json ...] [--out r
 Writes OUT/gate_noise.{json,md}, and the reruns to OUT/gate_noise_runs/. --quick: 12 scaled copies of a committed fixture run, a check that it all runs.
 """
 import argparse
-import copy
 import datetime
 import json
 import os
 import re
-import subprocess
 import sys
 import tempfile
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "plots"))
 from safe_output import write_text  # noqa: E402  (the suite's one output policy)
+
+import gate_runs  # noqa: E402  (beside this file: what the gate benches share)
 
 here = os.path.dirname(os.path.abspath(__file__))
 top = os.path.dirname(here)
@@ -49,43 +49,17 @@ if not (a.slowdown > 1):
 
 
 def run(argv, ok=(0,)):
-    r = subprocess.run(argv, capture_output=True, text=True)
-    if r.returncode not in ok:
-        sys.exit(f"gate_noise: {' '.join(argv)} failed with status {r.returncode}:\n{r.stderr[-2000:]}")
-    return r
+    return gate_runs.run(argv, "gate_noise", ok)
 
 
-def slowed(doc, f):
-    """Every repetition `f` times longer, with its statistics and rates."""
-    d = copy.deepcopy(doc)
-    for r in d["results"]:
-        t = r["time_s"]
-        t["samples"] = [x * f for x in t["samples"]]
-        for k in ("min", "median", "max", "mean"):
-            if k in t:
-                t[k] *= f
-        if r.get("metric") == "bandwidth":
-            for kind in r["bandwidth_gbps"].values():
-                for k in ("best", "median"):
-                    if kind.get(k) is not None:
-                        kind[k] /= f
-        elif r.get("latency_ns"):
-            for k in ("best", "median"):
-                if r["latency_ns"].get(k) is not None:
-                    r["latency_ns"][k] *= f
-    return d
+slowed = gate_runs.slowed
 
 
 started = time.time()
 with tempfile.TemporaryDirectory() as tmp:
     files = list(a.given)
     if a.quick:
-        fixture = os.path.join(top, "tests", "fixtures", "results", "vm-native.json")
-        for i in range(12):
-            doc = json.load(open(fixture))
-            doc["results"] = doc["results"][:3]
-            files.append(os.path.join(tmp, f"q{i}.json"))
-            json.dump(slowed(doc, 1 + 0.002 * ((i * 5) % 12 - 6)), open(files[-1], "w"))
+        files += gate_runs.quick_runs(top, tmp, 12, lambda i: 1 + 0.002 * ((i * 5) % 12 - 6))
     elif not files:
         # The reruns are kept, so that the rules can be measured on them again (--from).
         kept = os.path.join(a.out, "gate_noise_runs")

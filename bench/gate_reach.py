@@ -18,19 +18,19 @@ Writes OUT/gate_reach.{json,md}, and the runs to OUT/gate_reach_runs/. --quick: 
 of a committed fixture run, a check that it all runs.
 """
 import argparse
-import copy
 import datetime
 import json
 import math
 import os
 import re
-import subprocess
 import sys
 import tempfile
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "plots"))
 from safe_output import write_text  # noqa: E402  (the suite's one output policy)
+
+import gate_runs  # noqa: E402  (beside this file: what the gate benches share)
 
 here = os.path.dirname(os.path.abspath(__file__))
 top = os.path.dirname(here)
@@ -55,26 +55,10 @@ SLOWDOWNS = (1.25, 1.5, 2.0)
 
 
 def run(argv, ok=(0,)):
-    r = subprocess.run(argv, capture_output=True, text=True)
-    if r.returncode not in ok:
-        sys.exit(f"gate_reach: {' '.join(argv)} failed with status {r.returncode}:\n{r.stderr[-2000:]}")
-    return r
+    return gate_runs.run(argv, "gate_reach", ok)
 
 
-def slowed(doc, f):
-    """Every repetition `f` times longer, with its statistics and rates."""
-    d = copy.deepcopy(doc)
-    for r in d["results"]:
-        t = r["time_s"]
-        t["samples"] = [x * f for x in t["samples"]]
-        for k in ("min", "median", "max", "mean"):
-            if k in t:
-                t[k] *= f
-        for kind in (r.get("bandwidth_gbps") or {}).values():
-            for k in ("best", "median"):
-                if kind.get(k) is not None:
-                    kind[k] /= f
-    return d
+slowed = gate_runs.slowed
 
 
 def label_of(r):
@@ -108,12 +92,7 @@ started = time.time()
 with tempfile.TemporaryDirectory() as tmp:
     files = list(a.given)
     if a.quick:
-        fixture = os.path.join(top, "tests", "fixtures", "results", "vm-native.json")
-        for i in range(10):
-            doc = json.load(open(fixture))
-            doc["results"] = doc["results"][:3]
-            files.append(os.path.join(tmp, f"q{i}.json"))
-            json.dump(slowed(doc, 1 + 0.01 * ((i * 7) % 10 - 5)), open(files[-1], "w"))
+        files += gate_runs.quick_runs(top, tmp, 10, lambda i: 1 + 0.01 * ((i * 7) % 10 - 5))
     elif not files:
         kept = os.path.join(a.out, "gate_reach_runs")
         os.makedirs(kept, exist_ok=True)
