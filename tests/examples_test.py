@@ -56,7 +56,19 @@ def one_line_error(r, what, text):
     check("vs [1]" not in r.stdout, f"{what}: printed a table:\n{r.stdout}")
 
 
-with open(os.path.join(src, "results", "schema", "v1.json")) as f:
+
+def todays_schema_version():
+    """The schema_version this build writes: what `suite list --json` says is not it, so a tiny run's."""
+    with tempfile.TemporaryDirectory() as t:
+        out = os.path.join(t, "v.json")
+        r = run("--kernel=copy", "--sizes=64KiB", "--threads=1", "--reps=2", "--min-time=0.001", "--quiet", "--out=" + out)
+        check(r.returncode == 0, f"a tiny run failed: {r.returncode}\n{r.stderr}")
+        with open(out) as f:
+            return json.load(f)["schema_version"]
+
+
+version = todays_schema_version()
+with open(os.path.join(src, "results", "schema", f"v{version}.json")) as f:
     schema = json.load(f)
 examples_dir = os.path.join(src, "results", "examples")
 examples = sorted(os.path.join(examples_dir, n) for n in os.listdir(examples_dir) if n.endswith(".json"))
@@ -70,8 +82,10 @@ with tempfile.TemporaryDirectory() as tmp:
     for path in examples + [small, big] + ([fresh] if r.returncode == 0 else []):
         with open(path) as f:
             doc = json.load(f)
+        check(doc.get("schema_version") == version,
+              f"{path}: schema_version {doc.get('schema_version')}, today's build writes {version}: make examples")
         errors = list(jsonschema.Draft202012Validator(schema).iter_errors(doc))
-        check(not errors, f"{path}: not valid against today's schema: {errors[:1]}")
+        check(not errors, f"{path}: not valid against today's schema (v{version}.json): {errors[:1]}")
         check(all(roles(doc)), f"{path}: a default point without its role: {roles(doc)}")
     for example in examples:
         if r.returncode != 0:

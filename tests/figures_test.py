@@ -107,6 +107,10 @@ def check_rates(r, where):
     if r["metric"] == "bandwidth":
         check(lat is None, f"{where}: a bandwidth record has latency_ns {lat}")
         for kind, num in (("stream", w["stream_bytes"]), ("hardware_estimate", w["hardware_bytes_estimate"])):
+            if num == 0:  # moves no bytes (peak-flops): no bandwidth, null with the reason, never 0
+                check(bw[kind]["best"] is None and bw[kind]["median"] is None and bw.get("reason"),
+                      f"{where}: {kind} of a kernel that moves no bytes is {bw[kind]}, reason {bw.get('reason')!r}")
+                continue
             check(close(bw[kind]["best"], num / best / 1e9), f"{where}: {kind} best {bw[kind]['best']} != {num} B / {best} s")
             check(close(bw[kind]["median"], num / med / 1e9), f"{where}: {kind} median {bw[kind]['median']} != {num} B / {med} s")
     else:

@@ -2,14 +2,14 @@
 """Validate suite result files against a JSON Schema.
 
 Usage: validate_result.py SCHEMA|SCHEMA_DIR FILE...
-       validate_result.py --by-kind SCHEMA_DIR FILE...     (the same as a directory)
+       validate_result.py --by-kind SCHEMA_DIR FILE...
 
-With a directory (results/schema), each file is validated against the schema of its own kind and
-version: a run's result file (no top-level "kind") against DIR/vN.json for its schema_version N,
-so that files of every version the suite reads (1 and 2) are checked by the schema that describes
-them; a roofline file against the schema KIND_SCHEMAS names. A file of a kind with no schema is
-invalid, so that a new kind of file cannot go unchecked. With a file, every file against that
-one schema.
+With a directory (results/schema), each file must be a run's result file (no top-level "kind"),
+validated against DIR/vN.json for its own schema_version N, so that files of every version the
+suite reads (1 and 2) are checked by the schema that describes them. With --by-kind, each file
+against the schema of its own kind: a run's result as above, a roofline file against the schema
+KIND_SCHEMAS names; a file of a kind with no schema is invalid, so that a new kind of file cannot
+go unchecked. With a schema file, every file against that one schema.
 
 Prints one line per violation, "FILE: $.json.path: message", and a summary line per file.
 Exit status: 0 all files valid, 1 at least one file invalid or unreadable, 2 usage error
@@ -69,7 +69,8 @@ def load_validator(jsonschema, validator_for, schema_path):
 
 
 def main(argv):
-    if len(argv) > 1 and argv[1] == "--by-kind":
+    by_kind = len(argv) > 1 and argv[1] == "--by-kind"
+    if by_kind:
         if len(argv) < 4 or not os.path.isdir(argv[2]):
             return usage("--by-kind needs a schema directory and at least one file")
         argv = argv[:1] + argv[2:]
@@ -102,6 +103,10 @@ def main(argv):
         key = None
         if by_version:
             kind = doc.get("kind") if isinstance(doc, dict) else None
+            if kind is not None and not by_kind:
+                print(f"{path}: INVALID (a {kind!r} file, not a run's result file)")
+                all_valid = False
+                continue
             if kind is not None:
                 if kind not in KIND_SCHEMAS:
                     print(f"{path}: INVALID (kind {kind!r} has no schema; known: {sorted(KIND_SCHEMAS)})")

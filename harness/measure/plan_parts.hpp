@@ -22,10 +22,10 @@ struct PlannedKernel {
 struct PointAxes {
     std::vector<int> threads;  // each count once, as asked
     int most_threads = 1;
-    bool default_size = true;                  // neither --size nor --sizes
-    std::string store_variant;                 // "" or --stores' "nt" / "rep"
-    std::vector<std::string> with_variant;     // the kernels that have store_variant
-    Params parameters;  // --NAME=X: a number, or a named choice's name
+    bool default_size = true;               // neither --size nor --sizes
+    std::string store_variant;              // "" or --stores' "nt" / "rep"
+    std::vector<std::string> with_variant;  // the kernels that have store_variant
+    Params parameters;                      // --NAME=X: a number, or a named choice's name
 };
 
 // plan_settings.cpp

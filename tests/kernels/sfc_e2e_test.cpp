@@ -97,7 +97,7 @@ TEST(SfcBuildCli, BadOptionsAreOneLineUsageErrors) {
     expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=box:600,600,490", "--dry-run", out}),
                                 {"1058400000 elements", "memory available", "use a smaller mesh"});
     expect_one_line_usage_error(run_suite({"--kernel=sfc-build", "--mesh=file:" + dir.file("none.msh"), out}),
-                                {"none.msh", "cannot open"});
+                                {"none.msh", "cannot read"});
     EXPECT_EQ(dir.entries().size(), 0u);
 }
 

@@ -71,12 +71,16 @@ void check_content(const json& doc, const std::string& where, int reps) {
         if (r.at("metric") == "bandwidth") {
             ASSERT_TRUE(r.at("bandwidth_gbps").is_object());
             const json& best = r.at("bandwidth_gbps").at("stream").at("best");
-            ASSERT_TRUE(best.is_number()) << best.dump();
-            // A kernel that moves no bytes (peak-flops) has a rate of flops instead.
-            if (r.at("work_per_repetition").at("stream_bytes").get<double>() == 0)
+            // A kernel that moves no bytes (peak-flops) has a rate of flops instead, and no
+            // bandwidth: null with the reason, never 0.
+            if (r.at("work_per_repetition").at("stream_bytes").get<double>() == 0) {
                 EXPECT_GT(r.at("gflops_best").get<double>(), 0.0);
-            else
+                EXPECT_TRUE(best.is_null()) << best.dump();
+                EXPECT_TRUE(r.at("bandwidth_gbps").at("reason").is_string());
+            } else {
+                ASSERT_TRUE(best.is_number()) << best.dump();
                 EXPECT_GT(best.get<double>(), 0.0);
+            }
             EXPECT_TRUE(r.at("latency_ns").is_null());
         } else {
             ASSERT_TRUE(r.at("latency_ns").is_object());
