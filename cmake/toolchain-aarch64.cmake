@@ -16,3 +16,8 @@ find_program(SUITE_QEMU_AARCH64 NAMES qemu-aarch64-static qemu-aarch64)
 if(SUITE_QEMU_AARCH64)
   set(CMAKE_CROSSCOMPILING_EMULATOR ${SUITE_QEMU_AARCH64})
 endif()
+# Debian's libmetis-dev is one architecture at a time (not Multi-Arch: same): the host's stays,
+# and the cross build links the arm64 runtime library (libmetis5:arm64) with the host's metis.h.
+if(EXISTS /usr/lib/aarch64-linux-gnu/libmetis.so.5 AND NOT EXISTS /usr/lib/aarch64-linux-gnu/libmetis.so)
+  set(METIS_LIBRARY /usr/lib/aarch64-linux-gnu/libmetis.so.5 CACHE FILEPATH "the arm64 METIS runtime library")
+endif()

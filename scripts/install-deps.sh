@@ -34,7 +34,10 @@ if [ "${1:-build}" = arm64 ] || [ "${1:-build}" = test ]; then
   # emulated Arm machine with a PMU (qemu-system-aarch64). The arm64 architecture is added below.
   want+=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu qemu-user-static qemu-system-arm cpio)
   want+=(libhwloc-dev:arm64 libnuma-dev:arm64 libpfm4-dev:arm64 libgtest-dev:arm64 libboost-dev:arm64)
-  want+=(libboost-graph-dev:arm64 libsqlite3-dev:arm64 libsuitesparse-dev:arm64 libmetis-dev:arm64 libcli11-dev nlohmann-json3-dev)
+  # Not every -dev package is multiarch: libmetis-dev and busybox-static are one architecture at a
+  # time, so the host's stay (the cross build links libmetis5:arm64 with the host's metis.h, and
+  # test-arm64 unpacks the arm64 busybox into its own folder).
+  want+=(libboost-graph-dev:arm64 libsqlite3-dev:arm64 libsuitesparse-dev:arm64 libmetis5:arm64 libcli11-dev nlohmann-json3-dev)
 fi
 if [ "${1:-build}" = bench ]; then
   # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by

@@ -6,12 +6,14 @@
 //   nt_store_pair         two consecutive vectors streamed in one go
 //   prefetch_read         a read prefetch into every level
 //   nt_fence              what orders a thread's streaming stores before it leaves the loop
+//   rep_movsb, rep_stosq  the x86-64 string instructions of the rep variants (none elsewhere)
 // and, on aarch64, whether the CPU runs SVE (read once from the kernel's HWCAP), for the loops
 // that dispatch to their SVE twins at run time (one binary serves NEON-only and SVE CPUs).
 //
 //   x86-64   ntvec = the widest of __m512d / __m256d / __m128d the build targets; vmovntpd
 //   aarch64  ntvec = float64x2_t (NEON); STNP of two q registers (the non-temporal pair store);
 //            SVE loops stream with STNT1D, vector-length agnostic
+#include <cstddef>
 #include <cstdint>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -69,6 +71,28 @@ inline bool cpu_has_sve() {
     static const bool sve = (getauxval(AT_HWCAP) & HWCAP_SVE) != 0;
     return sve;
 }
+#endif
+
+// The string instructions of the "rep" variants: one instruction copies (rep movsb) or fills
+// (rep stosq) a thread's whole block, and the CPU's microcode picks the width, the alignment
+// handling and, on a CPU with fast strings (ERMS), stores of whole lines that skip the read of
+// the destination: what glibc's memcpy and memset do between a few KiB and their non-temporal
+// threshold. The ABI guarantees the direction flag clear on entry to a function.
+#if defined(__x86_64__)
+constexpr bool have_string_ops = true;
+constexpr const char* no_string_ops = "";
+inline void rep_movsb(void* dst, const void* src, std::size_t bytes) {
+    asm volatile("rep movsb" : "+D"(dst), "+S"(src), "+c"(bytes) : : "memory");
+}
+inline void rep_stosq(void* dst, std::uint64_t value, std::size_t words) {
+    asm volatile("rep stosq" : "+D"(dst), "+c"(words) : "a"(value) : "memory");
+}
+#else
+constexpr bool have_string_ops = false;  // the rep variants are not registered
+constexpr const char* no_string_ops =
+    "rep movsb and rep stosq are x86-64 string instructions; this build is not x86-64";
+inline void rep_movsb(void*, const void*, std::size_t) {}
+inline void rep_stosq(void*, std::uint64_t, std::size_t) {}
 #endif
 
 }  // namespace suite::stream

@@ -44,28 +44,6 @@ constexpr double line_bytes = 64.0;
 // from prefetching both sources (1 thread: triad-nt 34.1 against 38.0, add-nt 36.7 against 36.5).
 constexpr std::int64_t nt_prefetch = 512;
 
-// The string instructions of the "rep" variants: one instruction copies (rep movsb) or fills
-// (rep stosq) a thread's whole block, and the CPU's microcode picks the width, the alignment
-// handling and, on a CPU with fast strings (ERMS), stores of whole lines that skip the read of
-// the destination: what glibc's memcpy and memset do between a few KiB and their non-temporal
-// threshold. The ABI guarantees the direction flag clear on entry to a function.
-#if defined(__x86_64__)
-constexpr bool have_string_ops = true;
-constexpr const char* no_string_ops = "";
-inline void rep_movsb(void* dst, const void* src, std::size_t bytes) {
-    asm volatile("rep movsb" : "+D"(dst), "+S"(src), "+c"(bytes) : : "memory");
-}
-inline void rep_stosq(void* dst, std::uint64_t value, std::size_t words) {
-    asm volatile("rep stosq" : "+D"(dst), "+c"(words) : "a"(value) : "memory");
-}
-#else
-constexpr bool have_string_ops = false;  // the rep variants are not registered
-constexpr const char* no_string_ops =
-    "rep movsb and rep stosq are x86-64 string instructions; this build is not x86-64";
-inline void rep_movsb(void*, const void*, std::size_t) {}
-inline void rep_stosq(void*, std::uint64_t, std::size_t) {}
-#endif
-
 enum class Pattern { sequential, random, strided };
 inline Pattern pattern_of(const Access& a) {
     return a.name == "random" ? Pattern::random : a.name == "strided" ? Pattern::strided : Pattern::sequential;
