@@ -22,6 +22,7 @@
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/sfc/orderings.hpp"
 #include "rapl/energy.hpp"
 
 namespace suite {
@@ -113,6 +114,20 @@ std::string variant_names(const std::string& option) {
     return join(names, ", ");
 }
 
+// The access patterns of the kernels that walk memory in one (--pattern), in the order they declare
+// them; a pattern whose label carries a stride (strided) shown as it is typed, strided:S.
+std::string pattern_names() {
+    std::vector<std::string> names;
+    for (const auto& e : kernels()) {
+        if (e.info.axis != AccessAxis::pattern) continue;
+        for (const auto& a : e.info.accesses) {
+            const std::string shown = Access{a, 1}.label() == a ? a : a + ":S";
+            if (std::find(names.begin(), names.end(), shown) == names.end()) names.push_back(shown);
+        }
+    }
+    return join(names, ", ");
+}
+
 }  // namespace
 }  // namespace run_command
 
@@ -135,14 +150,16 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     o.default_sweep = default_sweep();
     app.add_option("--kernel,-k", o.kernels, "kernels, comma separated (see ./suite list); default: the default sweep");
     app.add_option("--pattern,-p", o.patterns,
-                   "access patterns: sequential, random, strided:S (default: the kernel's first)");
+                   "access patterns: " + run_command::pattern_names() + " (default: the kernel's first)");
     app.add_option("--ordering", o.orderings,
-                   "data orderings of application kernels: natural, random, morton, hilbert, rcm");
+                   "data orderings of application kernels: " + sfc::mesh_orderings().accepted() +
+                       " (those each takes: ./suite list; default: the kernel's first)");
     app.add_option("--mesh", o.mesh,
                    "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or "
                    "thesis .txt)");
     app.add_option("--phase", o.phases,
-                   "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
+                   "phases of sfc-build measured as separate points: " + run_command::variant_names("phase") +
+                       ", all (default all)");
     app.add_option("--strategy", o.strategies,
                    "strategies of the kernels that have them, each measured as its own point (see ./suite list; "
                    "default: the kernel's own)");
