@@ -17,6 +17,7 @@
 #include "harness/common/output_file.hpp"
 #include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/hugepage_modes.hpp"
 #include "harness/kernel/store_variants.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/results/context.hpp"
@@ -181,10 +182,7 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
         "--probe-caches", o.probe_caches,
         "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "
         "by the measured last level where it is smaller than the reported one");
-    app.add_option(
-        "--hugepages", o.hugepages,
-        "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
-        "leave the system's THP setting, see ./suite info)");
+    app.add_option("--hugepages", o.hugepages, hugepage_modes().described());
     add_whole_option(app, "--reps", o.reps, 1, 10000000,
                      "counted repetitions per point, 1 to 10000000 (default: enough for 0.2 s, at least 5; plus 1 "
                      "warm-up, 3 for calls under 50 ms)");
