@@ -9,7 +9,8 @@ nothing includes it. Also: no source file sits directly in harness/ or app/ (eac
 folder of its concern or program), every top-level source folder and every harness and app folder
 has its README, no source file is longer than 400 lines unless its first lines say why, and the
 engine names no kernel: no string literal in harness/ code is the name of a kernel the kernels
-register by a literal.
+register by a literal. And the mesh orderings are declared once: outside their tables
+(ORDERING_TABLES), no string literal in code is an ordering's name, and none lists three of them.
 
 usage: layout_test.py SOURCE_DIR        exit 0 clean, 1 with one line per violation
 """
@@ -45,6 +46,45 @@ COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
 # A record's metric is called "latency" as the latency kernel is: the results read and write it.
 NOT_A_KERNEL = {("harness/results", "latency")}
 
+# The mesh orderings' table, and `suite matrix`'s that extends it: the one place each name is written.
+ORDERING_TABLES = ["kernels/sfc/orderings.cpp", "kernels/fem/ordering_study.cpp"]
+# Literals that are an ordering's name but not the ordering: the access pattern "random" of the
+# default sweep, and the AMD library in the records' list of library versions. And the MPM grid's
+# orderings, a table of their own in kernels/mpm/choices.cpp (grid_orderings) until it reads the
+# mesh table: kernels/mpm is another branch's this wave (issue 50 lists it).
+NOT_AN_ORDERING = {
+    ("app/suite/defaults.cpp", "random"),
+    ("kernels/fem/sparse_libs.cpp", "amd"),
+    ("kernels/mpm/choices.cpp", "natural"),
+    ("kernels/mpm/choices.cpp", "random"),
+    ("kernels/mpm/choices.cpp", "morton"),
+    ("kernels/mpm/choices.cpp", "hilbert"),
+    ("kernels/mpm/mpm.hpp", "natural"),
+    ("kernels/mpm/kernel_checks.cpp", "natural"),
+    ("app/suite/mpm_options.hpp", "natural"),
+}
+
+
+def ordering_names(root: Path) -> set:
+    """The names the ordering tables declare: each entry starts {"name", "help" ..."""
+    names = set()
+    for rel in ORDERING_TABLES:
+        names.update(re.findall(r'\{"([\w-]+)",\s*"', (root / rel).read_text()))
+    return names
+
+
+def ordering_literals(rel: str, code: str, names: set) -> list:
+    """Why `code` (comments removed) of file `rel` names orderings by hand: one line a literal."""
+    out = []
+    alternation = "|".join(sorted((re.escape(n) for n in names), key=len, reverse=True))
+    listed = re.compile(rf"(?<![\w-])({alternation})(?:, | \| |\|| or )({alternation})(?:, | \| |\|| or )({alternation})(?![\w-])")
+    for literal in LITERAL.findall(code):
+        if literal in names and (rel, literal) not in NOT_AN_ORDERING:
+            out.append(f'{rel}: the ordering "{literal}" as a literal; read it from the table (kernels/sfc/orderings.hpp)')
+        elif listed.search(literal):
+            out.append(f'{rel}: lists orderings by hand ("{literal[:60]}"); take the list from the table (accepted(), listed())')
+    return out
+
 
 def kernel_names(root: Path) -> set:
     """The kernels' names a reader can find as literals: those the kernels register by one."""
@@ -73,6 +113,9 @@ def main() -> int:
     edges = set()  # (from, to) between top-level folders
     sources = [p for d in FLOOR for p in sorted((root / d).rglob("*")) if p.suffix in (".cpp", ".hpp")]
     names = kernel_names(root)
+    orderings = ordering_names(root)
+    if not {"natural", "hilbert", "amd"} <= orderings:
+        problems.append(f"found only these ordering names to look for: {sorted(orderings)}; the test is looking in the wrong place")
     if not {"copy", "latency", "peak-flops"} <= names:
         problems.append(f"found only these kernel names to look for: {sorted(names)}; the test is looking in the wrong place")
     for path in sources:
@@ -87,6 +130,8 @@ def main() -> int:
             problems.append(f"{rel}: folder {here} has no include rule in tests/layout_test.py (and its README)")
             continue
         text = path.read_text()
+        if here != "stream" and rel not in ORDERING_TABLES:
+            problems.extend(ordering_literals(rel, COMMENT.sub("", text), orderings))
         if here.startswith("harness/"):
             for name in sorted(set(LITERAL.findall(COMMENT.sub("", text))) & names):
                 if (here, name) not in NOT_A_KERNEL:

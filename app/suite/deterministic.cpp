@@ -28,6 +28,7 @@
 #include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/instruments/callgrind_marks.hpp"
+#include "harness/kernel/arena.hpp"
 #include "harness/measure/plan.hpp"
 #include "harness/measure/result.hpp"
 #include "harness/results/build_info.hpp"
@@ -137,7 +138,7 @@ std::vector<std::string> inner_args(const RunOptions& o) {
     add("--threads", o.threads);
     add("--pin", o.pin);
     add("--placement", o.placement);
-    if (o.hugepages != "system")
+    if (o.hugepages != hugepages_name(HugePages::system))
         add("--hugepages", o.hugepages);  // only when asked: the baselines' argv stays as it was
     add("--reps", std::to_string(o.reps));
     add("--seed", std::to_string(o.seed));

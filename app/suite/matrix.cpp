@@ -30,6 +30,7 @@
 #include "kernels/fem/fem_mesh.hpp"
 #include "kernels/fem/ordering_study.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/sfc/orderings.hpp"
 
 namespace suite {
 namespace matrix_command {
@@ -57,12 +58,11 @@ In DIR: matrix.json (everything, with a spy grid per ordering), matrix.md (the t
 spy-ORDERING.png and spy.png (all side by side), ORDERING.mtx with --export=mtx.
 )";
 
-const std::vector<std::string> accepted = {"natural", "random", "morton", "hilbert", "rcm", "amd", "nd"};
 constexpr int spy_bins = 256;
 
 struct Options {
     std::string mesh = "disk:refine=5";
-    std::string orderings = "natural,random,morton,hilbert,rcm,amd,nd";
+    std::string orderings = join(matrix_orderings().names(), ",");
     std::string out;
     std::string exports;
     std::string delta = "0.05";
@@ -150,11 +150,12 @@ int cmd_matrix(const std::vector<std::string>& args) {
     using namespace matrix_command;
     CLI::App app{
         "suite matrix: the finite element matrix's structure, Cholesky fill and SpMV time under vertex orderings"};
-    app.footer(footer);
+    app.footer("Orderings:\n" + matrix_orderings().listed() + footer);
     app.get_formatter()->column_width(28);
     Options o;
     app.add_option("--mesh", o.mesh, "a triangle mesh: disk:refine=K | file:PATH[:refine=K] (default disk:refine=5)");
-    app.add_option("--ordering", o.orderings, "natural, random, morton, hilbert, rcm, amd, nd (default: all)");
+    app.add_option("--ordering", o.orderings,
+                   "one or more of " + matrix_orderings().accepted() + " (default: all; below)");
     app.add_option("--out,-o", o.out,
                    "directory for matrix.json, matrix.md, the spy plots and exports (created if missing)");
     app.add_option("--export", o.exports,
@@ -174,7 +175,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
 
     // Everything is checked before anything is computed or written.
     const std::vector<std::string> orderings = parse_name_list(o.orderings, "--ordering");
-    require_known(orderings, accepted, "ordering");
+    for (const auto& name : orderings) matrix_orderings().at(name);
     const double delta = parse_finite(o.delta, "--delta");
     if (delta < 0)
         throw UsageError("--delta=" + o.delta + ": δ must be >= 0 (the waveguide's k² = (100 + δ) exp(-50 r²) - 100)");
@@ -224,7 +225,7 @@ int cmd_matrix(const std::vector<std::string>& args) {
         return 0;
     }
 
-    const mesh::Mesh m = load_fem_mesh(o.mesh, "natural", o.seed);
+    const mesh::Mesh m = load_fem_mesh(o.mesh, sfc::as_given_name(), o.seed);
     MatrixUnderStudy mat;
     try {
         mat = prepare_matrix(m, delta);

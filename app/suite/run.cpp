@@ -17,11 +17,13 @@
 #include "harness/common/output_file.hpp"
 #include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/hugepage_modes.hpp"
 #include "harness/kernel/store_variants.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/sfc/orderings.hpp"
 #include "rapl/energy.hpp"
 
 namespace suite {
@@ -113,6 +115,20 @@ std::string variant_names(const std::string& option) {
     return join(names, ", ");
 }
 
+// The access patterns of the kernels that walk memory in one (--pattern), in the order they declare
+// them; a pattern whose label carries a stride (strided) shown as it is typed, strided:S.
+std::string pattern_names() {
+    std::vector<std::string> names;
+    for (const auto& e : kernels()) {
+        if (e.info.axis != AccessAxis::pattern) continue;
+        for (const auto& a : e.info.accesses) {
+            const std::string shown = Access{a, 1}.label() == a ? a : a + ":S";
+            if (std::find(names.begin(), names.end(), shown) == names.end()) names.push_back(shown);
+        }
+    }
+    return join(names, ", ");
+}
+
 }  // namespace
 }  // namespace run_command
 
@@ -135,14 +151,16 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     o.default_sweep = default_sweep();
     app.add_option("--kernel,-k", o.kernels, "kernels, comma separated (see ./suite list); default: the default sweep");
     app.add_option("--pattern,-p", o.patterns,
-                   "access patterns: sequential, random, strided:S (default: the kernel's first)");
+                   "access patterns: " + run_command::pattern_names() + " (default: the kernel's first)");
     app.add_option("--ordering", o.orderings,
-                   "data orderings of application kernels: natural, random, morton, hilbert, rcm");
+                   "data orderings of application kernels: " + sfc::mesh_orderings().accepted() +
+                       " (those each takes: ./suite list; default: the kernel's first)");
     app.add_option("--mesh", o.mesh,
                    "mesh of kernels on a mesh: disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (.msh or "
                    "thesis .txt)");
     app.add_option("--phase", o.phases,
-                   "phases of sfc-build measured as separate points: keys, sort, renumber, all (default all)");
+                   "phases of sfc-build measured as separate points: " + run_command::variant_names("phase") +
+                       ", all (default all)");
     app.add_option("--strategy", o.strategies,
                    "strategies of the kernels that have them, each measured as its own point (see ./suite list; "
                    "default: the kernel's own)");
@@ -164,10 +182,7 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
         "--probe-caches", o.probe_caches,
         "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "
         "by the measured last level where it is smaller than the reported one");
-    app.add_option(
-        "--hugepages", o.hugepages,
-        "thp | none | system: advise transparent huge pages for every array, or refuse them (default system: "
-        "leave the system's THP setting, see ./suite info)");
+    app.add_option("--hugepages", o.hugepages, hugepage_modes().described());
     add_whole_option(app, "--reps", o.reps, 1, 10000000,
                      "counted repetitions per point, 1 to 10000000 (default: enough for 0.2 s, at least 5; plus 1 "
                      "warm-up, 3 for calls under 50 ms)");

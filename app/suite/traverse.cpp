@@ -18,6 +18,7 @@
 #include "harness/common/units.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/mesh/writers.hpp"
+#include "kernels/sfc/orderings.hpp"
 #include "kernels/sfc/pipeline.hpp"
 #include "kernels/sfc/quality.hpp"
 
@@ -38,8 +39,6 @@ split, step = position within the thread's block), ORDERING-tT-PPP.png after PPP
 (colour: visit order with one thread, owning thread with more), summary.json with the numbers.
 )";
 
-const std::vector<std::string> orderings_accepted = {"natural", "random",           "morton",
-                                                     "hilbert", "morton-recursive", "rcm"};
 constexpr std::uint64_t max_traverse_elements = 4'000'000;
 
 struct Options {
@@ -61,13 +60,13 @@ int cmd_traverse(const std::vector<std::string>& args) {
     using namespace traverse_command;
     CLI::App app{
         "suite traverse: the order in which a loop over a mesh visits its elements, per ordering and thread count"};
-    app.footer(footer);
+    app.footer("Orderings:\n" + mesh_orderings().listed() + footer);
     app.get_formatter()->column_width(28);
     Options o;
     app.add_option("--mesh", o.mesh,
                    "disk:refine=K | box:NX,NY,NZ[:refine=K] | file:PATH[:refine=K] (default disk:refine=4)");
     app.add_option("--ordering", o.orderings,
-                   "natural, random, morton, hilbert, morton-recursive, rcm (default natural,morton,hilbert)");
+                   "one or more of " + mesh_orderings().accepted() + " (default " + Options{}.orderings + "; below)");
     app.add_option("--threads,-t", o.threads, "how many static blocks the loop is split into: 1,4 | 1-8 (default 1,4)");
     app.add_option("--out,-o", o.out, "directory for the files (created if missing)");
     add_seed_option(app, o.seed, "seed of the random ordering, 0 to 18446744073709551615 (default 1)");
@@ -88,7 +87,7 @@ int cmd_traverse(const std::vector<std::string>& args) {
                          " elements; traverse writes every element to .vtu files, so at most " +
                          std::to_string(max_traverse_elements));
     const std::vector<std::string> orderings = parse_name_list(o.orderings, "--ordering");
-    require_known(orderings, orderings_accepted, "ordering");
+    for (const auto& name : orderings) mesh_orderings().at(name);
     if (o.threads == "all")
         throw UsageError(
             "--threads=all: traverse splits the loop into the blocks of the thread counts given, e.g. --threads=1,4");

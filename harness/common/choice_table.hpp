@@ -35,6 +35,20 @@ public:
     const std::vector<Choice<Behaviour>>& all() const { return choices_; }
     const std::string& what() const { return what_; }
 
+    // The entries whose behaviour `keep` accepts, in order, with the retired names that lead to
+    // them: a user of some of a table's choices reads them from the table, never from a copy.
+    template <class Keep>
+    ChoiceTable subset(Keep keep) const {
+        std::vector<Choice<Behaviour>> kept;
+        for (const auto& c : choices_)
+            if (keep(c.what)) kept.push_back(c);
+        std::vector<std::pair<std::string, std::string>> retired;
+        for (const auto& r : retired_)
+            for (const auto& c : kept)
+                if (c.name == r.second) retired.push_back(r);
+        return ChoiceTable(what_, std::move(kept), std::move(retired));
+    }
+
     // nullptr for a name that is not in the table.
     const Choice<Behaviour>* find(std::string_view name) const {
         for (const auto& c : choices_)

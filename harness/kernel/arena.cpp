@@ -21,19 +21,23 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/common/units.hpp"
+#include "harness/kernel/hugepage_modes.hpp"
 
 namespace suite {
 
+const ChoiceTable<HugePages>& hugepage_modes() {
+    static const ChoiceTable<HugePages> table{
+        "--hugepages",
+        {{"thp", "advise transparent huge pages for every array", HugePages::thp},
+         {"none", "refuse them for every array", HugePages::none},
+         {"system", "the default: leave the system's THP setting, which ./suite info shows", HugePages::system}}};
+    return table;
+}
+
 const char* hugepages_name(HugePages h) {
-    switch (h) {
-        case HugePages::thp:
-            return "thp";
-        case HugePages::none:
-            return "none";
-        case HugePages::system:
-            break;
-    }
-    return "system";
+    for (const auto& c : hugepage_modes().all())
+        if (c.what == h) return c.name.c_str();
+    throw std::logic_error("--hugepages: a mode without a name");
 }
 
 Arena::Arena(MemoryPolicy policy) : policy_(std::move(policy)) {}

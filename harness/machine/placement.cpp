@@ -7,6 +7,7 @@
 #include "harness/common/did_you_mean.hpp"
 #include "harness/common/sysfs_file.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/hugepage_modes.hpp"
 
 namespace suite {
 
@@ -99,14 +100,8 @@ MemoryPolicy resolve_policy(const PlacementSpec& spec, const Topology& topo, con
 }
 
 HugePages parse_hugepages(std::string_view text, const std::string& path, std::string* note) {
-    if (text == "system") return HugePages::system;
-    if (text == "none") return HugePages::none;
-    if (text != "thp") {
-        const std::string hint = nearest(text, {"thp", "none", "system"});
-        throw UsageError("unknown --hugepages '" + std::string(text) + "'" +
-                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; accepted: thp, none, system (the default: leave the system's setting)");
-    }
+    const HugePages mode = hugepage_modes().at(text).what;
+    if (mode != HugePages::thp) return mode;
     const AttributeText enabled = read_attribute(path);
     if (!enabled.ok)
         throw UsageError("--hugepages=thp: this kernel offers no transparent huge pages (" + enabled.reason +

@@ -58,6 +58,7 @@ void check_fem_spec(const std::string& spec) {
 }
 
 mesh::Mesh load_fem_mesh(const std::string& spec, const std::string& ordering, std::uint64_t seed) {
+    fem_orderings().at(ordering);
     mesh::Mesh m = mesh::load_mesh(mesh::parse_mesh_spec(spec));
     check_fem_mesh(m, spec);
     return sfc::ordered(m, ordering, seed, sfc::max_depth(2));

@@ -7,11 +7,12 @@
 
 #include "kernels/mesh/mesh.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
+#include "kernels/sfc/orderings.hpp"
 
 namespace suite::fem {
 
-// The orderings the finite element kernels accept.
-inline const char* const fem_orderings[] = {"natural", "random", "morton", "hilbert", "rcm"};
+// The orderings the finite element kernels accept: each mesh order once (kernels/sfc/orderings.hpp).
+inline const ChoiceTable<sfc::Ordering>& fem_orderings() { return sfc::distinct_orderings(); }
 
 // Refuses, naming the first offender: a mesh that is not made of triangles; a vertex that belongs
 // to no triangle (its row of M would be zero: the mass matrix singular); a triangle whose
@@ -23,9 +24,8 @@ void check_fem_mesh(const mesh::Mesh& m, const std::string& spec);
 // point), without reordering: for validate().
 void check_fem_spec(const std::string& spec);
 
-// The mesh of the spec, checked, in `ordering`: natural (the file's or generator's order), random
-// (elements and vertices shuffled by `seed`), morton, hilbert (elements along the curve, vertices
-// by first touch along it) or rcm (vertices by Reverse Cuthill-McKee, elements following them).
+// The mesh of the spec, checked, in `ordering`, one of fem_orderings() (a random one shuffled by
+// `seed`); another name is a UsageError naming them.
 mesh::Mesh load_fem_mesh(const std::string& spec, const std::string& ordering, std::uint64_t seed);
 
 // Nonzeros of the P1 pattern: one per vertex and two per edge.

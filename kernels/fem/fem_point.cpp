@@ -161,7 +161,7 @@ void validate_solver_params(const KernelConfig& cfg, const std::string& name, bo
 
 void set_mesh_sizing(KernelEntry& e) {
     e.info.axis = AccessAxis::ordering;
-    e.info.accesses = {std::begin(fem_orderings), std::end(fem_orderings)};
+    e.info.accesses = fem_orderings().names();
     e.info.size_kind = SizeKind::count;
     e.mesh_elements = [](const std::string& spec) { return mesh::mesh_counts(mesh::parse_mesh_spec(spec)).elements; };
     e.default_meshes = {"disk:refine=7"};

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/kernel.hpp"
@@ -33,6 +34,26 @@ namespace {
 
 enum class Solve { spmv, cg, eigen };
 
+// How A (and M) are stored and multiplied (--strategy). The first is the plain kernel "": its
+// records keep the kernel's own name, as they did before the symmetric storage came, so that a
+// history of them continues.
+enum class Storage { csr, symmetric };
+
+const ChoiceTable<Storage>& storages() {
+    static const ChoiceTable<Storage> table{
+        "strategy",
+        {{"csr", "every entry, default", Storage::csr},
+         {"symmetric",
+          "one triangle, the transposed half through a ring of 4096 rows a thread: about 60 % of the matrix bytes; "
+          "facts: window, slots, far-entries, phases, synchronised-updates",
+          Storage::symmetric}}};
+    return table;
+}
+
+Storage storage_of(const std::string& variant) {
+    return variant.empty() ? storages().all().front().what : storages().at(variant).what;
+}
+
 // Traffic of one CG iteration by the STREAM convention: the matrix, and the vectors of the three
 // fused passes (q = A p with pᵀq: p, q; x, r updates with rᵀr: x, p, r, q read, x, r written;
 // p = r + βp: r, p read, p written). Flops: 2 a nonzero, 10 a row.
@@ -43,7 +64,8 @@ double cg_flops(std::uint64_t nnz, std::int64_t n) {
 
 class FemSolve final : public Kernel {
 public:
-    FemSolve(const KernelConfig& cfg, Solve solve) : cfg_(cfg), solve_(solve), symmetric_(cfg.variant == "symmetric") {}
+    FemSolve(const KernelConfig& cfg, Solve solve)
+        : cfg_(cfg), solve_(solve), symmetric_(storage_of(cfg.variant) == Storage::symmetric) {}
 
     void setup(Arena& arena) override {
         d_.setup(arena, cfg_, FemPoint::Build::matrices);
@@ -325,20 +347,16 @@ bool register_solve(const char* name, Solve s, const char* formula, const char* 
     e.info.group = "fem";
     e.info.formula = formula;
     e.info.unit = unit;
-    // CSR is the plain kernel, named csr under --strategy: its records keep the names they had
-    // before the symmetric storage came, so that a history of them continues.
-    e.info.variants = {"", "symmetric"};
+    e.info.variants = {""};
+    for (std::size_t i = 1; i < storages().all().size(); ++i) e.info.variants.push_back(storages().all()[i].name);
     e.info.variant_option = "strategy";
-    e.info.plain_variant_name = "csr";
+    e.info.plain_variant_name = storages().all().front().name;
     e.info.params = {delta_param()};
     for (ParamInfo& p : solver_params(s != Solve::spmv, s == Solve::eigen)) e.info.params.push_back(std::move(p));
     // Per unit: a nonzero's value and column (SpMV); a CG iteration's per-row bytes (about 7 nonzeros a row).
     e.info.read_bytes_per_unit = s == Solve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == Solve::spmv ? 2 : 0;
-    e.info.notes = std::string(notes) +
-                   "; --strategy=csr (every entry, default) or symmetric (one triangle, the transposed half through a "
-                   "ring of 4096 rows a thread: "
-                   "about 60 % of the matrix bytes; facts: window, slots, far-entries, phases, synchronised-updates)";
+    e.info.notes = std::string(notes) + "; --strategy=" + storages().described();
     set_mesh_sizing(e);
     e.make = [s](const KernelConfig& cfg) { return std::make_unique<FemSolve>(cfg, s); };
     e.validate = [name = std::string(name), s](const KernelConfig& cfg) { validate_solve(cfg, name, s); };

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "harness/common/units.hpp"
+#include "kernels/fem/fem_mesh.hpp"
 #include "kernels/sfc/encode.hpp"
 #include "kernels/sfc/pipeline.hpp"
 
@@ -111,16 +112,19 @@ std::string matrix_market(const Csr& a, const std::vector<std::string>& comments
 }
 
 std::vector<std::uint32_t> mesh_vertex_order(const mesh::Mesh& m, const std::string& name, std::uint64_t seed) {
-    if (name == "natural") {
-        std::vector<std::uint32_t> id(m.vertices());
-        std::iota(id.begin(), id.end(), 0u);
-        return id;
+    const sfc::Ordering& o = fem_orderings().at(name).what;
+    switch (o.how) {
+        case sfc::Ordering::How::as_given: {
+            std::vector<std::uint32_t> id(m.vertices());
+            std::iota(id.begin(), id.end(), 0u);
+            return id;
+        }
+        case sfc::Ordering::How::shuffled:
+            return inverse_permutation(sfc::shuffled(m, seed).new_id);
+        case sfc::Ordering::How::sorted:
+            break;
     }
-    if (name == "random") return inverse_permutation(sfc::shuffled(m, seed).new_id);
-    if (name == "morton" || name == "hilbert" || name == "rcm")
-        return inverse_permutation(sfc::reorder(m, sfc::parse_method(name), sfc::max_depth(m.dim)).new_id);
-    throw UsageError("unknown mesh ordering '" + name +
-                     "'; the mesh toolkit's are natural, random, morton, hilbert, rcm");
+    return inverse_permutation(sfc::reorder(m, o.method, sfc::max_depth(m.dim)).new_id);
 }
 
 }  // namespace suite::fem

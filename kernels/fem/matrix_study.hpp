@@ -47,9 +47,9 @@ std::vector<std::uint64_t> spy_grid(const Csr& a, int max_bins, int* bins);
 // lines given (each becomes a '%' line).
 std::string matrix_market(const Csr& a, const std::vector<std::string>& comments);
 
-// Vertex orderings from the mesh toolkit, perm[new] = old: natural (identity), random (a seeded
-// shuffle), morton, hilbert (first touch along the curve of the elements), rcm (Reverse
-// Cuthill-McKee). Throws UsageError for another name.
+// The vertex order, perm[new] = old, of one of the finite element kernels' mesh orderings
+// (fem_orderings(), kernels/fem/fem_mesh.hpp; a random one shuffled by `seed`). Throws
+// UsageError naming them for another name.
 std::vector<std::uint32_t> mesh_vertex_order(const mesh::Mesh& m, const std::string& name, std::uint64_t seed);
 
 }  // namespace suite::fem

@@ -11,6 +11,7 @@
 #include "harness/kernel/blocks.hpp"
 #include "kernels/fem/assembly.hpp"
 #include "kernels/fem/csr.hpp"
+#include "kernels/fem/fem_mesh.hpp"
 
 namespace suite::fem {
 
@@ -25,13 +26,21 @@ std::string fmt(const char* f, double v) {
     return b;
 }
 
-std::string source_of(const std::string& name) {
-    if (name == "amd") return "SuiteSparse AMD";
-    if (name == "nd") return "METIS_NodeND";
-    return "mesh toolkit (kernels/sfc)";
-}
-
 }  // namespace
+
+const ChoiceTable<MatrixOrdering>& matrix_orderings() {
+    static const ChoiceTable<MatrixOrdering> table = [] {
+        using From = MatrixOrdering::From;
+        std::vector<Choice<MatrixOrdering>> all;
+        for (const auto& c : fem_orderings().all())
+            all.push_back({c.name, c.help, {From::mesh, "mesh toolkit (kernels/sfc)"}});
+        all.push_back(
+            {"amd", "approximate minimum degree of A's graph, by SuiteSparse", {From::amd, "SuiteSparse AMD"}});
+        all.push_back({"nd", "nested dissection of A's graph, by METIS", {From::nested_dissection, "METIS_NodeND"}});
+        return ChoiceTable<MatrixOrdering>(fem_orderings().what(), std::move(all));
+    }();
+    return table;
+}
 
 void spmv(const Csr& b, const double* x, double* y, int threads) {
     const Pattern p{b.n, const_cast<std::uint32_t*>(b.row_ptr.data()), const_cast<std::uint32_t*>(b.col.data())};
@@ -76,12 +85,14 @@ OrderingStudy study_ordering(const MatrixUnderStudy& mat, const mesh::Mesh& m, c
                              const StudySettings& set) {
     const Csr& a = mat.a;
     OrderingStudy r;
+    const MatrixOrdering& how = matrix_orderings().at(name).what;
     r.name = name;
-    r.source = source_of(name);
+    r.source = how.source;
     const auto t0 = Clock::now();
-    const std::vector<std::uint32_t> perm = name == "amd"  ? amd_order(a)
-                                            : name == "nd" ? nested_dissection_order(a)
-                                                           : mesh_vertex_order(m, name, set.seed);
+    const std::vector<std::uint32_t> perm = how.from == MatrixOrdering::From::amd ? amd_order(a)
+                                            : how.from == MatrixOrdering::From::nested_dissection
+                                                ? nested_dissection_order(a)
+                                                : mesh_vertex_order(m, name, set.seed);
     r.order_s = since(t0);
     if (!is_permutation(perm, static_cast<std::size_t>(a.n)))
         throw std::runtime_error(name + ": the ordering is not a permutation of the rows");

@@ -9,12 +9,26 @@
 #include <string>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
 #include "kernels/fem/matrix_study.hpp"
 #include "kernels/fem/sparse_libs.hpp"
 #include "kernels/mesh/mesh.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
 
 namespace suite::fem {
+
+// `suite matrix`'s orderings: the finite element kernels' mesh orderings (fem_orderings(): they
+// number the mesh's vertices, and A's rows follow), then two orderings of A's graph itself by a
+// library. Those two extend the mesh table here instead of sitting in it: they exist only where
+// an assembled A does, so every other user of the mesh table (the kernels, sfc-build, traverse)
+// would have to skip them. They need no check of their own: `suite matrix` refuses to start
+// without SuiteSparse and METIS (sparse_libs_missing()).
+struct MatrixOrdering {
+    enum class From { mesh, amd, nested_dissection };
+    From from = From::mesh;
+    std::string source;  // who computes it, as the records say
+};
+const ChoiceTable<MatrixOrdering>& matrix_orderings();
 
 // A, and the product every ordering's SpMV must reproduce.
 struct MatrixUnderStudy {

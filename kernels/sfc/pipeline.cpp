@@ -3,20 +3,11 @@
 #include <algorithm>
 #include <numeric>
 
-#include "harness/common/units.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/permutation.hpp"
 #include "kernels/sfc/rcm.hpp"
 
 namespace suite::sfc {
-
-Method parse_method(const std::string& name) {
-    if (name == "morton") return Method::morton;
-    if (name == "hilbert") return Method::hilbert;
-    if (name == "morton-recursive") return Method::morton_recursive;
-    if (name == "rcm") return Method::rcm;
-    throw UsageError("unknown ordering '" + name + "'; accepted: morton, hilbert, morton-recursive, rcm");
-}
 
 Pipeline::Pipeline(const mesh::MeshView& in, Method method, int depth, Encoder encoder, const PipelineArrays& arrays)
     : in_(in), method_(method), depth_(depth), encoder_(encoder), a_(arrays) {}
@@ -105,9 +96,16 @@ Reordered shuffled(const mesh::Mesh& m, std::uint64_t seed) {
 }
 
 mesh::Mesh ordered(const mesh::Mesh& m, const std::string& ordering, std::uint64_t seed, int depth) {
-    if (ordering == "natural") return m;
-    if (ordering == "random") return shuffled(m, seed).mesh;
-    return reorder(m, parse_method(ordering), depth).mesh;
+    const Ordering& o = mesh_orderings().at(ordering).what;
+    switch (o.how) {
+        case Ordering::How::as_given:
+            return m;
+        case Ordering::How::shuffled:
+            return shuffled(m, seed).mesh;
+        case Ordering::How::sorted:
+            break;
+    }
+    return reorder(m, o.method, depth).mesh;
 }
 
 }  // namespace suite::sfc

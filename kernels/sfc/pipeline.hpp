@@ -13,16 +13,11 @@
 
 #include "kernels/mesh/mesh.hpp"
 #include "kernels/sfc/keys.hpp"
+#include "kernels/sfc/orderings.hpp"
 #include "kernels/sfc/radix_sort.hpp"
 #include "kernels/sfc/renumber.hpp"
 
 namespace suite::sfc {
-
-// The orderings that sort elements: the three curves and RCM.
-enum class Method { morton, hilbert, morton_recursive, rcm };
-
-// "morton", "hilbert", "morton-recursive", "rcm"; throws UsageError otherwise.
-Method parse_method(const std::string& name);
 
 struct PipelineArrays {
     std::uint64_t* keys = nullptr;    // elements
@@ -68,8 +63,8 @@ mesh::Mesh permuted(const mesh::Mesh& m, const std::vector<std::uint32_t>& perm,
 // "random": a seeded uniform shuffle of the elements and, independently, of the vertices.
 Reordered shuffled(const mesh::Mesh& m, std::uint64_t seed);
 
-// The mesh in an ordering by name: "natural" (as given), "random" (shuffled by `seed`), or a
-// Method's name (curves at `depth` bits per axis). Throws UsageError for another name.
+// The mesh in one of mesh_orderings() by name (orderings.hpp): as given, shuffled by `seed`, or
+// sorted (curves at `depth` bits per axis). Throws UsageError for another name.
 mesh::Mesh ordered(const mesh::Mesh& m, const std::string& ordering, std::uint64_t seed, int depth);
 
 }  // namespace suite::sfc

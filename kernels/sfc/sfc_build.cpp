@@ -17,9 +17,12 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/kernel.hpp"
@@ -31,13 +34,32 @@ namespace suite::sfc {
 
 namespace {
 
+// The phases --phase measures apart, in the order they run; the plain kernel "" (--phase=all)
+// runs them all.
+enum class Phase { keys, sort, renumber };
+
+const ChoiceTable<Phase>& phases() {
+    static const ChoiceTable<Phase> table{"phase",
+                                          {{"keys", "the bounding box and every element's key", Phase::keys},
+                                           {"sort", "the elements stably sorted by key", Phase::sort},
+                                           {"renumber", "vertices renumbered, the mesh rewritten", Phase::renumber}}};
+    return table;
+}
+
+// The phase a variant measures alone; none for the plain kernel.
+std::optional<Phase> phase_of(const std::string& variant) {
+    if (variant.empty()) return std::nullopt;
+    return phases().at(variant).what;
+}
+
 constexpr std::uint32_t poison32 = std::numeric_limits<std::uint32_t>::max();
 
 std::string mesh_of(const KernelConfig& cfg) { return cfg.mesh.empty() ? mesh::disk_spec_for(cfg.size) : cfg.mesh; }
 
 class SfcBuild final : public Kernel {
 public:
-    explicit SfcBuild(const KernelConfig& cfg) : cfg_(cfg), method_(parse_method(cfg.access.name)) {}
+    explicit SfcBuild(const KernelConfig& cfg)
+        : cfg_(cfg), method_(parse_method(cfg.access.name)), only_(phase_of(cfg.variant)) {}
 
     void setup(Arena& arena) override {
         spec_ = mesh_of(cfg_);
@@ -100,21 +122,19 @@ public:
         in_ = {dim_, nv_, ne_, in_xyz[0], in_xyz[1], in_xyz[2], conn_};
         pipeline_ = std::make_unique<Pipeline>(in_, method_, max_depth(dim_), Encoder::best, arrays_);
         // A phase measured alone starts from the outputs of the phases before it.
-        if (cfg_.variant == "sort" || cfg_.variant == "renumber") pipeline_->keys();
-        if (cfg_.variant == "renumber") pipeline_->sort();
+        if (only_ && *only_ > Phase::keys) pipeline_->keys();
+        if (only_ && *only_ > Phase::sort) pipeline_->sort();
     }
 
     void run(int calls) override {
-        const std::string& v = cfg_.variant;
         for (int c = 0; c < calls; ++c) {
-            if (v.empty() || v == "keys") pipeline_->keys();
-            if (v.empty() || v == "sort") pipeline_->sort();
-            if (v.empty() || v == "renumber") pipeline_->renumber();
+            if (does(Phase::keys)) pipeline_->keys();
+            if (does(Phase::sort)) pipeline_->sort();
+            if (does(Phase::renumber)) pipeline_->renumber();
         }
     }
 
     Verification verify() override {
-        const std::string& v = cfg_.variant;
         Checks checks(in_, method_, max_depth(dim_), arrays_, pipeline_->frame());
         Verification out{true,
                          "mesh " + spec_ + " (" + std::to_string(ne_) + " " + mesh::element_word(dim_, true) + ", " +
@@ -128,9 +148,9 @@ public:
                 done.push_back("FAILED: " + r.failure);
             }
         };
-        if (v.empty() || v == "keys") add(checks.keys());
-        if (v.empty() || v == "sort") add(checks.sort());
-        if (v.empty() || v == "renumber") add(checks.renumber());
+        if (does(Phase::keys)) add(checks.keys());
+        if (does(Phase::sort)) add(checks.sort());
+        if (does(Phase::renumber)) add(checks.renumber());
         for (std::size_t i = 0; i < done.size(); ++i) out.detail += (i ? "; " : "") + done[i];
         return out;
     }
@@ -150,18 +170,21 @@ public:
                              v * (8 * d * 3 + 4 * 3 + 8 + 2 * 4);
         Work w;
         w.units = n;
-        const std::string& var = cfg_.variant;
-        if (var.empty() || var == "keys") w.stream_bytes += keys_s, w.hardware_bytes += keys_h;
-        if (var.empty() || var == "sort") w.stream_bytes += sort_s, w.hardware_bytes += sort_h;
-        if (var.empty() || var == "renumber") w.stream_bytes += ren_s, w.hardware_bytes += ren_h;
+        if (does(Phase::keys)) w.stream_bytes += keys_s, w.hardware_bytes += keys_h;
+        if (does(Phase::sort)) w.stream_bytes += sort_s, w.hardware_bytes += sort_h;
+        if (does(Phase::renumber)) w.stream_bytes += ren_s, w.hardware_bytes += ren_h;
         w.footprint_bytes = static_cast<std::uint64_t>(n * (4 * k * 2 + 8 + 4 + 8 * 2 + 4 * 2) +
                                                        12.0 * std::ceil(n * k / 64) + v * (8 * d * 2 + 4 * 2));
         return w;
     }
 
 private:
+    // Whether a repetition runs phase `p`: all of them, or the one --phase measures alone.
+    bool does(Phase p) const { return !only_ || *only_ == p; }
+
     KernelConfig cfg_;
     Method method_;
+    std::optional<Phase> only_;
     std::string spec_;
     int dim_ = 2, k_ = 3;
     std::size_t ne_ = 0, nv_ = 0;
@@ -173,19 +196,19 @@ private:
 
 // Bytes a point needs at its peak: the kernel's arrays, the mesh as built before it is copied
 // into them, and for RCM the vertex graph (about 150 bytes a vertex with Boost's copy of it).
-std::uint64_t peak_bytes(const mesh::MeshCounts& c, const std::string& ordering) {
+std::uint64_t peak_bytes(const mesh::MeshCounts& c, Method method) {
     const std::uint64_t k = static_cast<std::uint64_t>(c.dim) + 1;
     const std::uint64_t arrays =
         c.elements * (8 * k + 8 + 4 + 16 + 8) + c.elements * k * 12 / 64 + c.vertices * (16 * c.dim + 8);
     const std::uint64_t mesh = c.elements * 4 * k + c.vertices * 8 * c.dim;
-    return arrays + 2 * mesh + (ordering == "rcm" ? 150 * c.vertices : 0);
+    return arrays + 2 * mesh + (method == Method::rcm ? 150 * c.vertices : 0);
 }
 
 void validate(const KernelConfig& cfg) {
-    parse_method(cfg.access.name);
+    const Method method = parse_method(cfg.access.name);
     const std::string spec = mesh_of(cfg);
     const mesh::MeshCounts c = mesh::mesh_counts(mesh::parse_mesh_spec(spec));
-    const std::uint64_t need = peak_bytes(c, cfg.access.name), have = available_memory_bytes(MemoryPolicy{});
+    const std::uint64_t need = peak_bytes(c, method), have = available_memory_bytes(MemoryPolicy{});
     if (need > have)
         throw UsageError("sfc-build on --mesh=" + spec + " (" + std::to_string(c.elements) + " elements) needs about " +
                          format_bytes(need) + ", more than the " + format_bytes(have) +
@@ -199,17 +222,17 @@ const bool registered = [] {
     e.info.formula = "curve keys, sort, renumber";
     e.info.unit = "element";
     e.info.axis = AccessAxis::ordering;
-    e.info.accesses = {"morton", "hilbert", "morton-recursive", "rcm"};
-    e.info.variants = {"", "keys", "sort", "renumber"};
+    e.info.accesses = sorting_orderings().names();
+    e.info.variants = {""};
+    for (const auto& p : phases().names()) e.info.variants.push_back(p);
     e.info.size_kind = SizeKind::count;
     e.info.metric = Metric::bandwidth;
     // For triangles (work() has the formulas): keys 12+48 read, 8 written; sort 8 read, 4 written;
     // renumber 16 read, 12 written, plus the vertices.
     e.info.read_bytes_per_unit = 84;
     e.info.write_bytes_per_unit = 24;
-    e.info.notes =
-        "reorders a mesh along a curve (or RCM); --phase=keys|sort|renumber|all; sized by --mesh, or a disk of at "
-        "least --size triangles";
+    e.info.notes = "reorders a mesh along a curve (or RCM); --phase=" + join(phases().names(), "|") +
+                   "|all; sized by --mesh, or a disk of at least --size triangles";
     e.make = [](const KernelConfig& cfg) { return std::make_unique<SfcBuild>(cfg); };
     e.validate = validate;
     e.mesh_elements = [](const std::string& spec) { return mesh::mesh_counts(mesh::parse_mesh_spec(spec)).elements; };

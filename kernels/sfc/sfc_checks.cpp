@@ -64,7 +64,7 @@ CheckResult Checks::keys() const {
                       std::to_string(depth_) + ", " +
                       (stride == 1 ? std::string("every key") : "every " + std::to_string(stride) + "th key") +
                       " recomputed by " +
-                      (method_ == Method::morton             ? "morton-recursive"
+                      (method_ == Method::morton             ? method_name(Method::morton_recursive)
                        : method_ == Method::morton_recursive ? "the portable morton"
                                                              : "the portable interleave"),
                   ""};

@@ -44,6 +44,22 @@ TEST(ChoiceTable, HelpTextsComeFromTheTable) {
     EXPECT_EQ(modes().listed(), "  fast   quick and rough\n  exact  slow and right\n");
 }
 
+TEST(ChoiceTable, SubsetKeepsOrderAndTheRetiredNamesLeadingIntoIt) {
+    const ChoiceTable<Mode> exact = modes().subset([](Mode m) { return m == Mode::exact; });
+    EXPECT_EQ(exact.accepted(), "exact");
+    EXPECT_EQ(exact.what(), "mode");
+    EXPECT_TRUE(exact.retired().empty());
+    const ChoiceTable<Mode> both = modes().subset([](Mode) { return true; });
+    EXPECT_EQ(both.accepted(), "fast, exact");
+    EXPECT_EQ(both.renamed("quick"), "fast");
+    try {
+        exact.at("fast");
+        ADD_FAILURE() << "a name left out of the subset was accepted";
+    } catch (const UsageError& e) {
+        EXPECT_STREQ(e.what(), "unknown mode 'fast'; accepted: exact");
+    }
+}
+
 TEST(ChoiceTable, ListedWrapsLongHelpUnderItself) {
     const ChoiceTable<int> t{"word", {{"w", std::string(60, 'a') + " " + std::string(60, 'b'), 0}}};
     EXPECT_EQ(t.listed(), "  w  " + std::string(60, 'a') + "\n     " + std::string(60, 'b') + "\n");
