@@ -14,6 +14,7 @@
 
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
+#include "harness/kernel/patterns.hpp"
 
 namespace suite::stream {
 namespace {
@@ -40,7 +41,7 @@ public:
         mem_ = arena.allocate<Line>("lines", lines_);
         pos_.assign(static_cast<std::size_t>(nt), nullptr);
         start_.assign(static_cast<std::size_t>(nt), nullptr);
-        const bool random = cfg_.access.name == "random";
+        const bool random = pattern_of(cfg_.access) == Pattern::random;
         int team = 0;
 #pragma omp parallel num_threads(nt) reduction(max : team)
         {
@@ -134,7 +135,7 @@ const bool registered = [] {
     e.info.formula = "p = p->next";
     e.info.unit = "load";
     e.info.axis = AccessAxis::pattern;
-    e.info.accesses = {"random", "sequential"};
+    e.info.accesses = {pattern_name(Pattern::random), pattern_name(Pattern::sequential)};
     e.info.size_kind = SizeKind::bytes;
     e.info.metric = Metric::latency;
     e.info.read_bytes_per_unit = 8;

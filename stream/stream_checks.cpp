@@ -10,18 +10,18 @@ void validate_stream_config(const KernelConfig& cfg, const char* name, int array
         throw UsageError("size " + format_bytes(cfg.size) + " is too small for " + name + " with " +
                          std::to_string(threads) + " thread(s); use at least " +
                          format_bytes(2 * threads * (8 * arrays + 4)));
-    if (cfg.access.name == "random" && n > UINT32_MAX)
+    if (pattern_of(cfg.access) == Pattern::random && n > UINT32_MAX)
         throw UsageError("size " + format_bytes(cfg.size) +
                          " is too large for the random pattern, whose index array holds 32-bit "
                          "indices (at most 4294967295 elements); use a smaller size");
-    if (cfg.access.name == "strided" && n < cfg.access.stride * threads)
+    if (pattern_of(cfg.access) == Pattern::strided && n < cfg.access.stride * threads)
         throw UsageError("--pattern=" + cfg.access.label() + " with " + std::to_string(threads) +
                          " thread(s) needs at least " + std::to_string(cfg.access.stride) +
                          " elements per thread; use a size of at least " +
                          format_bytes(cfg.access.stride * threads * 8 * arrays));
-    if (is_store_variant(cfg.variant) && cfg.access.name != "sequential")
-        throw UsageError("--stores=" + cfg.variant + " works with --pattern=sequential only, not '" +
-                         cfg.access.label() + "'");
+    if (is_store_variant(cfg.variant) && pattern_of(cfg.access) != Pattern::sequential)
+        throw UsageError("--stores=" + cfg.variant + " works with --pattern=" + pattern_name(Pattern::sequential) +
+                         " only, not '" + cfg.access.label() + "'");
 }
 
 }  // namespace suite::stream

@@ -24,6 +24,7 @@
 #include "harness/common/units.hpp"
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/kernel.hpp"
+#include "harness/kernel/patterns.hpp"
 #include "harness/kernel/permutation.hpp"
 #include "stream/arch.hpp"
 
@@ -43,11 +44,6 @@ constexpr double line_bytes = 64.0;
 // nothing at 1 MiB; 2 KiB ahead did as well. The two-read kernels (add, triad) gained nothing
 // from prefetching both sources (1 thread: triad-nt 34.1 against 38.0, add-nt 36.7 against 36.5).
 constexpr std::int64_t nt_prefetch = 512;
-
-enum class Pattern { sequential, random, strided };
-inline Pattern pattern_of(const Access& a) {
-    return a.name == "random" ? Pattern::random : a.name == "strided" ? Pattern::strided : Pattern::sequential;
-}
 
 // Between two calls that need no barrier: the compiler must assume memory was read and changed,
 // so it can neither merge the calls nor drop one whose stores are overwritten by the next.
@@ -70,7 +66,7 @@ constexpr std::int64_t unroll_elements = 32;
 
 // The configuration checks of every stream kernel, run before anything is measured.
 inline std::uint64_t stream_elements(const KernelConfig& cfg, int arrays) {
-    const bool indexed = cfg.access.name == "random";
+    const bool indexed = pattern_of(cfg.access) == Pattern::random;
     return static_cast<std::uint64_t>(static_cast<double>(cfg.size) / (8.0 * arrays + (indexed ? 4.0 : 0.0)));
 }
 void validate_stream_config(const KernelConfig& cfg, const char* name, int arrays);
@@ -368,7 +364,7 @@ inline KernelEntry stream_entry(const char* name, const char* formula, bool has_
     e.info.formula = formula;
     e.info.unit = "element";
     e.info.axis = AccessAxis::pattern;
-    e.info.accesses = {"sequential", "random", "strided"};
+    e.info.accesses = access_patterns().names();
     e.info.variants = {""};
     if (has_nt) e.info.variants.push_back("nt");
     if (has_rep && have_string_ops) e.info.variants.push_back("rep");

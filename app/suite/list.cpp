@@ -15,6 +15,7 @@
 #include "harness/common/text.hpp"
 #include "harness/instruments/counters.hpp"
 #include "harness/kernel/kernel.hpp"
+#include "harness/kernel/patterns.hpp"
 
 namespace suite {
 namespace list_command {
@@ -32,7 +33,7 @@ const char* const kGeneric[] = {"cycles",           "instructions",    "cache-re
 std::string accesses_text(const KernelInfo& info) {
     std::string out;
     for (const auto& a : info.accesses)
-        out += (out.empty() ? "" : ",") + (a == "strided" ? std::string("strided:S") : a);
+        out += (out.empty() ? "" : ",") + a + (find_pattern(a) && find_pattern(a)->takes_stride ? ":S" : "");
     return out;
 }
 

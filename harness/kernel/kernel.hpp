@@ -28,11 +28,11 @@ enum class AccessAxis { pattern, ordering };
 enum class SizeKind { bytes, count };
 enum class Metric { bandwidth, latency };
 
-// One access pattern or data ordering, e.g. {"strided", 8} or {"morton", 0}.
+// One access pattern (harness/kernel/patterns.hpp) or data ordering, e.g. {"strided", 8} or {"morton", 0}.
 struct Access {
     std::string name;
-    std::uint64_t stride = 0;  // only for "strided"
-    std::string label() const { return name == "strided" ? name + ":" + std::to_string(stride) : name; }
+    std::uint64_t stride = 0;   // only for a pattern that takes one (strided)
+    std::string label() const;  // "strided:8", "morton"
 };
 
 // Whether `v` is one of the variants --stores picks (store_variants.hpp), as opposed to the

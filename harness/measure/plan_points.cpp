@@ -6,26 +6,30 @@
 #include "harness/common/did_you_mean.hpp"
 #include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
+#include "harness/kernel/patterns.hpp"
 #include "harness/measure/plan_parts.hpp"
 
 namespace suite::plan_parts {
 namespace {
 
+// "NAME" or, for a pattern that takes a stride, "NAME:S".
 Access parse_access(const std::string& text, const std::string& option) {
     Access a;
-    if (text.rfind("strided", 0) != 0) {
-        a.name = text;
-        return a;
+    a.name = text;
+    for (const auto& c : access_patterns().all()) {
+        if (!c.what.takes_stride || text.rfind(c.name, 0) != 0) continue;
+        const std::string example = c.name + ":8";
+        a.name = c.name;
+        if (text.size() < c.name.size() + 2 || text[c.name.size()] != ':')
+            throw UsageError("--" + option + "=" + text + ": " + c.name + " needs a stride in elements, e.g. " +
+                             example);
+        const auto stride = whole_number(text.substr(c.name.size() + 1), 1000000000);
+        if (!stride || *stride < 1)
+            throw UsageError("--" + option + "=" + text +
+                             ": the stride must be a positive whole number of elements, at most 1000000000, e.g. " +
+                             example);
+        a.stride = *stride;
     }
-    a.name = "strided";
-    if (text.size() < 9 || text[7] != ':')
-        throw UsageError("--" + option + "=" + text + ": strided needs a stride in elements, e.g. strided:8");
-    const auto stride = whole_number(text.substr(8), 1000000000);
-    if (!stride || *stride < 1)
-        throw UsageError(
-            "--" + option + "=" + text +
-            ": the stride must be a positive whole number of elements, at most 1000000000, e.g. strided:8");
-    a.stride = *stride;
     return a;
 }
 
