@@ -49,8 +49,9 @@ fetch_kernel() {
             pkg=$(deb_dependency "$meta")
         fi
         [ -n "$pkg" ] || { echo "$name: apt knows no $meta (apt-get update first?)" >&2; return 1; }
-        # An arch-qualified meta package names its dependency without the qualifier.
-        [ "${meta#*:}" != "$meta" ] && pkg="$pkg:${meta#*:}"
+        # Another architecture's dependency is qualified (linux-image-6.1.0-NN-arm64:arm64) where apt
+        # says so; where it does not, the meta package's qualifier applies.
+        case "$meta:$pkg" in *:*:*:*) ;; *:*:*) [ "${meta#*:}" != "$meta" ] && pkg="$pkg:${meta#*:}" ;; esac
         fetch_from_deb "$pkg" './boot/vmlinuz-*' "$work/kernel" >&2 || return 1
         vmlinuz=$(ls "$work"/kernel/vmlinuz-* | head -n 1)
     fi
