@@ -19,6 +19,9 @@ struct Add {
     static T apply(T b, T c) {
         return b + c;
     }
+#if SUITE_HAVE_SVE_TWINS
+    SUITE_SVE static svfloat64_t apply_sve(svbool_t pg, svfloat64_t b, svfloat64_t c) { return svadd_f64_x(pg, b, c); }
+#endif
 };
 const bool registered = register_stream_kernel<Add>();
 }  // namespace

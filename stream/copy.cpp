@@ -17,6 +17,9 @@ struct Copy {
     static T apply(T b, T) {
         return b;
     }
+#if SUITE_HAVE_SVE_TWINS
+    SUITE_SVE static svfloat64_t apply_sve(svbool_t, svfloat64_t b, svfloat64_t) { return b; }
+#endif
 };
 const bool registered = register_stream_kernel<Copy>();
 }  // namespace

@@ -17,6 +17,11 @@ struct Scale {
     static T apply(T b, T) {
         return scalar * b;
     }
+#if SUITE_HAVE_SVE_TWINS
+    SUITE_SVE static svfloat64_t apply_sve(svbool_t pg, svfloat64_t b, svfloat64_t) {
+        return svmul_n_f64_x(pg, b, scalar);
+    }
+#endif
 };
 const bool registered = register_stream_kernel<Scale>();
 }  // namespace

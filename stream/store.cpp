@@ -39,7 +39,12 @@ public:
         const std::int64_t n = static_cast<std::int64_t>(n_), s = stride_;
         const int nt = cfg_.threads;
         if (cfg_.variant == "nt")
-            nt_store_loop(a, n, nt, calls_, calls);
+#if SUITE_HAVE_SVE_TWINS
+            if (cpu_has_sve())
+                nt_store_loop_sve(a, n, nt, calls_, calls);
+            else
+#endif
+                nt_store_loop(a, n, nt, calls_, calls);
         else if (cfg_.variant == "rep")
             rep_store_loop(a, n, nt, calls_, calls);
         else
@@ -142,18 +147,34 @@ private:
                 std::int64_t i = blk.lo;
                 for (; i < blk.hi && (reinterpret_cast<std::uintptr_t>(a + i) % sizeof(ntvec)) != 0; ++i) a[i] = v;
                 for (; i + 4 * nt_width <= blk.hi; i += 4 * nt_width) {
-                    nt_store(a + i, vv);
-                    nt_store(a + i + nt_width, vv);
-                    nt_store(a + i + 2 * nt_width, vv);
-                    nt_store(a + i + 3 * nt_width, vv);
+                    nt_store_pair(a + i, vv, vv);
+                    nt_store_pair(a + i + 2 * nt_width, vv, vv);
                 }
                 for (; i + nt_width <= blk.hi; i += nt_width) nt_store(a + i, vv);
                 for (; i < blk.hi; ++i) a[i] = v;
                 compiler_fence();
             }
-            _mm_sfence();
+            nt_fence();
         }
     }
+
+#if SUITE_HAVE_SVE_TWINS
+    // The SVE twin of the nt loop: each vector streamed with STNT1D, vector-length agnostic.
+    __attribute__((noinline)) SUITE_SVE static void nt_store_loop_sve(double* __restrict a, std::int64_t n, int nt,
+                                                                      std::uint64_t first_call, int calls) {
+#pragma omp parallel num_threads(nt)
+        {
+            const Block blk = my_line_block(n);
+            const std::int64_t step = static_cast<std::int64_t>(svcntd());
+            for (int k = 0; k < calls; ++k) {
+                const svfloat64_t vv = svdup_n_f64(stored_value(first_call + static_cast<std::uint64_t>(k)));
+                for (std::int64_t i = blk.lo; i < blk.hi; i += step) svstnt1_f64(svwhilelt_b64(i, blk.hi), a + i, vv);
+                compiler_fence();
+            }
+            nt_fence();
+        }
+    }
+#endif
 
     // Each thread fills its own block with one rep stosq a call: memset's instruction (it uses rep
     // stosb, for a byte; the stored double needs eight).
@@ -169,7 +190,7 @@ private:
                           words);
                 compiler_fence();
             }
-            _mm_sfence();
+            nt_fence();
         }
     }
 

@@ -12,7 +12,6 @@
 // Every thread works on the block of i that it first touched (line_block), so with
 // placement=local the sequential and strided patterns only touch the thread's own pages; the
 // random pattern reaches anywhere by design.
-#include <immintrin.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -26,6 +25,7 @@
 #include "harness/kernel/blocks.hpp"
 #include "harness/kernel/kernel.hpp"
 #include "harness/kernel/permutation.hpp"
+#include "stream/arch.hpp"
 
 namespace suite::stream {
 
@@ -37,21 +37,6 @@ constexpr double init_a = -1.0;
 constexpr double scalar = 3.0;  // the s of scale and triad
 constexpr double line_bytes = 64.0;
 
-// Non-temporal stores: the widest streaming store the build targets.
-#if defined(__AVX512F__)
-using ntvec = __m512d;
-inline void nt_store(double* p, ntvec v) { _mm512_stream_pd(p, v); }
-inline ntvec nt_load(const double* p) { return _mm512_loadu_pd(p); }
-#elif defined(__AVX__)
-using ntvec = __m256d;
-inline void nt_store(double* p, ntvec v) { _mm256_stream_pd(p, v); }
-inline ntvec nt_load(const double* p) { return _mm256_loadu_pd(p); }
-#else
-using ntvec = __m128d;
-inline void nt_store(double* p, ntvec v) { _mm_stream_pd(p, v); }
-inline ntvec nt_load(const double* p) { return _mm_loadu_pd(p); }
-#endif
-constexpr std::int64_t nt_width = sizeof(ntvec) / sizeof(double);
 // How far ahead (elements: 4 KiB) the nt loops of the one-read kernels (copy, scale) prefetch
 // their source. Measured at 1 GiB on the 2-core Zen 5 VM, medians of 4-6 interleaved runs:
 // copy-nt +14 % (1 thread, 32.4 -> 37.4 GB/s; 2 threads 49.2 -> 55.9), scale-nt +12-14 %,
@@ -66,6 +51,7 @@ constexpr std::int64_t nt_prefetch = 512;
 // threshold. The ABI guarantees the direction flag clear on entry to a function.
 #if defined(__x86_64__)
 constexpr bool have_string_ops = true;
+constexpr const char* no_string_ops = "";
 inline void rep_movsb(void* dst, const void* src, std::size_t bytes) {
     asm volatile("rep movsb" : "+D"(dst), "+S"(src), "+c"(bytes) : : "memory");
 }
@@ -74,6 +60,8 @@ inline void rep_stosq(void* dst, std::uint64_t value, std::size_t words) {
 }
 #else
 constexpr bool have_string_ops = false;  // the rep variants are not registered
+constexpr const char* no_string_ops =
+    "rep movsb and rep stosq are x86-64 string instructions; this build is not x86-64";
 inline void rep_movsb(void*, const void*, std::size_t) {}
 inline void rep_stosq(void*, std::uint64_t, std::size_t) {}
 #endif
@@ -192,13 +180,21 @@ public:
         const std::uint32_t* __restrict p = p_;
         const std::int64_t n = static_cast<std::int64_t>(n_), s = stride_;
         if constexpr (Op::has_nt) {
-            if (cfg_.variant == "nt") return nt_store_loop(a, b, c, n, calls);
+            if (cfg_.variant == "nt") {
+#if SUITE_HAVE_SVE_TWINS
+                if (cpu_has_sve()) return nt_store_loop_sve(a, b, c, n, calls);
+#endif
+                return nt_store_loop(a, b, c, n, calls);
+            }
         }
         if constexpr (Op::has_rep) {
             if (cfg_.variant == "rep") return rep_copy_loop(a, b, n, calls);
         }
         switch (pattern_) {
             case Pattern::sequential:
+#if SUITE_HAVE_SVE_TWINS
+                if (cpu_has_sve()) return sequential_loop_sve(a, b, c, n, calls);
+#endif
                 return sequential_loop(a, b, c, n, calls);
             case Pattern::random:
                 return random_loop(a, b, c, p, n, calls);
@@ -307,20 +303,56 @@ private:
                     a[i] = Op::apply(b[i], Op::reads > 1 ? c[i] : 0.0);
                 for (; i + 2 * nt_width <= blk.hi; i += 2 * nt_width) {
                     if constexpr (Op::reads == 1)
-                        for (std::int64_t l = 0; l < 2 * nt_width; l += 8)
-                            _mm_prefetch(reinterpret_cast<const char*>(b + i + l + nt_prefetch), _MM_HINT_T0);
+                        for (std::int64_t l = 0; l < 2 * nt_width; l += 8) prefetch_read(b + i + l + nt_prefetch);
                     const ntvec vb0 = nt_load(b + i), vb1 = nt_load(b + i + nt_width);
                     const ntvec vc0 = Op::reads > 1 ? nt_load(c + i) : vb0;
                     const ntvec vc1 = Op::reads > 1 ? nt_load(c + i + nt_width) : vb1;
-                    nt_store(a + i, Op::apply(vb0, vc0));
-                    nt_store(a + i + nt_width, Op::apply(vb1, vc1));
+                    nt_store_pair(a + i, Op::apply(vb0, vc0), Op::apply(vb1, vc1));
                 }
                 for (; i < blk.hi; ++i) a[i] = Op::apply(b[i], Op::reads > 1 ? c[i] : 0.0);
                 compiler_fence();
             }
-            _mm_sfence();
+            nt_fence();
         }
     }
+
+#if SUITE_HAVE_SVE_TWINS
+    // The SVE twins (aarch64 CPUs with SVE): the same loops, vector-length agnostic. The plain
+    // loop is the compiler's (whilelo, ld1d, st1d: it vectorises a loop for SVE without the
+    // hand unrolling the fixed-width loop needs); the nt loop streams each vector with STNT1D.
+    __attribute__((noinline)) SUITE_SVE static void sequential_loop_sve(double* __restrict a,
+                                                                        const double* __restrict b,
+                                                                        const double* __restrict c, std::int64_t n,
+                                                                        int calls) {
+#pragma omp parallel
+        {
+            const Block blk = my_line_block(n);
+            for (int k = 0; k < calls; ++k) {
+                for (std::int64_t i = blk.lo; i < blk.hi; ++i) a[i] = Op::apply(b[i], Op::reads > 1 ? c[i] : 0.0);
+                compiler_fence();
+            }
+        }
+    }
+    __attribute__((noinline)) SUITE_SVE static void nt_store_loop_sve(double* __restrict a, const double* __restrict b,
+                                                                      const double* __restrict c, std::int64_t n,
+                                                                      int calls) {
+#pragma omp parallel
+        {
+            const Block blk = my_line_block(n);
+            const std::int64_t step = static_cast<std::int64_t>(svcntd());
+            for (int k = 0; k < calls; ++k) {
+                for (std::int64_t i = blk.lo; i < blk.hi; i += step) {
+                    const svbool_t pg = svwhilelt_b64(i, blk.hi);
+                    const svfloat64_t vb = svld1_f64(pg, b + i);
+                    const svfloat64_t vc = Op::reads > 1 ? svld1_f64(pg, c + i) : vb;
+                    svstnt1_f64(pg, a + i, Op::apply_sve(pg, vb, vc));
+                }
+                compiler_fence();
+            }
+            nt_fence();
+        }
+    }
+#endif
 
     // Each thread copies its own block with one rep movsb a call (only copy has this variant:
     // the string instructions move or fill, they do not compute).
@@ -334,7 +366,7 @@ private:
                 rep_movsb(a + blk.lo, b + blk.lo, bytes);
                 compiler_fence();
             }
-            _mm_sfence();
+            nt_fence();
         }
     }
 

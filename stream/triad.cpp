@@ -17,6 +17,11 @@ struct Triad {
     static T apply(T b, T c) {
         return b + scalar * c;
     }
+#if SUITE_HAVE_SVE_TWINS
+    SUITE_SVE static svfloat64_t apply_sve(svbool_t pg, svfloat64_t b, svfloat64_t c) {
+        return svmla_n_f64_x(pg, b, c, scalar);
+    }
+#endif
 };
 const bool registered = register_stream_kernel<Triad>();
 }  // namespace

@@ -15,6 +15,7 @@
 #include "harness/measure/cache_probe.hpp"
 #include "harness/measure/instrument_set.hpp"
 #include "harness/results/context.hpp"
+#include "harness/results/context_fields.hpp"
 #include "rapl/energy.hpp"
 
 namespace suite {
@@ -68,11 +69,9 @@ int cmd_info(const std::vector<std::string>& args) {
                                            : v["value"].get<std::string>())
                   << "\n";
     }
-    std::cout << "  built for: "
-              << (context["instruction_set"]["avx512f"].get<bool>() ? "AVX-512"
-                  : context["instruction_set"]["avx2"].get<bool>()  ? "AVX2"
-                                                                    : "SSE2")
-              << ", " << context["instruction_set"]["nt_store_bits"].get<int>() << "-bit streaming stores\n";
+    std::cout << "  built for: " << instruction_set_text(context["instruction_set"]) << ", "
+              << context["instruction_set"]["nt_store_bits"].get<int>() << "-bit streaming stores\n";
+    if (!context.contains("string_ops")) return 0;  // x86-64 only: the rep variants' instructions
     const auto& strings = context["string_ops"];
     auto flag = [&](const char* key) {
         return strings[key].is_null() ? std::string("unknown") : strings[key].get<bool>() ? "yes" : "no";

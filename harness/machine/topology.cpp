@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/common/units.hpp"
+#include "harness/machine/cpu_model.hpp"
 
 namespace suite {
 
@@ -116,6 +118,15 @@ Topology Topology::load(bool whole_machine) {
     // read from a file keeps the file's model).
     if (topo.this_system)
         if (std::string brand = cpuid_brand(); !brand.empty()) topo.cpu_model = brand;
+#if defined(__aarch64__)
+    // An Arm CPU has no brand string: its MIDR fields, named where the table knows the core.
+    if (topo.this_system) {
+        std::ifstream in("/proc/cpuinfo");
+        std::stringstream text;
+        text << in.rdbuf();
+        if (std::string midr = arm_cpu_model(text.str()); !midr.empty()) topo.cpu_model = midr;
+    }
+#endif
 
     int nnodes = hwloc_get_nbobjs_by_type(t, HWLOC_OBJ_NUMANODE);
     for (int i = 0; i < nnodes; ++i) {

@@ -43,7 +43,8 @@ struct Topology {
     std::vector<Cache> caches;                // one entry per distinct (level, type)
     std::vector<std::vector<int>> distances;  // node x node, relative latency; empty if unknown
     std::uint64_t memory_bytes = 0;
-    std::string cpu_model;  // the CPUID brand string on x86 (else hwloc's CPUModel of the first package), "" if unknown
+    std::string cpu_model;  // the CPUID brand string on x86, the MIDR-named core on aarch64 (else hwloc's CPUModel of
+                            // the first package), "" if unknown
     // The CPU mask the process was started with (taskset, a cgroup cpuset, a batch scheduler):
     // on this system the topology above is restricted to it, so `all`, `compact`, `scatter`
     // and the default sweep use the allowed PUs only. machine_cpus lists every PU of the

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "harness/common/output_file.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/store_variants.hpp"
 #include "harness/measure/plan_parts.hpp"
@@ -29,7 +30,10 @@ Plan make_plan(const RunOptions& o, const Topology& topo, const EnergyOpener& op
         throw UsageError("--size and --sizes cannot be used together; give one of them");
     axes.default_size = o.size.empty() && o.sizes.empty();
     // Stores: "nt" or "rep" is a variant of the kernels that have it (is_store_variant).
-    store_variants().at(o.stores);  // refuses a name its table does not have
+    // The table refuses a name it does not have; a variant this build lacks is refused with why.
+    if (const char* why = store_variants().at(o.stores).what.unavailable; *why != '\0')
+        throw UsageError("--stores=" + o.stores + ": " + why +
+                         "; this build has: " + join(usable_store_variants(), ", "));
     axes.store_variant = o.stores == "default" ? "" : o.stores;
     for (const auto& e : kernels())
         if (std::ranges::count(e.info.variants, axes.store_variant)) axes.with_variant.push_back(e.info.name);

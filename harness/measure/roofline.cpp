@@ -118,6 +118,11 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
                        std::string& refused) -> std::optional<Record> {
         const KernelEntry* k = find_kernel(name);
         if (!k) throw std::logic_error("the roofline needs the '" + name + "' kernel (RooflineOptions names it)");
+        // A variant this build lacks (the x86 string instructions on aarch64) is no ceiling here.
+        if (!variant.empty() && !std::ranges::count(k->info.variants, variant)) {
+            refused = "kernel '" + name + "' has no variant '" + variant + "' in this build";
+            return std::nullopt;
+        }
         Point p{k, Access{k->info.accesses.front(), 0}, variant, size, threads};
         try {
             k->validate(KernelConfig{p.access, variant, size, settings.seed, threads});
@@ -142,7 +147,9 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
             const KernelEntry* peak = find_kernel(o.peak_kernel);
             if (!peak)
                 throw std::logic_error("the roofline needs the '" + o.peak_kernel + "' kernel (RooflineOptions)");
-            for (const auto& isa : peak->info.variants) {
+            // The widths this CPU runs (an SVE build's sve is a variant, but not on a CPU without SVE).
+            for (const auto& isa :
+                 peak->info.default_variants.empty() ? peak->info.variants : peak->info.default_variants) {
                 std::string refused;
                 const auto r = measure(o.peak_kernel, isa, peak->info.default_count, t, refused);
                 if (!r) throw std::logic_error(o.peak_kernel + " refused its own default size: " + refused);

@@ -5,6 +5,9 @@
 #include <unistd.h>
 #if defined(__x86_64__)
 #include <cpuid.h>
+#elif defined(__aarch64__)
+#include <sys/auxv.h>
+#include <sys/prctl.h>
 #endif
 
 #include <chrono>
@@ -64,16 +67,56 @@ std::string cpu_model_fallback() {
 
 // The CPU's fast-string features, which decide how fast the rep variants (rep movsb, rep stosq)
 // run: ERMS (enhanced rep movsb/stosb) and FSRM (fast short rep mov), from CPUID leaf 7.
-nlohmann::json string_ops_context() {
 #if defined(__x86_64__)
+nlohmann::json string_ops_context() {
     unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
     if (!__get_cpuid_count(7, 0, &eax, &ebx, &ecx, &edx))
         return {{"erms", nullptr}, {"fsrm", nullptr}, {"reason", "this CPU has no CPUID leaf 7"}};
     return {{"erms", ((ebx >> 9) & 1u) != 0},
             {"fsrm", ((edx >> 4) & 1u) != 0},
             {"source", "CPUID leaf 7: EBX bit 9, EDX bit 4"}};
+}
+#endif
+
+// What the kernels' vector code is. x86-64: what -march resolved to, as the compiler saw it when
+// it built the kernels. aarch64: NEON is the baseline of every build; SVE is the CPU's (HWCAP),
+// and where it has SVE the stream kernels and peak-flops run their SVE twins at its vector length.
+nlohmann::json instruction_set_context() {
+#if defined(__x86_64__) || defined(__i386__)
+    nlohmann::json is = {{"arch", "x86_64"}};
+#ifdef __AVX512F__
+    is["avx512f"] = true;
 #else
-    return {{"erms", nullptr}, {"fsrm", nullptr}, {"reason", "not an x86-64 CPU: the rep variants are not built"}};
+    is["avx512f"] = false;
+#endif
+#ifdef __AVX2__
+    is["avx2"] = true;
+#else
+    is["avx2"] = false;
+#endif
+#ifdef __FMA__
+    is["fma"] = true;
+#else
+    is["fma"] = false;
+#endif
+#if defined(__AVX512F__)
+    is["nt_store_bits"] = 512;
+#elif defined(__AVX__)
+    is["nt_store_bits"] = 256;
+#else
+    is["nt_store_bits"] = 128;
+#endif
+    return is;
+#elif defined(__aarch64__)
+    const bool sve = (getauxval(AT_HWCAP) & HWCAP_SVE) != 0;
+    const int vl_bits = sve ? (prctl(PR_SVE_GET_VL) & PR_SVE_VL_LEN_MASK) * 8 : 0;
+    nlohmann::json is = {{"arch", "aarch64"}, {"neon", true}, {"sve", sve}};
+    is["sve_vector_bits"] = sve ? nlohmann::json(vl_bits) : nlohmann::json(nullptr);
+    is["nt_store_bits"] = sve ? vl_bits : 128;
+    is["source"] = "SVE and its vector length from the CPU (HWCAP, prctl PR_SVE_GET_VL)";
+    return is;
+#else
+#error "the instruction set is recorded for x86-64 and aarch64"
 #endif
 }
 
@@ -87,40 +130,10 @@ nlohmann::json build_context(const Topology& topo, const std::vector<std::string
     c["compiler"] = build::compiler;
     c["compiler_flags"] = build::flags;
     c["build_type"] = build::build_type;
-    // What -march resolved to, as the compiler saw it when it built the kernels.
-    c["instruction_set"] = {
-        {"avx512f",
-#ifdef __AVX512F__
-         true
-#else
-         false
+    c["instruction_set"] = instruction_set_context();
+#if defined(__x86_64__)
+    c["string_ops"] = string_ops_context();  // the rep variants' speed; they are x86-64 only
 #endif
-        },
-        {"avx2",
-#ifdef __AVX2__
-         true
-#else
-         false
-#endif
-        },
-        {"fma",
-#ifdef __FMA__
-         true
-#else
-         false
-#endif
-        },
-        {"nt_store_bits",
-#if defined(__AVX512F__)
-         512
-#elif defined(__AVX__)
-         256
-#else
-         128
-#endif
-        },
-    };
-    c["string_ops"] = string_ops_context();
     c["date"] = utc_now();
     char host[256] = {0};
     gethostname(host, sizeof host - 1);

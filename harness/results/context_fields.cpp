@@ -23,6 +23,18 @@ std::string setting_text(const json& v) {
 
 }  // namespace
 
+std::string instruction_set_text(const nlohmann::json& is) {
+    if (!is.is_object()) return "?";
+    auto flag = [&](const char* k) { return is.contains(k) && is[k].is_boolean() && is[k].get<bool>(); };
+    if (is.value("arch", "x86_64") == "aarch64") {
+        if (!flag("sve")) return "NEON";
+        const auto bits = is.find("sve_vector_bits");
+        return "SVE" + (bits != is.end() && bits->is_number_integer() ? " " + std::to_string(bits->get<int>()) + "-bit"
+                                                                      : std::string());
+    }
+    return flag("avx512f") ? "AVX-512" : flag("avx2") ? "AVX2" : "SSE2";
+}
+
 std::string context_text(const json& c, const std::string& field) {
     if (!c.is_object()) return "?";
     if (field == "caches") {
@@ -52,8 +64,7 @@ std::string context_text(const json& c, const std::string& field) {
     if (field == "transparent_hugepages" || field == "frequency_governor") return setting_text(*it);
     if (field == "instruction_set") {
         if (!it->is_object()) return "?";
-        auto flag = [&](const char* k) { return it->contains(k) && (*it)[k].is_boolean() && (*it)[k].get<bool>(); };
-        return flag("avx512f") ? "AVX-512" : flag("avx2") ? "AVX2" : "SSE2";
+        return instruction_set_text(*it);
     }
     if (field == "memory_bytes" && it->is_number_unsigned()) return format_bytes(it->get<std::uint64_t>());
     if (it->is_string()) return it->get<std::string>();

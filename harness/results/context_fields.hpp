@@ -14,6 +14,8 @@ namespace suite {
 // A context field as text for display ("?" when absent or of an unexpected type): "cpu_model",
 // "caches" (a summary of topology.caches), "transparent_hugepages", "frequency_governor", ...
 std::string context_text(const nlohmann::json& context, const std::string& field);
+// A record's instruction_set in words: "AVX-512", "AVX2", "SSE2" (x86-64), "NEON", "SVE 256-bit" (aarch64).
+std::string instruction_set_text(const nlohmann::json& instruction_set);
 
 // The context fields whose differences change what a benchmark measures, in display order.
 const std::vector<std::string>& context_fields_that_matter();
