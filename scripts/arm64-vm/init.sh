@@ -74,7 +74,7 @@ if [ "$checks" = all ]; then
     # instructions), over which the kernel rotates the events many times.
     mux=instructions,INST_RETIRED,arm_n1::INST_RETIRED,PERF_COUNT_HW_INSTRUCTIONS,INST_RETIRED:u
     mux2=cycles,CPU_CYCLES,arm_n1::CPU_CYCLES,PERF_COUNT_HW_CPU_CYCLES,CPU_CYCLES:u
-    peak="--kernel=peak-flops --isa=scalar --threads=1 --pin=0 --reps=5 --quiet"
+    peak="--kernel=peak-flops --isa=scalar --size=3000000 --threads=1 --pin=0 --reps=5 --quiet"
     run mux-10 $peak --counters=$mux,$mux2 --out=/tmp/mux-10.json
     run mux-5a $peak --counters=$mux --out=/tmp/mux-5a.json
     run mux-5b $peak --counters=$mux2 --out=/tmp/mux-5b.json
