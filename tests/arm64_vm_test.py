@@ -140,6 +140,9 @@ def test_mux():
     alone_a = {"results": [record([(n, 4.0e7, False, 1.0) for n in names[:5]])]}
     alone_b = {"results": [record([(n, 4.0e7, False, 1.0) for n in names[5:]])]}
     mux = {"results": [record([(n, 4.0e7 * 1.001, True, 0.5) for n in names])]}
+    mux["results"][0]["repetitions"] = {"counted": 5}
+    for e in mux["results"][0]["counters"]["events"]:
+        e.update(repetitions_counted=4, repetitions_not_counted=1)
     data = {"mux-10/json": mux, "mux-5a/json": alone_a, "mux-5b/json": alone_b}
     res = claims(check.check_mux, sections(data), [])
     expect(res and all(r[0] for r in res), f"ten multiplexed events within 0.1 % hold: {[r for r in res if not r[0]]}")
@@ -150,6 +153,10 @@ def test_mux():
     silent["mux-10/json"]["results"][0]["counters"]["events"][0].update(multiplexed=False, running_fraction=1.0)
     expect(any(not r[0] and "says it was multiplexed" in r[2] for r in claims(check.check_mux, sections(silent), [])),
            "an event that does not say it was multiplexed fails")
+    lost = copy.deepcopy(data)
+    lost["mux-10/json"]["results"][0]["counters"]["events"][2].update(repetitions_counted=4, repetitions_not_counted=0)
+    expect(any(not r[0] and "how many of the 5 repetitions" in r[2] for r in claims(check.check_mux, sections(lost), [])),
+           "repetition counts that do not add up to the repetitions fail")
 
 
 def test_absent():
