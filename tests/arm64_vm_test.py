@@ -101,6 +101,7 @@ def record(name_values, units=4096, size=98304):
                "per_byte": None, "multiplexed": mux, "running_fraction": frac}
               for n, v, mux, frac in name_values]
     return {"size": {"units": units, "footprint_bytes": size}, "threads": 1, "verification": {"passed": True},
+            "repetitions": {"batch": 1, "counted": 5},
             "counters": {"available": True, "events": events}}
 
 
@@ -132,6 +133,10 @@ def test_ipe():
     bad["ipe-triad/json"]["results"][1]["counters"]["events"][1]["per_call"]["median"] = 1.3 * 32768 + 900
     res = [r for r in claims(check.check_ipe, "n1", sections(bad), dis, 16, []) if "triad" in r[1]]
     expect([r[2].split(":")[0] for r in res if not r[0]] == ["INST_RETIRED"], "instructions per element 4 % above the loop fail")
+    batched = copy.deepcopy(good)
+    batched["ipe-triad/json"]["results"][0]["repetitions"]["batch"] = 2
+    res = [r for r in claims(check.check_ipe, "n1", sections(batched), dis, 16, []) if "triad" in r[1]]
+    expect(any(not r[0] and "one call a repetition" in r[2] for r in res), "a size timed two calls a repetition fails")
 
 
 def test_mux():
