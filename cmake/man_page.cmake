@@ -1,10 +1,11 @@
 # suite.1 from `suite --help` and `suite --version` (CLI11's own text, as troff): run by the build
-# once the program exists.   cmake -DSUITE=path/to/suite -DOUT=suite.1 -P man_page.cmake
-execute_process(COMMAND ${SUITE} --help OUTPUT_VARIABLE help RESULT_VARIABLE rc)
+# once the program exists (in a cross build, under EMULATOR: qemu-user).
+#   cmake -DSUITE=path/to/suite [-DEMULATOR=qemu-aarch64-static] -DOUT=suite.1 -P man_page.cmake
+execute_process(COMMAND ${EMULATOR} ${SUITE} --help OUTPUT_VARIABLE help RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "${SUITE} --help failed (${rc})")
 endif()
-execute_process(COMMAND ${SUITE} --version OUTPUT_VARIABLE version)
+execute_process(COMMAND ${EMULATOR} ${SUITE} --version OUTPUT_VARIABLE version)
 string(REGEX MATCH "^[^\n]*" first "${version}")
 string(REGEX REPLACE "^suite ([^ ]+).*" "\\1" number "${first}")
 # troff: a backslash is written \e; a line may not start with '.' or '\''.

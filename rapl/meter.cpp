@@ -64,6 +64,10 @@ EnergyMeter EnergyMeter::open(EnergyBackend backend, const std::string& root) {
         m.reason_ = perf_reason;
     else
         m.reason_ = "powercap sysfs: " + sysfs_reason + "; perf power PMU: " + perf_reason;
+#if !defined(__x86_64__) && !defined(__i386__)
+    // What is read is the x86 interface (an injected root is read all the same, for the tests).
+    m.reason_ += " (RAPL is Intel's and AMD's x86-64 interface; Arm servers have none)";
+#endif
     return m;
 }
 

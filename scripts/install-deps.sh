@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages the suite needs, if any is missing. As root it runs apt-get;
-# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|run|test|bench]
+# otherwise it prints the one command to run and exits 2. Usage: scripts/install-deps.sh [build|run|test|bench|arm64]
 set -euo pipefail
 want=(build-essential cmake pkg-config git libhwloc-dev libnuma-dev libpfm4-dev libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 want+=(libboost-graph-dev libboost-dev)  # RCM ordering (kernels/sfc); Boost.Math headers for the history gate's band
@@ -28,6 +28,14 @@ if [ "${1:-build}" = test ]; then
   # tests/install_test.py: what the installed programs open, traced (nothing in the source tree).
   want+=(strace)
 fi
+if [ "${1:-build}" = arm64 ] || [ "${1:-build}" = test ]; then
+  # make build-arm64 / make test-arm64: the aarch64 cross build (Debian's cross compiler and the
+  # arm64 libraries beside the host's, multiarch), its unit tests under qemu-user, and the
+  # emulated Arm machine with a PMU (qemu-system-aarch64). The arm64 architecture is added below.
+  want+=(g++-aarch64-linux-gnu binutils-aarch64-linux-gnu qemu-user-static qemu-system-arm cpio)
+  want+=(libhwloc-dev:arm64 libnuma-dev:arm64 libpfm4-dev:arm64 libgtest-dev:arm64 libboost-dev:arm64)
+  want+=(libboost-graph-dev:arm64 libsqlite3-dev:arm64 libsuitesparse-dev:arm64 libmetis-dev:arm64 libcli11-dev nlohmann-json3-dev)
+fi
 if [ "${1:-build}" = bench ]; then
   # likwid: likwid-bench, the hand-written assembly `make bench-vs` compares with (not needed by
   # the build or the tests).
@@ -46,10 +54,18 @@ done
 [ ${#missing[@]} -eq 0 ] && exit 0
 if [ "$(id -u)" -ne 0 ]; then
   echo "suite: missing Debian packages; install them with:" >&2
-  echo "  sudo apt-get update && sudo apt-get install -y ${missing[*]}" >&2
+  arch_step=""
+  if printf '%s\n' "${missing[@]}" | grep -q ':arm64$' && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+    arch_step="sudo dpkg --add-architecture arm64 && "
+  fi
+  echo "  ${arch_step}sudo apt-get update && sudo apt-get install -y ${missing[*]}" >&2
   exit 2
 fi
 echo "installing: ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
+# The arm64 packages (name:arm64) need dpkg to know the architecture before apt's index has them.
+if printf '%s\n' "${missing[@]}" | grep -q ':arm64$' && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  dpkg --add-architecture arm64
+fi
 apt-get update -qq
 apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -114,7 +114,9 @@ struct Neon {
     using V = float64x2_t;
     static constexpr int lanes = 2;
     static V set(double v) { return vdupq_n_f64(v); }
-    static V fma(V x, V m, V a) { return vfmaq_f64(a, x, m); }  // a + x * m, one fmla
+    // x + m * a: FMLA accumulates into its first operand, so the chain is x (a + x * m would
+    // need a copy of a before every FMLA); with m = 1 both are x + a.
+    static V fma(V x, V m, V a) { return vfmaq_f64(x, m, a); }
     static void store(double* p, V v) { vst1q_f64(p, v); }
     static V load(const double* p) { return vld1q_f64(p); }
 };

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -54,8 +55,17 @@ inline pid_t spawn(const std::vector<std::string>& argv, int& out_fd, int& err_f
         close(o[1]);
         throw std::system_error(saved, std::generic_category(), "pipe2");
     }
+    // Under user-mode emulation (the aarch64 tests on an x86-64 host, make test-arm64) the suite
+    // binary runs under the emulator SUITE_TEST_EMULATOR names; other programs (python3, objdump)
+    // are the host's own.
+    std::vector<std::string> command = argv;
+#ifdef SUITE_BINARY
+    if (const char* emulator = std::getenv("SUITE_TEST_EMULATOR");
+        emulator && *emulator && !argv.empty() && argv[0] == SUITE_BINARY)
+        command.insert(command.begin(), emulator);
+#endif
     std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    for (const auto& a : command) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
     const pid_t pid = fork();
     if (pid < 0) {

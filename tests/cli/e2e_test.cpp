@@ -29,6 +29,7 @@ using nlohmann::json;
 
 namespace {
 
+#if defined(__x86_64__)  // the aarch64 binary's instructions: tests/arm64/disasm_test.py
 // objdump's disassembly of the suite binary, split into (demangled function name, body).
 std::vector<std::pair<std::string, std::string>> disassembly() {
     Outcome r;
@@ -53,10 +54,13 @@ std::vector<std::pair<std::string, std::string>> disassembly() {
 
 bool has_nt_store(const std::string& body) { return body.find("movntpd") != std::string::npos; }
 
+#endif
+
 json load_json(const std::string& path) { return json::parse(slurp(path)); }
 
 }  // namespace
 
+#if defined(__x86_64__)  // the aarch64 binary's instructions: tests/arm64/disasm_test.py
 TEST(E2E, NonTemporalVariantsEmitStreamingStoresAndPlainOnesDoNot) {
     const auto functions = disassembly();
     ASSERT_FALSE(functions.empty());
@@ -185,6 +189,8 @@ TEST(E2E, PeakFlopsLoopsAreTwelveRegisterFmasOfTheirWidth) {
 #endif
     }
 }
+
+#endif  // x86-64
 
 // SIGINT (Ctrl-C) and SIGTERM mid-sweep: the finished points are kept, the file is valid JSON
 // saying "complete": false, and the exit status is 128 + the signal.
@@ -341,6 +347,16 @@ TEST(E2E, InfoSaysWhatCanBeMeasuredAndWhyNot) {
             EXPECT_FALSE(inst["reason"].get<std::string>().empty()) << name;
         }
     }
+#if defined(__aarch64__)
+    // No string instructions on Arm: no fast-string flags; the vector code is NEON, or SVE.
+    EXPECT_FALSE(info.contains("string_ops")) << info.dump();
+    EXPECT_EQ(info["instruction_set"]["arch"], "aarch64");
+    EXPECT_EQ(info["instruction_set"]["neon"], true);
+    const std::string built_for = info["instruction_set"]["sve"].get<bool>() ? "built for: SVE " : "built for: NEON";
+    Outcome table = run_suite({"info"});
+    ASSERT_EQ(table.status, 0);
+    EXPECT_NE(table.out.find(built_for), std::string::npos) << table.out;
+#else
     // The fast-string flags from CPUID, against the kernel's own reading of them.
     const std::string cpuinfo = slurp("/proc/cpuinfo");
     const auto flags_at = cpuinfo.find("\nflags");
@@ -353,6 +369,7 @@ TEST(E2E, InfoSaysWhatCanBeMeasuredAndWhyNot) {
     Outcome table = run_suite({"info"});
     ASSERT_EQ(table.status, 0);
     EXPECT_NE(table.out.find("fast strings (the rep variants): ERMS "), std::string::npos) << table.out;
+#endif
     EXPECT_NE(table.out.find("What can be measured here"), std::string::npos);
     EXPECT_NE(table.out.find("Caches (as reported by hwloc)"), std::string::npos);
 }
