@@ -37,7 +37,7 @@ int cmd_info(const std::vector<std::string>& args) {
         nlohmann::json j = to_json(topo);
         for (const char* key :
              {"instruments", "transparent_hugepages", "frequency_governor", "instruction_set", "string_ops"})
-            j[key] = context[key];
+            if (context.contains(key)) j[key] = context[key];  // string_ops: x86-64 only
         if (measured) j["caches_measured"] = to_json(*measured, topo);
         std::cout << j.dump(2) << "\n";
         return 0;

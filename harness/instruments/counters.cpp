@@ -97,6 +97,16 @@ std::optional<double> scaled_count(std::uint64_t value, std::uint64_t enabled, s
     return static_cast<double>(value) * static_cast<double>(enabled) / static_cast<double>(running);
 }
 
+std::optional<double> team_count(const std::vector<CountDelta>& per_thread) {
+    double sum = 0;
+    for (const CountDelta& d : per_thread) {
+        const std::optional<double> v = scaled_count(d.value, d.enabled, d.running);
+        if (!v) return std::nullopt;
+        sum += *v;
+    }
+    return sum;
+}
+
 PerfAccess perf_access() {
     PerfAccess a;
     // A whole int (-1 and up); anything else leaves the default, the kernel's own.
@@ -149,6 +159,7 @@ std::string policy_refusal(const CounterSpec& spec, const PerfAccess& access) {
         return "it happens in kernel mode, which kernel.perf_event_paranoid=" + std::to_string(access.paranoid) +
                " keeps unprivileged users from counting (a user-only count would always read 0); run as root or "
                "sudo sysctl kernel.perf_event_paranoid=1";
+    if (spec.hardware) return unimplemented_event_reason(spec.attr, events_sysfs_root());
     return "";
 }
 

@@ -53,10 +53,18 @@ struct CounterSelection {
 };
 CounterSelection parse_counters(const std::string& text, const PerfAccess& access);
 
-// Why this process may not count the event at all (paranoid level, kernel-mode-only event), or "".
+// Why this process may not count the event at all (paranoid level, kernel-mode-only event, a
+// raw event the PMU does not implement), or "".
 std::string policy_refusal(const CounterSpec& spec, const PerfAccess& access);
 // Why an event cannot be counted by this process, or "" when a trial open succeeds.
 std::string probe_event(const CounterSpec& spec, const PerfAccess& access);
+
+// Why the CPU's PMU would count nothing for this raw event although the kernel opens it: an Arm
+// PMUv3 common event that its sysfs events/ (under `root`/bus/event_source/devices/armv8_*)
+// does not list, i.e. that its PMCEID registers say is not implemented. "" when it is
+// implemented or nothing can be known (not an Arm PMU, an implementation-defined number).
+std::string unimplemented_event_reason(const perf_event_attr& attr, const std::string& root);
+std::string events_sysfs_root();  // SUITE_SYSFS_ROOT if set, else "/sys"
 
 // Names libpfm4 knows on this machine for `./suite list --counters`: every event of every PMU
 // it detected, grouped by PMU ("perf" is the kernel's generic set).
@@ -69,6 +77,16 @@ std::vector<PmuEvents> known_events();
 // A count over an interval in which the event was enabled `enabled` ns and on the PMU `running`
 // ns: scaled up by enabled/running when the PMU multiplexed it; nullopt when it never ran.
 std::optional<double> scaled_count(std::uint64_t value, std::uint64_t enabled, std::uint64_t running);
+
+// One counter over one repetition on one thread: its value and the ns it was enabled and on the PMU.
+struct CountDelta {
+    std::uint64_t value = 0, enabled = 0, running = 0;
+};
+// The team's count of one event over one repetition: each thread's value scaled by its own
+// enabled/running, summed. nullopt when a thread's counter was enabled but never on the PMU
+// during it (a multiplexed event in a repetition shorter than the kernel's rotation interval):
+// that repetition has no count for the event, which is not a count of 0.
+std::optional<double> team_count(const std::vector<CountDelta>& per_thread);
 
 // The reason text for a failed perf_event_open; pure, so that tests can check every branch.
 std::string open_failure_reason(int err, bool hardware, const PerfAccess& access);
@@ -98,9 +116,7 @@ public:
     CounterReadings readings(int batch, double units, double stream_bytes, int line_bytes) const;
 
 private:
-    struct Raw {
-        std::uint64_t value = 0, enabled = 0, running = 0;
-    };
+    using Raw = CountDelta;
     void read_all(std::vector<Raw>& into);  // a failed read marks the event lost
     Raw& at(std::vector<Raw>& v, int thread, std::size_t event) const { return v[thread * specs_.size() + event]; }
 
@@ -112,6 +128,7 @@ private:
     std::vector<int> tids_;             // thread ids that opened them
     std::vector<Raw> begin_;
     std::vector<std::vector<double>> reps_;  // [event][repetition]: scaled sum over threads
+    std::vector<int> uncounted_;             // [event]: repetitions it was never on the PMU in
     std::vector<Raw> totals_;                // [thread][event]: summed deltas
     std::vector<std::string> lost_;          // [event]: why a repetition could not be counted
     std::string team_changed_;

@@ -23,6 +23,9 @@ struct EventReading {
     std::optional<double> per_element, per_byte;  // median per unit of work / per STREAM byte
     bool multiplexed = false;                     // the kernel shared the PMU: values are scaled up
     std::optional<double> running_fraction;       // time counted / time enabled, over all threads and repetitions
+    // A multiplexed event may be off the PMU for a whole repetition: that one has no value, and
+    // the statistics are over the others.
+    int repetitions_counted = 0, repetitions_not_counted = 0;
 };
 
 struct CounterReadings {

@@ -34,6 +34,7 @@ TeamCounters::TeamCounters(const std::vector<CounterSpec>& specs, int threads, c
     reasons_.assign(n, "");
     lost_.assign(n, "");
     reps_.assign(n, {});
+    uncounted_.assign(n, 0);
     totals_.assign(static_cast<std::size_t>(threads) * n, Raw{});
     tids_.assign(threads, 0);
     for (std::size_t e = 0; e < n; ++e) reasons_[e] = policy_refusal(specs_[e], access_);
@@ -87,6 +88,7 @@ TeamCounters& TeamCounters::operator=(TeamCounters&& o) noexcept {
         std::swap(tids_, o.tids_);
         std::swap(begin_, o.begin_);
         std::swap(reps_, o.reps_);
+        std::swap(uncounted_, o.uncounted_);
         std::swap(totals_, o.totals_);
         std::swap(lost_, o.lost_);
         std::swap(team_changed_, o.team_changed_);
@@ -122,26 +124,22 @@ void TeamCounters::stop(double) {
     std::vector<Raw> end(fds_.size());
     read_all(end);
     const std::size_t n = specs_.size();
+    std::vector<CountDelta> deltas(threads_);
     for (std::size_t e = 0; e < n; ++e) {
         if (!reasons_[e].empty() || !lost_[e].empty()) continue;
-        double sum = 0;
         for (int t = 0; t < threads_; ++t) {
             const Raw& b = begin_[t * n + e];
             const Raw& a = end[t * n + e];
-            const Raw d{a.value - b.value, a.enabled - b.enabled, a.running - b.running};
-            const std::optional<double> v = scaled_count(d.value, d.enabled, d.running);
-            if (!v) {
-                lost_[e] =
-                    "never on the PMU during a repetition (more events than the PMU has counters; ask for fewer)";
-                break;
-            }
-            sum += *v;
-            Raw& tot = totals_[t * n + e];
-            tot.value += d.value;
-            tot.enabled += d.enabled;
-            tot.running += d.running;
+            deltas[t] = Raw{a.value - b.value, a.enabled - b.enabled, a.running - b.running};
+            Raw& tot = totals_[t * n + e];  // every repetition, counted or not: the running fraction
+            tot.value += deltas[t].value;
+            tot.enabled += deltas[t].enabled;
+            tot.running += deltas[t].running;
         }
-        reps_[e].push_back(sum);
+        if (const std::optional<double> sum = team_count(deltas))
+            reps_[e].push_back(*sum);
+        else
+            ++uncounted_[e];
     }
 }
 
@@ -164,7 +162,11 @@ CounterReadings TeamCounters::readings(int batch, double units, double stream_by
         r.canonical = specs_[e].canonical;
         r.hardware = specs_[e].hardware;
         r.reason = !reasons_[e].empty() ? reasons_[e] : !lost_[e].empty() ? lost_[e] : team_changed_;
-        if (r.reason.empty() && reps_[e].empty()) r.reason = "no repetition was counted";
+        if (r.reason.empty() && reps_[e].empty())
+            r.reason = uncounted_[e] > 0 ? "never on the PMU during a repetition (more events than the PMU has "
+                                           "counters, each repetition shorter than the kernel's rotation; ask for "
+                                           "fewer events or lengthen the repetitions)"
+                                         : "no repetition was counted";
         r.available = r.reason.empty();
         if (r.available) {
             std::vector<double> per_call;
@@ -180,6 +182,8 @@ CounterReadings TeamCounters::readings(int batch, double units, double stream_by
                 r.multiplexed = r.multiplexed || totals_[t * n + e].running < totals_[t * n + e].enabled;
             }
             if (enabled > 0) r.running_fraction = running / enabled;
+            r.repetitions_counted = static_cast<int>(reps_[e].size());
+            r.repetitions_not_counted = uncounted_[e];
             out.available = true;
         }
         out.events.push_back(std::move(r));

@@ -112,6 +112,10 @@ nlohmann::json to_json(const CounterReadings& c) {
             j["per_byte"] = opt(e.per_byte);
             j["multiplexed"] = e.multiplexed;
             j["running_fraction"] = opt(e.running_fraction);
+            if (e.multiplexed) {
+                j["repetitions_counted"] = e.repetitions_counted;
+                j["repetitions_not_counted"] = e.repetitions_not_counted;
+            }
         } else {
             j["per_call"] = nullptr;
         }

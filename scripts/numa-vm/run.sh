@@ -13,51 +13,18 @@ work=${NUMA_VM_DIR:-$root/build-numa}
 timeout_s=${NUMA_VM_TIMEOUT:-300}
 start=$SECONDS
 
-skip() { echo "test-numa: SKIPPED: $*"; exit 0; }
-fail() { echo "test-numa: FAIL: $*" >&2; exit 1; }
-step() { echo "test-numa: $* ($((SECONDS - start)) s)"; }
+name=test-numa
+. "$here/vm-lib.sh"
 
 [ "$(uname -m)" = x86_64 ] || skip "the guest runs an x86-64 build of the suite, and this host is $(uname -m)"
 for tool in qemu-system-x86_64 cpio gzip /bin/busybox /usr/bin/python3 ldd; do
     command -v "$tool" > /dev/null || fail "$tool is missing: run scripts/install-deps.sh test (qemu-system-x86, busybox-static, cpio)"
 done
 ldd /bin/busybox > /dev/null 2>&1 && fail "/bin/busybox is dynamically linked; the initramfs needs busybox-static's"
-mkdir -p "$work/kernel"
 
 # 1. Debian's kernel, fetched once: the package linux-image-amd64 points at, only its vmlinuz kept.
-# (Called in an `||` list, where `set -e` is off: every step checks its own status.)
-kernel_package() {
-    apt-cache depends linux-image-amd64 2> /dev/null | awk '$1 == "Depends:" && $2 ~ /^linux-image-[0-9]/ { print $2; exit }'
-}
-fetch_kernel() {
-    command -v apt-get > /dev/null && command -v dpkg-deb > /dev/null || return 1
-    local pkg tmp as_root=no
-    [ "$(id -u)" -eq 0 ] && as_root=yes
-    pkg=$(kernel_package)
-    if [ -z "$pkg" ] && [ $as_root = yes ]; then
-        apt-get update -qq > /dev/null 2>&1
-        pkg=$(kernel_package)
-    fi
-    [ -n "$pkg" ] || { echo "test-numa: apt knows no linux-image-amd64 (apt-get update first?)"; return 1; }
-    tmp=$(mktemp -d "$work/kernel/fetch.XXXXXX") || return 1
-    step "downloading $pkg"
-    # The exact name: a pattern would make apt-get download every package it matches. A stale
-    # package index may name a version the mirror no longer has: as root, refresh it once.
-    (cd "$tmp" && apt-get download -q -o APT::Sandbox::User="$(id -un)" "$pkg" > /dev/null) ||
-        { [ $as_root = yes ] && apt-get update -qq > /dev/null 2>&1 &&
-            (cd "$tmp" && apt-get download -q -o APT::Sandbox::User=root "$pkg" > /dev/null); } &&
-        dpkg-deb --fsys-tarfile "$tmp"/*.deb | tar -x -C "$tmp" --wildcards './boot/vmlinuz-*' &&
-        mv "$tmp"/boot/vmlinuz-* "$work/kernel/"
-    local rc=$?
-    rm -rf "$tmp"
-    [ $rc -eq 0 ] || echo "test-numa: could not fetch $pkg"
-    return $rc
-}
-vmlinuz=$(ls "$work"/kernel/vmlinuz-* 2> /dev/null | head -n 1 || true)
-if [ -z "$vmlinuz" ]; then
-    fetch_kernel || skip "no kernel cached in $work/kernel and Debian's could not be fetched (no apt, or no network)"
-    vmlinuz=$(ls "$work"/kernel/vmlinuz-* | head -n 1)
-fi
+vmlinuz=$(fetch_kernel linux-image-amd64) ||
+    skip "no kernel cached in $work/kernel and Debian's could not be fetched (no apt, or no network)"
 step "kernel $(basename "$vmlinuz")"
 
 # 2. A portable build: under software emulation the guest CPU has AVX2 but no AVX-512, so the
@@ -84,8 +51,8 @@ for lib in $(ldd "$guest_suite" | awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 
     cp -L "$lib" "$work/initramfs$lib"
 done
 install -m 755 "$here/init.sh" "$work/initramfs/init"
-(cd "$work/initramfs" && find . | cpio -o -H newc --quiet | gzip -1) > "$work/initrd.gz"
-step "initramfs $(du -k "$work/initrd.gz" | cut -f1) KiB"
+cp "$here/guest-lib.sh" "$work/initramfs/guest-lib.sh"
+pack_initramfs "$work/initramfs" "$work/initrd.gz"
 
 # 4. The machine: node 0 = CPU 0 + 1 GiB, node 1 = CPU 1 + 1 GiB, distance 21. No KVM: /dev/kvm on
 # these hosts cannot run a guest. numa_balancing=disable: the pages seen are where the suite put

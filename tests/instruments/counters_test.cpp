@@ -6,6 +6,8 @@
 
 #include <cerrno>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -110,6 +112,60 @@ TEST(CounterScaling, MultiplexedCountsAreScaledAndUnscheduledOnesAreNotCounts) {
     EXPECT_DOUBLE_EQ(*scaled_count(1000, 400, 100), 4000.0);  // on the PMU a quarter of the time
     EXPECT_DOUBLE_EQ(*scaled_count(7, 0, 0), 7.0);
     EXPECT_FALSE(scaled_count(0, 500, 0).has_value());  // never scheduled: not 0, unknown
+}
+
+TEST(CounterScaling, ARepetitionAThreadNeverCountedInHasNoTeamCount) {
+    // Two threads, each multiplexed differently: each scaled by its own fraction.
+    EXPECT_DOUBLE_EQ(*team_count({{100, 200, 100}, {300, 400, 400}}), 500.0);
+    // Thread 1 was never on the PMU in this repetition: no count at all, not 100 and not 0.
+    EXPECT_FALSE(team_count({{100, 200, 200}, {0, 200, 0}}).has_value());
+    EXPECT_DOUBLE_EQ(*team_count({}), 0.0);
+}
+
+namespace {
+
+// A captured-shape sysfs tree: QEMU's emulated Neoverse N1 PMU lists these four common events.
+struct FakePmuTree {
+    std::filesystem::path root = std::filesystem::temp_directory_path() / ("pmu-tree-" + std::to_string(getpid()));
+    FakePmuTree() {
+        const auto pmu = root / "bus/event_source/devices/armv8_pmuv3";
+        std::filesystem::create_directories(pmu / "events");
+        std::ofstream(pmu / "type") << "8\n";
+        for (auto [name, code] : {std::pair{"cpu_cycles", "0x0011"},
+                                  {"inst_retired", "0x0008"},
+                                  {"stall_frontend", "0x0023"},
+                                  {"stall_backend", "0x0024"}})
+            std::ofstream(pmu / "events" / name) << "event=" << code << "\n";
+        std::filesystem::create_directories(root / "bus/event_source/devices/software");
+        std::ofstream(root / "bus/event_source/devices/software/type") << "1\n";
+    }
+    ~FakePmuTree() { std::filesystem::remove_all(root); }
+};
+
+perf_event_attr raw(std::uint32_t type, std::uint64_t config) {
+    perf_event_attr a{};
+    a.type = type;
+    a.config = config;
+    return a;
+}
+
+}  // namespace
+
+TEST(CounterPmu, ACommonEventTheArmPmuDoesNotListIsUnavailableWithTheReason) {
+    FakePmuTree tree;
+    const std::string root = tree.root.string();
+    EXPECT_EQ(unimplemented_event_reason(raw(PERF_TYPE_RAW, 0x08), root), "");           // INST_RETIRED
+    EXPECT_EQ(unimplemented_event_reason(raw(8, 0x11), root), "");                       // by the PMU's own type
+    const std::string why = unimplemented_event_reason(raw(PERF_TYPE_RAW, 0x03), root);  // L1D_CACHE_REFILL
+    EXPECT_NE(why.find("does not implement event 0x03"), std::string::npos) << why;
+    EXPECT_NE(why.find("armv8_pmuv3"), std::string::npos) << why;
+    EXPECT_NE(why.find("cpu_cycles, inst_retired, stall_backend, stall_frontend"), std::string::npos) << why;
+    EXPECT_NE(unimplemented_event_reason(raw(8, 0x4004), root), "");  // an extended common event
+    // Implementation-defined numbers are never listed: their absence proves nothing.
+    EXPECT_EQ(unimplemented_event_reason(raw(PERF_TYPE_RAW, 0x40), root), "");
+    // Another PMU's type, and a machine with no Arm PMU (x86: its core PMU is "cpu").
+    EXPECT_EQ(unimplemented_event_reason(raw(1, 0x03), root), "");
+    EXPECT_EQ(unimplemented_event_reason(raw(PERF_TYPE_RAW, 0x03), root + "/nowhere"), "");
 }
 
 TEST(TeamCountersTest, FirstTouchOfNPagesCountsAtLeastNPageFaults) {
