@@ -89,7 +89,7 @@ def fact(rec, name):
 
 
 report = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "command": sys.argv, "rounds": a.rounds, "mesh": a.mesh}
-lines = [f"# MPM by particle and grid order ({report['date']}, {a.rounds} round(s)" + ("" if parts == ["flow"] else f", {a.mesh}") + ")", ""]
+lines = [f"# MPM by particle and grid order ({report['date']}, {a.rounds} round(s)" + ("" if parts in (["flow"], ["auto"]) else f", {a.mesh}") + ")", ""]
 
 def flow_run(particles, sort_every, directory, case="dam-break", mesh=None, steps=None, ordering="natural"):
     """One run of suite mpm; returns the rows of its front.csv as dicts (numbers as floats) and its mpm.json."""
