@@ -74,7 +74,7 @@ double rate_after_warm(const ReportInput& in) {
 std::string front_csv(const mpm::Outcome& r) {
     std::string out =
         "step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element,top_settlement,"
-        "stepping_seconds,reordered\n";
+        "reordered,stepping_seconds\n";
     char line[400], settled[32];
     for (const auto& row : r.rows) {
         // The column's settlement; empty in the other cases (not measured, not 0).
@@ -82,10 +82,10 @@ std::string front_csv(const mpm::Outcome& r) {
             settled[0] = 0;
         else
             std::snprintf(settled, sizeof settled, "%.17g", row.settlement);
-        std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.9g,%s\n",
+        std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%s,%.9g\n",
                       static_cast<unsigned long long>(row.step), row.time, row.front, row.kinetic, row.dt,
-                      row.potential, row.internal, row.order.mean_gap, row.order.same_element, settled, row.stepping_s,
-                      mpm::reorder_cause_name(row.reordered));
+                      row.potential, row.internal, row.order.mean_gap, row.order.same_element, settled,
+                      mpm::reorder_cause_name(row.reordered), row.stepping_s);
         out += line;
     }
     return out;

@@ -144,8 +144,8 @@ public:
                     what = "the first " + std::to_string(equivalence_steps) +
                            " steps equal natural order, serial, seeded (1e-10); every Newton converged; after " +
                            std::to_string(st_->steps) +
-                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p; " +
-                           reorderings_text(*st_, reorderings_start_);
+                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p" +
+                           reorderings_text(*st_, setup_, reorderings_start_);
                     if (st_->implicit.failed_steps > 0) {
                         failed = std::to_string(st_->implicit.failed_steps) +
                                  " step(s) failed, the last: " + st_->implicit.failure;

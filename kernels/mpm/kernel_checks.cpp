@@ -147,7 +147,8 @@ std::vector<Fact> reordering_facts(const State& st, const Setup& s, std::uint64_
     return f;
 }
 
-std::string reorderings_text(const State& st, std::uint64_t since) {
+std::string reorderings_text(const State& st, const Setup& s, std::uint64_t since) {
+    if (!particle_orders().at(s.particles).what.sorts) return "";
     const OrderTracker& t = st.order;
     std::string out;
     std::size_t shown = 0;
@@ -155,8 +156,8 @@ std::string reorderings_text(const State& st, std::uint64_t since) {
         out +=
             (out.empty() ? "" : ", ") + std::to_string(t.log[i].step) + " (" + reorder_cause_name(t.log[i].cause) + ")";
     const std::uint64_t all = t.count > since ? t.count - since : 0;
-    if (all == 0) return "no reordering after the timing started";
-    return "reordered after step(s) " + out + (all > shown ? " and " + std::to_string(all - shown) + " more" : "");
+    if (all == 0) return "; no reordering after the timing started";
+    return "; reordered after step(s) " + out + (all > shown ? " and " + std::to_string(all - shown) + " more" : "");
 }
 
 std::string check_equivalence(const Setup& point) {

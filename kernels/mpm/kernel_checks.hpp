@@ -33,9 +33,10 @@ inline int steps_per_repetition(int sort_every, int auto_steps) {
 // The facts of the reorderings after a stepping kernel's timing started (`since`: the tracker's
 // count then): how many and by what cause, and under auto the threshold.
 std::vector<Fact> reordering_facts(const State& st, const Setup& s, std::uint64_t since);
-// The steps after which they happened and why, for a verification's detail: "reordered after
-// steps 12 (decayed), 40 (decayed), ..." (the first ten, and the count of the rest).
-std::string reorderings_text(const State& st, std::uint64_t since);
+// The steps after which they happened and why, for a verification's detail: "; reordered after
+// steps 12 (decayed), 40 (decayed), ..." (the first ten, and the count of the rest); "" for an
+// order that never reorders.
+std::string reorderings_text(const State& st, const Setup& s, std::uint64_t since);
 
 // Throws UsageError for a grid spec that is not tetrahedral, --ppe that is not a whole number
 // >= 1, --sort-every that is neither auto nor one, the serial strategy on more than one thread, or more memory than

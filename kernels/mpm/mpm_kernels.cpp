@@ -166,8 +166,8 @@ public:
                 case Phase::step:
                     what = "the first " + std::to_string(equivalence_steps) +
                            " steps equal natural order, serial, seeded (1e-10); after " + std::to_string(st_->steps) +
-                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p; " +
-                           reorderings_text(*st_, reorderings_start_);
+                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p" +
+                           reorderings_text(*st_, setup_, reorderings_start_);
                     failed = equivalence_;
                     if (failed.empty()) failed = check_state(*st_, mass_);
                     break;
