@@ -169,8 +169,9 @@ bench-spmv: bench-deps build
 bench-fem: build
 	/usr/bin/python3 bench/fem_orderings.py --out results/bench $(BENCH_FLAGS)
 
-# The MPM by particle and grid order (about 40 minutes: the dam break by particle order, window by
-# window, then the kernels): results/bench/mpm_orders.{json,md} and mpm_flow.png.
+# The MPM by particle and grid order (about 50 minutes: the dam break by particle order, window by
+# window, the kernels, and --sort-every=auto against the best fixed K of a sweep on the natural and
+# Hilbert grids): results/bench/mpm_orders.{json,md} and mpm_flow.png.
 bench-mpm: build
 	/usr/bin/python3 bench/mpm_orders.py --out results/bench $(BENCH_FLAGS)
 

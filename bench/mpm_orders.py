@@ -14,11 +14,16 @@ Four parts, each from `suite` runs on this machine (nothing is timed here):
             steps and the sort (and the renumbering, for dynamic) that falls due after them, so the
             sort's cost is inside every timing.
   every     mpm-step, sorted particles on the Hilbert grid, at each K of --every: the K to choose.
+  auto      --sort-every=auto against the best fixed K of a sweep (--auto-every), sorted and dynamic,
+            on the natural and the Hilbert grid, the dam break and the elastic collapse
+            (`suite mpm`, one thread, R interleaved rounds: every run of a round before the next
+            round): particle-steps/s over the whole run and window by window, sort cost included,
+            each against seeded particles and against the best K; the medians over the rounds.
   p2g       mpm-p2g's scatter strategies at every thread count and grid ordering, with the node
             updates each had to synchronise (the record's facts).
 
 Usage: bench/mpm_orders.py [--rounds 3] [--mesh box:56,56,56] [--flow-mesh box:40,40,40] [--out results/bench] [--quick]
-Writes OUT/mpm_orders.{json,md} (with --parts flow alone: OUT/mpm_flow.{json,md}) and OUT/mpm_flow.png; --quick: small grids, one round, a check in a minute that it all runs.
+Writes OUT/mpm_orders.{json,md} (with --parts flow alone: OUT/mpm_flow.{json,md}; auto alone: OUT/mpm_auto.{json,md}) and OUT/mpm_flow.png; --quick: small grids, one round, a check in a minute that it all runs.
 """
 import argparse
 import datetime
@@ -43,15 +48,21 @@ p.add_argument("--orderings", default="natural,random,morton,hilbert")
 p.add_argument("--every", default="1,5,20,50,100", help="the K of the 'every' part")
 p.add_argument("--sort-every", default="5", help="K of the 'sort' part (5: the fastest of the 'every' part on the development VM)")
 p.add_argument("--threads", default="1,2", help="thread counts of the 'p2g' part")
-p.add_argument("--parts", default="flow,sort,every,p2g")
+p.add_argument("--parts", default="flow,sort,every,auto,p2g")
 p.add_argument("--flow-mesh", default="box:40,40,40", help="the dam break's grid (default: 0.28 M particles, 44 MB of particle arrays)")
 p.add_argument("--flow-steps", type=int, default=2500, help="steps of the dam break (default 2500: about 0.9 s, the water has hit the far wall and mixed)")
 p.add_argument("--flow-every", default="5,20,50,100", help="the K tried for the flow part's sorted runs; the fastest is used for sorted and dynamic")
 p.add_argument("--windows", type=int, default=10, help="windows of the flow the rates are taken in")
+p.add_argument("--auto-mesh", default="box:24,24,24", help="the auto part's grid")
+p.add_argument("--auto-steps", type=int, default=1000, help="steps of each run of the auto part")
+p.add_argument("--auto-every", default="5,20,50", help="the fixed K the auto part sweeps")
+p.add_argument("--auto-cases", default="dam-break,dam-collapse")
+p.add_argument("--auto-grids", default="natural,hilbert")
 p.add_argument("--quick", action="store_true")
 a = p.parse_args()
 if a.quick:
     a.rounds, a.mesh, a.every, a.flow_mesh, a.flow_steps, a.flow_every = 1, "box:12,12,12", "1,20", "box:10,10,10", 400, "5,20"
+    a.auto_mesh, a.auto_steps, a.auto_every = "box:8,8,8", 100, "5,20"
 parts = a.parts.split(",")
 orderings = a.orderings.split(",")
 tmp = tempfile.mkdtemp(prefix="mpm-orders-")
@@ -78,19 +89,20 @@ def fact(rec, name):
 
 
 report = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "command": sys.argv, "rounds": a.rounds, "mesh": a.mesh}
-lines = [f"# MPM by particle and grid order ({report['date']}, {a.rounds} round(s)" + ("" if parts == ["flow"] else f", {a.mesh}") + ")", ""]
+lines = [f"# MPM by particle and grid order ({report['date']}, {a.rounds} round(s)" + ("" if parts in (["flow"], ["auto"]) else f", {a.mesh}") + ")", ""]
 
-def flow_run(particles, sort_every, directory):
-    """One dam break; returns the rows of its front.csv as dicts of floats and its mpm.json."""
+def flow_run(particles, sort_every, directory, case="dam-break", mesh=None, steps=None, ordering="natural"):
+    """One run of suite mpm; returns the rows of its front.csv as dicts (numbers as floats) and its mpm.json."""
     import csv
-    argv = [a.suite, "mpm", "--case=dam-break", f"--mesh={a.flow_mesh}", f"--particles={particles}", f"--steps={a.flow_steps}", "--vtk-every=0",
-            "--no-png", "--quiet", "--threads=1", f"--out={directory}"] + ([f"--sort-every={sort_every}"] if particles in ("sorted", "dynamic") else [])
+    argv = [a.suite, "mpm", f"--case={case}", f"--mesh={mesh or a.flow_mesh}", f"--ordering={ordering}", f"--particles={particles}",
+            f"--steps={steps or a.flow_steps}", "--vtk-every=0", "--no-png", "--quiet", "--threads=1", f"--out={directory}"] + (
+            [f"--sort-every={sort_every}"] if particles in ("sorted", "dynamic") else [])
     print("  " + " ".join(argv), file=sys.stderr, flush=True)
     r = subprocess.run(argv, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"mpm_orders: {' '.join(argv)} failed ({r.returncode}): {r.stderr.strip()[-400:]}")
     with open(os.path.join(directory, "front.csv"), newline="") as f:
-        rows = [{k: float(v) if v != "" else None for k, v in row.items()} for row in csv.DictReader(f)]
+        rows = [{k: (float(v) if k != "reordered" else v) if v != "" else None for k, v in row.items()} for row in csv.DictReader(f)]
     with open(os.path.join(directory, "mpm.json")) as f:
         return rows, json.load(f)
 
@@ -201,6 +213,58 @@ if "every" in parts:
         lines.append(f"| {k} | {statistics.median(v) / 1e6:.2f} M |")
     lines.append("")
 
+if "auto" in parts:
+    ks = a.auto_every.split(",")
+    windows = a.windows
+    edges = [round(i * a.auto_steps / windows) for i in range(windows + 1)]
+    configs = [("seeded", None)] + [(o, k) for o in ("sorted", "dynamic") for k in ks + ["auto"]]
+    whole, win, counts = {}, {}, {}
+    for rnd in range(a.rounds):  # interleaved: every run of a round before the next round
+        for case in a.auto_cases.split(","):
+            for grid in a.auto_grids.split(","):
+                for o, k in configs:
+                    rows, doc = flow_run(o, k, os.path.join(tmp, f"auto-{case}-{grid}-{o}-{k}-{rnd}"), case, a.auto_mesh, a.auto_steps, grid)
+                    n = doc["counts"]["particles"]
+                    key = (case, grid, o, k)
+                    whole.setdefault(key, []).append(doc["timing"]["particle_steps_per_second"])
+                    win.setdefault(key, []).append([n * (edges[i + 1] - edges[i]) / (rows[edges[i + 1]]["stepping_seconds"] - rows[edges[i]]["stepping_seconds"])
+                                                    for i in range(windows)])
+                    counts[key] = (doc["reorderings"] or {}).get("count")
+    med = statistics.median
+    out = {}
+    lines += [f"## --sort-every=auto against the best fixed K ({a.auto_mesh}, {a.auto_steps} steps, one thread, sort cost included, "
+              f"median of {a.rounds} interleaved round(s))", "",
+              "Each ratio is taken within a round and the median over the rounds is shown; the best K is the fixed K "
+              f"(of {a.auto_every}) with the highest median whole-run rate. \"Second half\": the windows after the middle step (the mixed flow).", "",
+              "| case | grid | particles | seeded | best K | auto | auto / best K | auto / seeded | second half: auto / best K | auto / seeded | reorderings (auto, best K) |",
+              "|---|---|---|---|---|---|---|---|---|---|---|"]
+    half = windows // 2
+    for case in a.auto_cases.split(","):
+        for grid in a.auto_grids.split(","):
+            base = (case, grid, "seeded", None)
+            for o in ("sorted", "dynamic"):
+                best = max(ks, key=lambda k: med(whole[(case, grid, o, k)]))
+                au, bk = (case, grid, o, "auto"), (case, grid, o, best)
+                ratio = lambda x, y: med(whole[x][r] / whole[y][r] for r in range(a.rounds))
+                second = lambda x, y: med(sum(win[x][r][half:]) / sum(win[y][r][half:]) for r in range(a.rounds))
+                per_window = {"auto_vs_best": [med(win[au][r][w] / win[bk][r][w] for r in range(a.rounds)) for w in range(windows)],
+                              "auto_vs_seeded": [med(win[au][r][w] / win[base][r][w] for r in range(a.rounds)) for w in range(windows)]}
+                out[f"{case}/{grid}/{o}"] = {"best_k": best, "rates": {str(k): med(whole[(case, grid, o, k)]) for k in ks + ["auto"]},
+                                             "seeded": med(whole[base]), "auto_vs_best": ratio(au, bk), "auto_vs_seeded": ratio(au, base),
+                                             "second_half_auto_vs_best": second(au, bk), "second_half_auto_vs_seeded": second(au, base),
+                                             "windows": per_window, "reorderings": {"auto": counts[au], "best_k": counts[bk]},
+                                             "per_round": {"auto": whole[au], "best_k": whole[bk], "seeded": whole[base]}}
+                e = out[f"{case}/{grid}/{o}"]
+                lines.append(f"| {case} | {grid} | {o} | {e['seeded'] / 1e6:.2f} M | K = {best}: {e['rates'][best] / 1e6:.2f} M | {e['rates']['auto'] / 1e6:.2f} M | "
+                             f"{e['auto_vs_best']:.3f}x | {e['auto_vs_seeded']:.3f}x | {e['second_half_auto_vs_best']:.3f}x | {e['second_half_auto_vs_seeded']:.3f}x | "
+                             f"{counts[au]}, {counts[bk]} |")
+    lines += ["", "Window by window (auto against the best K; auto against seeded), per tenth of the run:", ""]
+    for key, e in out.items():
+        lines.append(f"- {key}: " + ", ".join(f"{x:.2f}" for x in e["windows"]["auto_vs_best"]) + "; "
+                     + ", ".join(f"{x:.2f}" for x in e["windows"]["auto_vs_seeded"]))
+    lines.append("")
+    report["auto"] = {"mesh": a.auto_mesh, "steps": a.auto_steps, "every": ks, "window_edges": edges, "cases": out}
+
 if "p2g" in parts:
     res = suite(["--kernel=mpm-p2g", f"--mesh={a.mesh}", f"--ordering={a.orderings}", f"--threads={a.threads}", "--reps=5"])
     rows = []
@@ -217,7 +281,7 @@ if "p2g" in parts:
 
 os.makedirs(a.out, exist_ok=True)
 # The dam break alone (--parts flow) has files of its own, beside the kernels' tables.
-stem = os.path.join(a.out, ("mpm_flow" if parts == ["flow"] else "mpm_orders") + ("_quick" if a.quick else ""))
+stem = os.path.join(a.out, {"flow": "mpm_flow", "auto": "mpm_auto"}.get(",".join(parts), "mpm_orders") + ("_quick" if a.quick else ""))
 write_text(stem + ".json", json.dumps(report, indent=1) + "\n")
 write_text(stem + ".md", "\n".join(lines) + "\n")
 print("\n".join(lines))

@@ -262,7 +262,8 @@ def cases(d):
                     ("--damping", ["-1", "nan"]), ("--young", ["0", "-1", "nan", "1e-320"]),
                     ("--density", ["0", "-1", "1e300"]), ("--poisson", ["0.5", "-1", "1", "nan"]),
                     ("--seed", ["-1", "abc"]), ("--particles", ["bogus"]), ("--ordering", ["bogus"]),
-                    ("--strategy", ["bogus"]), ("--sort-every", ["-1", "abc"]), ("--warm-steps", ["-1"]),
+                    ("--strategy", ["bogus"]), ("--sort-every", ["-1", "abc", "autos"]), ("--sort-threshold", ["0", "nan", "abc"]),
+                    ("--warm-steps", ["-1"]),
                     ("--newmark", ["bogus", "0.1,0.1", "1,1,1"]), ("--strain", ["bogus"]),
                     ("--force", ["bogus"]), ("--column", ["0", "-1", "bogus"])]:
         for v in vals:

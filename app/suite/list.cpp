@@ -46,6 +46,7 @@ nlohmann::json params_json(const KernelInfo& info) {
             one["default"] = p.default_value;
         else
             one["default"] = p.choices.front(), one["choices"] = p.choices;
+        if (p.numbers_too) one["numbers_too"] = true;  // a number is accepted beside the names
         out.push_back(one);
     }
     return out;

@@ -93,9 +93,21 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
                          std::to_string(omp_get_thread_limit()) + " (OMP_THREAD_LIMIT); ask for fewer or unset it");
     // An option the run would not use is refused rather than recorded as if it had been.
     if (given.count("--sort-every") > 0 && !order.sorts)
-        throw UsageError("--sort-every=" + std::to_string(o.sort_every) + ": --particles=" + o.particles +
+        throw UsageError(mpm::sort_every_text(o.sort_every) + ": --particles=" + o.particles +
                          " never reorders; give --particles=sorted or dynamic, "
                          "or leave --sort-every out");
+    if (!o.sort_threshold.empty()) {
+        if (!order.sorts || o.sort_every != mpm::sort_auto)
+            throw UsageError("--sort-threshold=" + o.sort_threshold +
+                             ": it applies to --sort-every=auto (the default) " +
+                             "with --particles=sorted or dynamic, not " +
+                             (order.sorts ? mpm::sort_every_text(o.sort_every) : "--particles=" + o.particles));
+        s.sort_threshold = parse_finite(o.sort_threshold, "--sort-threshold");
+        if (!(s.sort_threshold > 0) || s.sort_threshold > 1e9)
+            throw UsageError("--sort-threshold=" + o.sort_threshold +
+                             ": the decay a reordering costs, a number > 0 and at most 1e9 (default " +
+                             format_number(mpm::default_sort_threshold) + ")");
+    }
     if (o.warm_steps > 0 && o.warm_steps >= o.steps)
         throw UsageError("--warm-steps=" + std::to_string(o.warm_steps) +
                          ": the rate is measured over the steps after the warm ones, and --steps=" +

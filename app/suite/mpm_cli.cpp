@@ -5,6 +5,7 @@
 
 #include "app/suite/mpm_options.hpp"
 #include "app/suite/parse.hpp"
+#include "harness/common/units.hpp"
 #include "kernels/mpm/choices.hpp"
 
 namespace suite::mpm_command {
@@ -70,9 +71,20 @@ void add_mpm_options(CLI::App& app, Options& o) {
         "the grid's element and node order, applied once: " + mpm::grid_orderings().accepted() + " (default natural)");
     app.add_option("--particles", o.particles,
                    "the particles' order: " + mpm::particle_orders().described() + " (default seeded)");
-    add_whole_option(
-        app, "--sort-every", o.sort_every, 0, 1000000000,
-        "steps between reorderings; 0: at the start only (default 5, the fastest measured; see docs/mpm.md)");
+    app.add_option_function<std::string>(
+           "--sort-every",
+           [&o](const std::string& text) {
+               o.sort_every = text == "auto"
+                                  ? mpm::sort_auto
+                                  : static_cast<int>(parse_whole(text, "--sort-every", 0, 1000000000, "or auto"));
+           },
+           "when sorted or dynamic particles are reordered: auto, whenever their order has decayed past "
+           "--sort-threshold (the default; docs/mpm.md, \"When to reorder\"), or every K steps, 0: at the start only")
+        ->type_name("auto|K");
+    app.add_option("--sort-threshold", o.sort_threshold,
+                   "--sort-every=auto's threshold: the decay (the fall of the share of neighbours in one element, "
+                   "summed over the steps since the last reordering) that a reordering costs, > 0 (default " +
+                       format_number(mpm::default_sort_threshold) + ")");
     app.add_option("--strategy", o.strategy,
                    "how threads share the scatters to nodes: " + mpm::strategies().accepted() +
                        " (default serial for 1 thread, partition for more)");

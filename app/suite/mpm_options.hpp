@@ -15,8 +15,9 @@ struct Options {
     std::string mesh = "box:16,16,16";
     std::string ordering = "natural";
     std::string particles = "seeded";
-    int sort_every = 5;
-    std::string strategy;  // "": serial for 1 thread, partition for more
+    int sort_every = mpm::sort_auto;  // --sort-every: auto or K
+    std::string sort_threshold;       // "": mpm::default_sort_threshold
+    std::string strategy;             // "": serial for 1 thread, partition for more
     int threads = 1;
     int ppe = 4;
     std::string young, poisson = "0.3", density = "1000";  // young "": the case's (mpm::cases())

@@ -5,6 +5,7 @@
 
 #include "app/suite/mpm_options.hpp"
 #include "harness/common/units.hpp"
+#include "kernels/mpm/choices.hpp"
 
 namespace suite::mpm_command {
 
@@ -26,6 +27,37 @@ double particle_rate(const ReportInput& in) {
 
 nlohmann::json or_null(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
 
+bool particle_sorts(const mpm::Setup& s) { return mpm::particle_orders().at(s.particles).what.sorts; }
+
+// When the particles were reordered and why (front.csv's column `reordered` marks the same steps).
+nlohmann::json reorderings_json(const ReportInput& in) {
+    const mpm::OrderTracker& t = in.st.order;
+    if (!particle_sorts(in.setup)) return nullptr;
+    nlohmann::json list = nlohmann::json::array();
+    std::uint64_t decayed = 0, every = 0;
+    for (const mpm::Reordering& r : t.log) {
+        decayed += r.cause == mpm::ReorderCause::decayed ? 1 : 0;
+        every += r.cause == mpm::ReorderCause::every ? 1 : 0;
+        list.push_back({{"step", r.step},
+                        {"cause", mpm::reorder_cause_name(r.cause)},
+                        {"decay", r.decay},
+                        {"same_element_before", r.same_before},
+                        {"same_element_after", r.same_after}});
+    }
+    const bool automatic = in.setup.sort_every == mpm::sort_auto;
+    return {{"schedule", automatic ? "auto" : "every " + std::to_string(in.setup.sort_every) + " steps"},
+            {"threshold", automatic ? nlohmann::json(in.setup.sort_threshold) : nlohmann::json(nullptr)},
+            {"count", t.count},
+            {"decayed", decayed},
+            {"every", every},
+            {"listed", t.log.size()},
+            {"list", list},
+            {"detail",
+             "after step `step`: start (the first), every (K steps since the last), decayed (auto: `decay`, the sum "
+             "over the steps since the last of how far same_element fell below its value after that one, reached "
+             "the threshold); same_element before and after the reordering"}};
+}
+
 const char* const no_step = "no step was taken (--steps=0, or the run stopped before its first step)";
 
 // Over the steps after --warm-steps (rows[k] is after k steps); NaN when none ran after them.
@@ -42,17 +74,18 @@ double rate_after_warm(const ReportInput& in) {
 std::string front_csv(const mpm::Outcome& r) {
     std::string out =
         "step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_element,top_settlement,"
-        "stepping_seconds\n";
-    char line[360], settled[32];
+        "reordered,stepping_seconds\n";
+    char line[400], settled[32];
     for (const auto& row : r.rows) {
         // The column's settlement; empty in the other cases (not measured, not 0).
         if (std::isnan(row.settlement))
             settled[0] = 0;
         else
             std::snprintf(settled, sizeof settled, "%.17g", row.settlement);
-        std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.9g\n",
+        std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%s,%.9g\n",
                       static_cast<unsigned long long>(row.step), row.time, row.front, row.kinetic, row.dt,
-                      row.potential, row.internal, row.order.mean_gap, row.order.same_element, settled, row.stepping_s);
+                      row.potential, row.internal, row.order.mean_gap, row.order.same_element, settled,
+                      mpm::reorder_cause_name(row.reordered), row.stepping_s);
         out += line;
     }
     return out;
@@ -121,6 +154,7 @@ nlohmann::json summary_json(const ReportInput& in) {
                                                       "between consecutive particles' elements "
                                                       "(elements); same_element: the share of consecutive particles in "
                                                       "one element; each step in front.csv"}}},
+        {"reorderings", reorderings_json(in)},
         {"column",
          std::isnan(r.settlement_exact)
              ? nlohmann::json(nullptr)
@@ -240,6 +274,12 @@ std::string summary_text(const ReportInput& in) {
                           fmt(" -> %.3g elements along the curve between neighbours", r.rows.back().order.mean_gap) +
                           fmt(", %.0f", 100 * r.rows.front().order.same_element) +
                           fmt(" -> %.0f %% in one element", 100 * r.rows.back().order.same_element));
+    if (particle_sorts(in.setup))
+        line("reorderings",
+             std::to_string(st.order.count) + " (the start's included), " +
+                 (in.setup.sort_every == mpm::sort_auto
+                      ? "when the order had decayed past " + format_number(in.setup.sort_threshold) + " (auto)"
+                      : mpm::sort_every_text(in.setup.sort_every)));
     line("clamped", std::to_string(st.clamped) + " particle position(s) pulled back onto a wall, in all");
     for (const auto& c : r.checks)
         line(c.name == "finite and inside the box" ? "NaN check" : c.name,
@@ -253,7 +293,9 @@ nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
             {"mesh", s.mesh},
             {"ordering", s.ordering},
             {"particles", s.particles},
-            {"sort_every", s.sort_every},
+            {"sort_every", s.sort_every == mpm::sort_auto ? nlohmann::json("auto") : nlohmann::json(s.sort_every)},
+            {"sort_threshold", s.sort_every == mpm::sort_auto && particle_sorts(s) ? nlohmann::json(s.sort_threshold)
+                                                                                   : nlohmann::json(nullptr)},
             {"strategy", mpm::strategy_name(s.strategy)},
             {"threads", s.threads},
             {"ppe", m.per_element},

@@ -117,6 +117,9 @@ struct ParamInfo {
     // The names in the order schema-1 records stored them as indices 0, 1, ... (frozen with that
     // schema: result_file.cpp reads an old file's index through it); empty where none were stored.
     std::vector<std::string> v1_order = {};
+    // A named parameter that takes a number too (--sort-every=auto or 20): a name where one of
+    // the choices is given, else a finite number; its default is still the first name.
+    bool numbers_too = false;
 };
 
 // Facts about a kernel, as data.

@@ -95,11 +95,19 @@ std::string param_text(const ParamValue& v) {
 
 ParamValue parse_param(const std::string& name, const std::string& text) {
     const std::vector<std::string>* choices = nullptr;
+    bool numbers_too = false;
     for (const auto& e : table())
         for (const auto& p : e.info.params)
-            if (p.name == name && !p.choices.empty()) choices = &p.choices;
+            if (p.name == name && !p.choices.empty()) choices = &p.choices, numbers_too = p.numbers_too;
     if (!choices) return parse_finite(text, "--" + name);
     if (std::find(choices->begin(), choices->end(), text) != choices->end()) return text;
+    if (numbers_too) {
+        try {
+            return parse_finite(text, "--" + name);
+        } catch (const UsageError&) {
+            throw UsageError("--" + name + "=" + text + ": " + join(*choices, ", ") + " or a number");
+        }
+    }
     const std::string hint = nearest(text, *choices);
     throw UsageError("unknown --" + name + " '" + text + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
                      "; accepted: " + join(*choices, ", "));

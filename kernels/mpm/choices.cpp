@@ -69,7 +69,10 @@ const ChoiceTable<ParticleOrder>& particle_orders() {
         "particle order",
         {{"seeded", "as seeded, element by element in the grid's order, never reordered", {}},
          {"shuffled", "shuffled once, never reordered: a restart file's order", {.shuffle = true}},
-         {"sorted", "sorted along the curve at the start and every --sort-every steps", {.sorts = true}},
+         {"sorted",
+          "sorted along the curve at the start and again as --sort-every says (default auto: when the order has "
+          "decayed)",
+          {.sorts = true}},
          {"dynamic",
           "sorted, and the grid renumbered active elements first, at the same steps",
           {.sorts = true, .renumbers = true}}},

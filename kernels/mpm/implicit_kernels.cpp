@@ -11,8 +11,9 @@
 //                          says, first touched by the CG's row blocks); --particles: seeded,
 //                          shuffled, sorted, dynamic (dynamic renumbers the grid, and so the
 //                          system); verified against CHOLMOD's solve
-//   mpm-implicit-step      K = --sort-every whole implicit steps, then the reordering due;
-//                          --particles: seeded, shuffled, sorted, dynamic
+//   mpm-implicit-step      K = --sort-every whole implicit steps, each with the reordering due
+//                          (5 under --sort-every=auto, the default: a reordering whenever the
+//                          order has decayed); --particles: seeded, shuffled, sorted, dynamic
 // Rates count particles (assembly), CG iterations (solve), particle-steps (step). Bytes follow
 // the STREAM convention: the particle arrays a pass reads and writes, the tangent's values
 // written once and the CG's matrix and vectors each pass; flops are counted from the loops.
@@ -51,7 +52,7 @@ public:
         setup_.mesh = cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh;
         setup_.ordering = cfg.access.name;
         setup_.particles = phase == Phase::assembly ? "sorted" : cfg.variant;
-        setup_.sort_every = phase == Phase::step ? static_cast<int>(cfg.param("sort-every")) : 0;
+        setup_.sort_every = phase == Phase::step ? sort_every_of(cfg) : 0;
         setup_.settings.per_element = static_cast<int>(cfg.param("ppe"));
         setup_.strategy = phase == Phase::assembly ? parse_strategy(cfg.variant)
                                                    : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
@@ -75,10 +76,8 @@ public:
         const double warm = static_cast<double>(st_->steps);
         warm_newton_ = static_cast<double>(st_->implicit.newton) / warm;
         warm_cg_ = static_cast<double>(st_->implicit.solver_iterations) / warm;
-        if (const ParticleOrder order = particle_orders().at(setup_.particles).what; order.sorts) {
-            if (order.renumbers) renumber_active(*st_);
-            sort_particles(*st_);
-        }
+        if (particle_orders().at(setup_.particles).what.sorts) reorder(*st_, setup_, ReorderCause::start);
+        reorderings_start_ = st_->order.count;
         touch_nodes(*st_, true);
         if (phase_ == Phase::step) equivalence_ = check_equivalence(setup_);
         if (phase_ != Phase::step) {
@@ -145,7 +144,8 @@ public:
                     what = "the first " + std::to_string(equivalence_steps) +
                            " steps equal natural order, serial, seeded (1e-10); every Newton converged; after " +
                            std::to_string(st_->steps) +
-                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
+                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p" +
+                           reorderings_text(*st_, setup_, reorderings_start_);
                     if (st_->implicit.failed_steps > 0) {
                         failed = std::to_string(st_->implicit.failed_steps) +
                                  " step(s) failed, the last: " + st_->implicit.failure;
@@ -186,6 +186,8 @@ public:
                              std::max<double>(1, static_cast<double>(st.implicit.newton - start_newton_)),
                          "iterations"});
             f.push_back({"simulated", st.time, "s"});
+            if (particle_orders().at(setup_.particles).what.sorts)
+                for (Fact& r : reordering_facts(st, setup_, reorderings_start_)) f.push_back(std::move(r));
             (void)steps;
         }
         if (phase_ == Phase::assembly && st.plan.strategy == Strategy::colour)
@@ -216,7 +218,7 @@ public:
     }
 
 private:
-    int steps_per_call() const { return std::max(setup_.sort_every, 1); }
+    int steps_per_call() const { return steps_per_repetition(setup_.sort_every, 5); }
     std::string describe() const {
         return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " +
                std::to_string(st_->particles.size()) + " particles, " + std::to_string(st_->system.rows()) +
@@ -329,6 +331,7 @@ private:
     fem::CholeskyTimes cholmod_;
     std::string name_;
     long calls_ = 0, last_iterations_ = 0;
+    std::uint64_t reorderings_start_ = 0;  // the tracker's count where the timing starts
     std::uint64_t start_newton_ = 0, start_cg_ = 0;
     CgArrays cg_;  // the solve kernel's placed system
 };
@@ -373,10 +376,10 @@ const bool registered = [] {
         "implicit MPM: one Newton system's linear solve; --particles=" + join(particle_orders().names(), ",") +
             " (dynamic renumbers the grid and the system)");
     add("mpm-implicit-step", Phase::step,
-        "K whole implicit steps (projection, Newton: assembly and CG, update, locate), then the reordering due",
+        "K whole implicit steps (projection, Newton: assembly and CG, update, locate), each with the reordering due",
         "implicit MPM (Newmark, Newton; --case: " + elastic_cases() +
-            "), --dt-multiple, --sort-every=K steps a repetition; --particles=" + join(particle_orders().names(), ",") +
-            "");
+            "), --dt-multiple, a repetition K = --sort-every steps (5 under auto, the default); --particles=" +
+            join(particle_orders().names(), ",") + "");
     return true;
 }();
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <variant>
 
 #include "harness/common/units.hpp"
 #include "harness/kernel/arena.hpp"
@@ -51,9 +52,14 @@ KernelEntry mpm_entry(const std::string& name, const std::string& formula, const
          "MPM steps run untimed before the first repetition, under the reordering schedule: a mixed state of the flow "
          "(mpm kernels), 0 to 10000000"}};
     if (sorted_steps)
-        e.info.params.push_back(
-            {"sort-every", 5,
-             "MPM steps between particle sorts (sorted, dynamic); one mpm-step repetition is that many steps; >= 1"});
+        e.info.params.push_back({"sort-every",
+                                 0,
+                                 "MPM particle reordering (sorted, dynamic): auto (when the order has decayed, "
+                                 "docs/mpm.md) or every K >= 1 steps; a repetition is K steps, or a fixed number "
+                                 "under auto (mpm-step 20, mpm-implicit-step 5)",
+                                 {"auto"},
+                                 {},
+                                 true});
     e.info.size_kind = SizeKind::count;
     e.mesh_elements = mesh_elements;
     e.test_size = 6 * 5 * 5 * 5;
@@ -63,6 +69,7 @@ KernelEntry mpm_entry(const std::string& name, const std::string& formula, const
 void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec) {
     for (const char* name : {"ppe", "sort-every"}) {
         if (!cfg.params.count(name)) continue;
+        if (std::holds_alternative<std::string>(cfg.params.at(name))) continue;  // sort-every=auto
         const double v = cfg.param(name);
         if (!(v >= 1) || v != std::floor(v) || v > 1e6)
             throw UsageError("--" + std::string(name) + "=" + format_number(v) + " for " + kernel +
@@ -122,9 +129,40 @@ std::string position_mismatch(const Particles& a, const Particles& b, double tol
 
 }  // namespace
 
+int sort_every_of(const KernelConfig& cfg) {
+    const ParamValue& v = cfg.params.at("sort-every");
+    if (std::holds_alternative<std::string>(v)) return sort_auto;
+    return static_cast<int>(std::get<double>(v));
+}
+
+std::vector<Fact> reordering_facts(const State& st, const Setup& s, std::uint64_t since) {
+    const OrderTracker& t = st.order;
+    std::uint64_t decayed = 0;
+    for (std::size_t i = since; i < t.log.size(); ++i) decayed += t.log[i].cause == ReorderCause::decayed ? 1 : 0;
+    std::vector<Fact> f{{"reorderings", static_cast<double>(t.count - since), "reorderings in the timed steps"}};
+    if (s.sort_every == sort_auto) {
+        f.push_back({"reorderings-decayed", static_cast<double>(decayed), "reorderings the decay called for"});
+        f.push_back({"sort-threshold", s.sort_threshold, "same-element share x steps"});
+    }
+    return f;
+}
+
+std::string reorderings_text(const State& st, const Setup& s, std::uint64_t since) {
+    if (!particle_orders().at(s.particles).what.sorts) return "";
+    const OrderTracker& t = st.order;
+    std::string out;
+    std::size_t shown = 0;
+    for (std::size_t i = since; i < t.log.size() && shown < 10; ++i, ++shown)
+        out +=
+            (out.empty() ? "" : ", ") + std::to_string(t.log[i].step) + " (" + reorder_cause_name(t.log[i].cause) + ")";
+    const std::uint64_t all = t.count > since ? t.count - since : 0;
+    if (all == 0) return "; no reordering after the timing started";
+    return "; reordered after step(s) " + out + (all > shown ? " and " + std::to_string(all - shown) + " more" : "");
+}
+
 std::string check_equivalence(const Setup& point) {
     Setup mine = point, ref = point;
-    mine.sort_every = std::min(point.sort_every, 2);
+    if (point.sort_every != sort_auto) mine.sort_every = std::min(point.sort_every, 2);
     ref.ordering = "natural";
     ref.particles = "seeded";
     ref.strategy = Strategy::serial;

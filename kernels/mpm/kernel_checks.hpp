@@ -1,6 +1,7 @@
 #pragma once
 // What the MPM kernels check about their points (validate), their results (verify) and report
 // (facts, footprint); apart from the kernels so that mpm_kernels.cpp stays the measured loops.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,11 +23,28 @@ std::uint64_t mesh_elements(const std::string& spec);
 KernelEntry mpm_entry(const std::string& name, const std::string& formula, const std::string& unit, bool strategies,
                       bool sorted_steps);
 
-// Throws UsageError for a grid spec that is not tetrahedral, --ppe or --sort-every that is not a
-// whole number >= 1, the serial strategy on more than one thread, or more memory than there is.
+// A point's --sort-every: sort_auto for "auto", else its whole number of steps.
+int sort_every_of(const KernelConfig& cfg);
+// The steps of one repetition of a stepping kernel: K = --sort-every, or under auto `auto_steps`
+// (a fixed number, so that every repetition does the same work whenever its reorderings fall).
+inline int steps_per_repetition(int sort_every, int auto_steps) {
+    return sort_every == sort_auto ? auto_steps : std::max(sort_every, 1);
+}
+// The facts of the reorderings after a stepping kernel's timing started (`since`: the tracker's
+// count then): how many and by what cause, and under auto the threshold.
+std::vector<Fact> reordering_facts(const State& st, const Setup& s, std::uint64_t since);
+// The steps after which they happened and why, for a verification's detail: "; reordered after
+// steps 12 (decayed), 40 (decayed), ..." (the first ten, and the count of the rest); "" for an
+// order that never reorders.
+std::string reorderings_text(const State& st, const Setup& s, std::uint64_t since);
+
+// Throws UsageError for a grid spec that is not tetrahedral, --ppe that is not a whole number
+// >= 1, --sort-every that is neither auto nor one, the serial strategy on more than one thread, or more memory than
+// there is.
 void validate_mpm(const KernelConfig& cfg, const std::string& kernel, const std::string& spec);
 
-// The steps check_equivalence runs: the point's setup (reordering every 2 steps) and the
+// The steps check_equivalence runs: the point's setup (a fixed K reordering every 2 steps, auto
+// as the point has it: its trigger reads no clock) and the
 // reference (natural grid, seeded particles, serial scatters), each from the start.
 constexpr int equivalence_steps = 5;
 // "" when every particle's position agrees to 1e-10 (the box is 1 long), else the worst one.

@@ -30,6 +30,7 @@
 #include "kernels/mesh/mesh_spec.hpp"
 #include "kernels/mpm/array.hpp"
 #include "kernels/mpm/implicit_system.hpp"
+#include "kernels/mpm/order.hpp"
 
 namespace suite {
 class Arena;
@@ -234,6 +235,7 @@ struct State {
     std::uint64_t clamped = 0;     // particle positions pulled back into the box, in total
     std::uint32_t node_hi = 0;     // 1 + the largest node any particle's element has
     Array<double> element_volume;  // mixed integration's scratch: Σ V_p of each element's particles
+    OrderTracker order;            // the particles' reorderings (advance, reorder)
     ActiveSystem system;           // the implicit integrator's (implicit.hpp)
     ImplicitStats implicit;
 };
@@ -293,6 +295,12 @@ void renumber_active(State& st);
 // permuted: p2g zeroes them before use.
 void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vector<std::uint32_t>& new_id);
 
+// Setup::sort_every of --sort-every=auto.
+inline constexpr int sort_auto = -1;
+// --sort-every=auto's threshold (OrderTracker), from the cost model of docs/mpm.md ("When to
+// reorder"): a reordering costs as much as about this much decay, measured once.
+inline constexpr double default_sort_threshold = 8;
+
 // A simulation as the kernels and `suite mpm` set it up: which grid, in which order, how the
 // particles are kept in order. build() loads the mesh, orders it once (the static reordering),
 // seeds the particles and puts them in their starting order; advance() runs one step and the
@@ -306,7 +314,10 @@ struct Setup {
     // sorted:   sorted along the curve at the start and every sort_every steps;
     // dynamic:  sorted as above, and the grid renumbered (renumber_active) at the same steps.
     std::string particles = "seeded";
-    int sort_every = 5;  // steps between reorderings; 0: at the start only (5: fastest measured)
+    // Steps between reorderings; 0: at the start only; sort_auto (--sort-every=auto): whenever the
+    // order has decayed past sort_threshold (OrderTracker).
+    int sort_every = sort_auto;
+    double sort_threshold = default_sort_threshold;
     Settings settings;
     Strategy strategy = Strategy::serial;
     int threads = 1;
@@ -328,9 +339,14 @@ std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts
 // With `arena` (which must outlive the state), the state's particle and node arrays are placed
 // in it (State): what the kernels do, so that the harness's --placement applies to them.
 State build(const Setup& s, Arena* arena = nullptr);
+// One step, then the reordering due after it: every sort_every steps, or under sort_auto when the
+// decay accumulated since the last one (OrderTracker) has reached sort_threshold.
 void advance(State& st, const Setup& s);
-// Whether advance() reorders after step number `step` (1-based) under this setup.
-bool reorders_after(const Setup& s, std::uint64_t step);
+// Sorts the particles (dynamic: after renumbering the grid), as a reordering of this setup's
+// particle order, and restarts the tracker's decay from the order it leaves; logged with `cause`.
+void reorder(State& st, const Setup& s, ReorderCause cause);
+// "--sort-every=auto" or "--sort-every=K" (the value as a setup holds it).
+std::string sort_every_text(int sort_every);
 
 // Sums over particles, for the checks.
 struct Totals {
@@ -350,14 +366,9 @@ struct Energy {
 };
 Energy energy(const State& st);
 
-// How far the particles' order is from the curve's, read from the order they are stored in:
-// the mean distance along the element curve (grid.curve) between consecutive particles'
-// elements, and the share of consecutive particles in the same element. Sorted: a distance
-// about 1 / (particles per element); shuffled: about a third of the elements.
-struct Locality {
-    double mean_gap = 0;      // elements along the curve
-    double same_element = 0;  // 0..1
-};
 Locality locality(const State& st);
+// The share of consecutive particles in one element alone (Locality::same_element), from the
+// elements they are stored with: what --sort-every=auto reads after every step.
+double same_element_share(const Particles& p);
 
 }  // namespace suite::mpm

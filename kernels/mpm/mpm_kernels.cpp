@@ -10,8 +10,10 @@
 //   mpm-g2p   for p: v_p += dt Σ_i w_i f_n / m_n;  x_p += dt Σ_i w_i p_n / m_n
 //             --particles: seeded, shuffled, sorted, dynamic
 //   mpm-step  K = --sort-every whole steps (locate, P2G, grid, G2P, velocity scatter, stress),
-//             then the reordering that falls due; --particles: seeded, shuffled, sorted, dynamic; the
-//             scatters serial on one thread, partition on more
+//             each followed by the reordering that falls due; under --sort-every=auto (the
+//             default) 20 steps, reordering whenever the order has decayed (mpm.hpp, OrderTracker);
+//             --particles: seeded, shuffled, sorted, dynamic; the scatters serial on one thread,
+//             partition on more
 // Rates count particles (particle-steps for mpm-step). Bytes follow the STREAM convention for
 // the particle arrays only: what the nodes cost depends on the order, which is the question.
 // Flops likewise count the particle loops only (the loops over nodes: see step_flops).
@@ -91,7 +93,7 @@ public:
         setup_.mesh = cfg.mesh.empty() ? box_spec_for(cfg.size) : cfg.mesh;
         setup_.ordering = cfg.access.name;
         setup_.particles = phase == Phase::p2g ? "sorted" : cfg.variant;
-        setup_.sort_every = phase == Phase::step ? static_cast<int>(cfg.param("sort-every")) : 0;
+        setup_.sort_every = phase == Phase::step ? sort_every_of(cfg) : 0;
         setup_.settings.per_element = static_cast<int>(cfg.param("ppe"));
         setup_.strategy = phase == Phase::p2g ? parse_strategy(cfg.variant)
                                               : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);
@@ -108,10 +110,8 @@ public:
         // of a flow), under the point's reordering schedule, as a simulation would; the timing
         // then starts right after a reordering, as every later repetition does.
         for (long k = 0; k < warm_steps_; ++k) advance(*st_, setup_);
-        if (const ParticleOrder order = particle_orders().at(setup_.particles).what; order.sorts) {
-            if (order.renumbers) renumber_active(*st_);
-            sort_particles(*st_);
-        }
+        if (particle_orders().at(setup_.particles).what.sorts) reorder(*st_, setup_, ReorderCause::start);
+        reorderings_start_ = st_->order.count;
         // The particle arrays kept their pages through the reorderings (each thread's block is
         // the same range of particles); the nodes' split follows node_hi, which the warm-up and a
         // renumbering moved: a fresh first touch for the split the timed steps start with.
@@ -166,7 +166,8 @@ public:
                 case Phase::step:
                     what = "the first " + std::to_string(equivalence_steps) +
                            " steps equal natural order, serial, seeded (1e-10); after " + std::to_string(st_->steps) +
-                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p";
+                           " steps: finite, inside the box, located, mass exact, Σ m_n = Σ m_p" +
+                           reorderings_text(*st_, setup_, reorderings_start_);
                     failed = equivalence_;
                     if (failed.empty()) failed = check_state(*st_, mass_);
                     break;
@@ -188,6 +189,8 @@ public:
         if (phase_ == Phase::step) {
             f.push_back({"simulated", st_->time, "s"});
             f.push_back({"clamped", static_cast<double>(st_->clamped), "particle positions"});
+            if (particle_orders().at(setup_.particles).what.sorts)
+                for (Fact& r : reordering_facts(*st_, setup_, reorderings_start_)) f.push_back(std::move(r));
         }
         if (phase_ == Phase::p2g) {
             const Strategy s = st_->plan.strategy;
@@ -222,7 +225,8 @@ public:
     }
 
 private:
-    int steps_per_call() const { return std::max(setup_.sort_every, 1); }
+    int steps_per_call() const { return steps_per_repetition(setup_.sort_every, auto_steps); }
+    static constexpr int auto_steps = 20;
     std::string describe() const {
         return case_ + " on box grid " + setup_.mesh + " (" + std::to_string(st_->grid.elements()) + " tetrahedra, " +
                std::to_string(st_->particles.size()) + " particles, after " + std::to_string(warm_steps_) +
@@ -239,6 +243,7 @@ private:
     std::string equivalence_;
     double mass_ = 0;
     long calls_ = 0;
+    std::uint64_t reorderings_start_ = 0;  // the tracker's count where the timing starts
 };
 
 void add(const std::string& name, Phase phase, const std::string& formula, const std::string& notes) {
@@ -267,8 +272,10 @@ const bool registered = [] {
     add("mpm-g2p", Phase::g2p, "v_p += dt Σ w f_n / m_n; x_p += dt Σ w p_n / m_n",
         "MPM grid-to-particle update; --particles=" + join(particle_orders().names(), ",") + " (default all)");
     add("mpm-step", Phase::step,
-        "K whole USL steps (locate, P2G, grid, G2P, velocity, stress), then the reordering due",
-        "explicit MPM (--case: " + cases().accepted() + "), --sort-every=K steps a repetition; --particles=" +
+        "K whole USL steps (locate, P2G, grid, G2P, velocity, stress), each with the reordering due",
+        "explicit MPM (--case: " + cases().accepted() +
+            "), a repetition K = --sort-every steps, or 20 under --sort-every=auto (the default: a reordering "
+            "whenever the order has decayed); --particles=" +
             join(particle_orders().names(), ",") + " (default all)");
     return true;
 }();

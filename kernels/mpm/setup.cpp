@@ -60,9 +60,12 @@ std::uint64_t particles_bound(const mesh::MeshSpec& spec, const mesh::MeshCounts
 State build(const Setup& s, Arena* arena) {
     grid_orderings().at(s.ordering);
     const ParticleOrder order = particle_orders().at(s.particles).what;
-    if (s.sort_every < 0)
+    if (s.sort_every < 0 && s.sort_every != sort_auto)
         throw UsageError("--sort-every=" + std::to_string(s.sort_every) +
-                         ": a whole number of steps >= 0 (0: sort at the start only)");
+                         ": auto or a whole number of steps >= 0 (0: sort at the start only)");
+    if (s.sort_every == sort_auto && !(s.sort_threshold > 0 && s.sort_threshold <= 1e9))
+        throw UsageError("--sort-threshold=" + format_number(s.sort_threshold) +
+                         ": the decay a reordering costs, a number in (0, 1e9]");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(s.mesh);
     const mesh::MeshCounts counts = mesh::mesh_counts(spec);
     if (counts.dim != 3)
@@ -81,22 +84,55 @@ State build(const Setup& s, Arena* arena) {
     m = sfc::ordered(m, s.ordering, s.seed, sfc::max_depth(3));
     State st = make_state(make_grid(std::move(m)), s.settings, s.strategy, s.threads, s.force, arena);
     if (order.shuffle) shuffle_particles(st, s.seed);
-    if (order.renumbers) renumber_active(st);
-    if (order.sorts) sort_particles(st);
+    st.order.fresh = same_element_share(st.particles);
+    if (order.sorts) reorder(st, s, ReorderCause::start);
     return st;
 }
 
-bool reorders_after(const Setup& s, std::uint64_t step) {
-    return particle_orders().at(s.particles).what.sorts && s.sort_every > 0 &&
-           step % static_cast<std::uint64_t>(s.sort_every) == 0;
+std::string sort_every_text(int sort_every) {
+    return "--sort-every=" + (sort_every == sort_auto ? std::string("auto") : std::to_string(sort_every));
+}
+
+const char* reorder_cause_name(ReorderCause c) {
+    switch (c) {
+        case ReorderCause::none:
+            return "";
+        case ReorderCause::start:
+            return "start";
+        case ReorderCause::every:
+            return "every";
+        case ReorderCause::decayed:
+            return "decayed";
+    }
+    return "";
+}
+
+void reorder(State& st, const Setup& s, ReorderCause cause) {
+    OrderTracker& t = st.order;
+    const double before = same_element_share(st.particles);
+    if (particle_orders().at(s.particles).what.renumbers) renumber_active(st);
+    sort_particles(st);
+    const double after = same_element_share(st.particles);
+    if (t.log.size() < OrderTracker::log_limit) t.log.push_back({st.steps, cause, t.decay, before, after});
+    ++t.count;
+    t.last_cause = cause;
+    t.last_step = st.steps;
+    t.fresh = after;
+    t.decay = 0;
 }
 
 void advance(State& st, const Setup& s) {
     step(st);
     if (!st.implicit.failure.empty()) return;  // a failed implicit step changed nothing: no reordering either
-    if (!reorders_after(s, st.steps)) return;
-    if (particle_orders().at(s.particles).what.renumbers) renumber_active(st);
-    sort_particles(st);
+    if (!particle_orders().at(s.particles).what.sorts) return;
+    if (s.sort_every == sort_auto) {
+        // The decay since the last reordering grows by how far below its fresh share the order is now.
+        st.order.decay += std::max(0.0, st.order.fresh - same_element_share(st.particles));
+        if (st.order.decay >= s.sort_threshold) reorder(st, s, ReorderCause::decayed);
+        return;
+    }
+    if (s.sort_every > 0 && st.steps % static_cast<std::uint64_t>(s.sort_every) == 0)
+        reorder(st, s, ReorderCause::every);
 }
 
 }  // namespace suite::mpm

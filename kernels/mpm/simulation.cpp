@@ -198,8 +198,10 @@ Outcome simulate(State& st, const Setup& setup, const SimulationSettings& run, c
     };
     const auto row = [&] {
         const Energy e = energy(st);
+        const bool reordered = st.order.count > 0 && st.order.last_step == st.steps;
         r.rows.push_back({st.steps, st.time, front(st.particles), e.kinetic, st.steps == 0 ? 0.0 : st.dt, settlement(),
-                          r.stepping_s, e.potential, e.internal, locality(st)});
+                          r.stepping_s, e.potential, e.internal, locality(st),
+                          reordered ? st.order.last_cause : ReorderCause::none});
     };
     Check finite{"finite and inside the box", true, ""};
     Check energy{"energy bound", true, ""};

@@ -40,11 +40,12 @@ struct SimulationHooks {
 struct FrontRow {
     std::uint64_t step = 0;
     double time = 0, front = 0, kinetic = 0;
-    double dt = 0;                       // the step that led here (0 at step 0)
-    double settlement = NAN;             // the column: the top particle layer's mean downward displacement
-    double stepping_s = 0;               // seconds of mpm::advance (steps and reorderings) up to here
-    double potential = 0, internal = 0;  // mpm::energy's other parts
-    Locality order;                      // how far the particles' order has decayed
+    double dt = 0;                                // the step that led here (0 at step 0)
+    double settlement = NAN;                      // the column: the top particle layer's mean downward displacement
+    double stepping_s = 0;                        // seconds of mpm::advance (steps and reorderings) up to here
+    double potential = 0, internal = 0;           // mpm::energy's other parts
+    Locality order;                               // how far the particles' order has decayed
+    ReorderCause reordered = ReorderCause::none;  // the reordering after this step, if one was due
 };
 
 struct Check {

@@ -326,6 +326,16 @@ Energy energy(const State& st) {
     return e;
 }
 
+double same_element_share(const Particles& p) {
+    const std::int64_t n = static_cast<std::int64_t>(p.size());
+    if (n < 2) return 0;
+    const std::uint32_t* const e = p.elem.data();
+    std::int64_t same = 0;  // a count: the same share on any number of threads
+#pragma omp parallel for schedule(static) reduction(+ : same)
+    for (std::int64_t i = 1; i < n; ++i) same += e[i] == e[i - 1] ? 1 : 0;
+    return static_cast<double>(same) / static_cast<double>(n - 1);
+}
+
 Locality locality(const State& st) {
     const Particles& p = st.particles;
     const std::uint32_t* curve = st.grid.curve.data();

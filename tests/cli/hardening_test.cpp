@@ -179,6 +179,16 @@ TEST(ValuesUsedSilently, OptionsTheRunWouldNotUseAndUnusableMaterialsAreRefusedA
                    {"--sort-every=3", "--particles=seeded never reorders"});
     expect_refused(run_suite({"mpm", "--particles=shuffled", "--sort-every=3", "--dry-run"}),
                    {"--particles=shuffled never reorders"});
+    expect_refused(run_suite({"mpm", "--sort-every=auto", "--dry-run"}),
+                   {"--sort-every=auto", "--particles=seeded never reorders"});
+    expect_refused(run_suite({"mpm", "--particles=shuffled", "--sort-every=auto", "--dry-run"}),
+                   {"--sort-every=auto", "--particles=shuffled never reorders"});
+    expect_refused(run_suite({"mpm", "--particles=sorted", "--sort-every=5", "--sort-threshold=2", "--dry-run"}),
+                   {"--sort-threshold=2", "applies to --sort-every=auto", "not --sort-every=5"});
+    expect_refused(run_suite({"mpm", "--sort-threshold=2", "--dry-run"}),
+                   {"--sort-threshold=2", "not --particles=seeded"});
+    expect_refused(run_suite({"mpm", "--particles=dynamic", "--sort-threshold=0", "--dry-run"}),
+                   {"--sort-threshold=0", "> 0"});
     expect_refused(run_suite({"mpm", "--case=dam-break", "--column=0.3,1,0.6", "--dry-run"}),
                    {"--column does not apply to --case=dam-break"});
     expect_refused(run_suite({"mpm", "--case=dam-collapse", "--viscosity=0.1", "--dry-run"}),
@@ -202,6 +212,8 @@ TEST(ValuesUsedSilently, OptionsTheRunWouldNotUseAndUnusableMaterialsAreRefusedA
                    {"--cg-max=1e300 for fem-cg"});
     // What stays accepted: --sort-every with an order that sorts, --dt alone.
     EXPECT_EQ(run_suite({"mpm", "--particles=sorted", "--sort-every=3", "--dry-run"}).status, 0);
+    EXPECT_EQ(run_suite({"mpm", "--particles=dynamic", "--sort-every=auto", "--sort-threshold=2", "--dry-run"}).status,
+              0);
     EXPECT_EQ(run_suite({"mpm", "--dt=1e-4", "--dry-run"}).status, 0);
 }
 

@@ -55,7 +55,7 @@ TEST(MpmCli, SmallRunWritesSnapshotsCsvJsonAndPngThatMeshioReadsBack) {
     // front.csv: a header and one row a step from step 0.
     const std::string csv = slurp(dir + "/front.csv");
     EXPECT_EQ(csv.rfind("step,time,front,kinetic_energy,dt,potential_energy,internal_energy,mean_curve_gap,same_"
-                        "element,top_settlement,stepping_seconds\n",
+                        "element,top_settlement,reordered,stepping_seconds\n",
                         0),
               0u)
         << csv;
