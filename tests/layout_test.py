@@ -49,20 +49,11 @@ NOT_A_KERNEL = {("harness/results", "latency")}
 # The mesh orderings' table, and `suite matrix`'s that extends it: the one place each name is written.
 ORDERING_TABLES = ["kernels/sfc/orderings.cpp", "kernels/fem/ordering_study.cpp"]
 # Literals that are an ordering's name but not the ordering: the access pattern "random" (its
-# table, and the default sweep's), and the AMD library in the records' list of library versions. And the MPM grid's
-# orderings, a table of their own in kernels/mpm/choices.cpp (grid_orderings) until it reads the
-# mesh table: kernels/mpm is another branch's this wave (issue 50 lists it).
+# table, and the default sweep's), and the AMD library in the records' list of library versions.
 NOT_AN_ORDERING = {
     ("harness/kernel/patterns.cpp", "random"),  # the access patterns' own table
     ("app/suite/defaults.cpp", "random"),
     ("kernels/fem/sparse_libs.cpp", "amd"),
-    ("kernels/mpm/choices.cpp", "natural"),
-    ("kernels/mpm/choices.cpp", "random"),
-    ("kernels/mpm/choices.cpp", "morton"),
-    ("kernels/mpm/choices.cpp", "hilbert"),
-    ("kernels/mpm/mpm.hpp", "natural"),
-    ("kernels/mpm/kernel_checks.cpp", "natural"),
-    ("app/suite/mpm_options.hpp", "natural"),
 }
 
 

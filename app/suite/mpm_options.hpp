@@ -13,7 +13,7 @@ namespace suite::mpm_command {
 struct Options {
     std::string case_name = "dam-collapse";
     std::string mesh = "box:16,16,16";
-    std::string ordering = "natural";
+    std::string ordering = sfc::as_given_name();
     std::string particles = "seeded";
     int sort_every = mpm::sort_auto;  // --sort-every: auto or K
     std::string sort_threshold;       // "": mpm::default_sort_threshold

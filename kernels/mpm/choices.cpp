@@ -120,9 +120,9 @@ const ChoiceTable<bool>& strains() {
     return table;
 }
 
-const ChoiceTable<bool>& grid_orderings() {
-    static const ChoiceTable<bool> table{
-        "grid ordering", {{"natural", "", true}, {"random", "", true}, {"morton", "", true}, {"hilbert", "", true}}};
+const ChoiceTable<sfc::Ordering>& grid_orderings() {
+    static const ChoiceTable<sfc::Ordering> table = sfc::distinct_orderings().subset(
+        [](const sfc::Ordering& o) { return !(o.how == sfc::Ordering::How::sorted && o.method == sfc::Method::rcm); });
     return table;
 }
 

@@ -8,6 +8,7 @@
 
 #include "harness/common/choice_table.hpp"
 #include "kernels/mpm/mpm.hpp"
+#include "kernels/sfc/orderings.hpp"
 
 namespace suite::mpm {
 
@@ -47,8 +48,9 @@ const ChoiceTable<Integrator>& integrators();
 const ChoiceTable<LinearSolver>& linear_solvers();
 const ChoiceTable<Integration>& integrations();
 const ChoiceTable<bool>& strains();  // large (true) or small (false) strain in an implicit step
-// The grid orderings an MPM grid takes (sfc::ordered's names).
-const ChoiceTable<bool>& grid_orderings();
+// The grid orderings an MPM grid takes: the mesh orderings' (kernels/sfc/orderings.hpp) that give
+// an order of their own, less RCM, which no MPM kernel has been verified under.
+const ChoiceTable<sfc::Ordering>& grid_orderings();
 
 // The name of `what` in `table` (tables whose behaviour is an enum).
 template <class B>

@@ -163,7 +163,7 @@ std::string reorderings_text(const State& st, const Setup& s, std::uint64_t sinc
 std::string check_equivalence(const Setup& point) {
     Setup mine = point, ref = point;
     if (point.sort_every != sort_auto) mine.sort_every = std::min(point.sort_every, 2);
-    ref.ordering = "natural";
+    ref.ordering = sfc::as_given_name();
     ref.particles = "seeded";
     ref.strategy = Strategy::serial;
     State a = build(mine), b = build(ref);

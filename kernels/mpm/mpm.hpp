@@ -31,6 +31,7 @@
 #include "kernels/mpm/array.hpp"
 #include "kernels/mpm/implicit_system.hpp"
 #include "kernels/mpm/order.hpp"
+#include "kernels/sfc/orderings.hpp"
 
 namespace suite {
 class Arena;
@@ -306,8 +307,8 @@ inline constexpr double default_sort_threshold = 8;
 // seeds the particles and puts them in their starting order; advance() runs one step and the
 // reorderings that fall due after it.
 struct Setup {
-    std::string mesh = "box:16,16,16";  // a --mesh spec of tetrahedra
-    std::string ordering = "natural";   // of the grid: natural, random, morton, hilbert
+    std::string mesh = "box:16,16,16";            // a --mesh spec of tetrahedra
+    std::string ordering = sfc::as_given_name();  // of the grid: one of grid_orderings() (choices.hpp)
     // seeded:   as the seeding left them, element by element in the grid's order, never
     //           reordered: what a real code that seeds and never sorts has;
     // shuffled: shuffled once and never reordered (the worst case: a restart file's order);

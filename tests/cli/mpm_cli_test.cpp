@@ -178,7 +178,7 @@ TEST(MpmCli, BadInputIsOneLineExitTwoAndNoDirectory) {
     refused({"--threads=65"},
             "--threads=65: the partition strategy (the default for more than one thread) takes at most 64 threads");
     refused({"--ordering=hilbrt"},
-            "unknown grid ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert");
+            "unknown ordering 'hilbrt' (did you mean 'hilbert'?); accepted: natural, random, morton, hilbert");
     refused({"--particles=sortd"},
             "unknown particle order 'sortd' (did you mean 'sorted'?); accepted: seeded, shuffled, sorted, dynamic");
     refused({"--strategy=locks"}, "unknown strategy 'locks'; accepted: serial, atomic, colour, partition");
