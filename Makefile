@@ -106,11 +106,13 @@ test-numa: test-deps
 # The aarch64 build on an emulated Arm machine whose PMU counts instructions exactly (QEMU,
 # -icount): every kernel verifies on a Neoverse N1 and on a CPU with 256-bit SVE, placement on two
 # nodes, and the counters held to known answers (docs/counters-energy.md#the-emulated-arm-pmu-make-test-arm64).
-# FULL=1 adds SVE at 128 and 512 bits. About 2 minutes after the cross build; its files go to
-# build-arm64-vm/.
+# FULL=1 adds SVE at 128 and 512 bits. Then the build's disassembly and its unit tests under
+# QEMU's user mode, on the N1 and with SVE (scripts/arm64-user-tests.sh; FULL=1: all of them).
+# About 6 minutes after the cross build; the VM's files go to build-arm64-vm/.
 FULL ?= 0
 test-arm64: test-deps build-arm64
 	@FULL=$(FULL) SUITE_ARM64_BUILD=$(ARM64_BUILD) scripts/arm64-vm/run.sh
+	@FULL=$(FULL) scripts/arm64-user-tests.sh $(ARM64_BUILD)
 
 # The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer, in its own build
 # folder (the binary the end-to-end tests run is the sanitized one too). Any report fails the test.
