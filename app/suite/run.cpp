@@ -176,8 +176,9 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--sizes", o.sizes,
                    "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
     app.add_option("--threads,-t", o.threads, "thread counts: 1,2,4 | 1-8 | 1-8:2 | all (default: 1 and all)");
-    app.add_option("--pin", o.pin, "compact | scatter | none | a CPU list such as 0,2,4-7 (default: compact)");
-    app.add_option("--placement", o.placement, "local | node:N | remote | interleave (default: local, first touch)");
+    app.add_option("--pin", o.pin,
+                   pin_modes().described() + ", or a CPU list such as 0,2,4-7 (default: " + o.pin + ")");
+    app.add_option("--placement", o.placement, placement_kinds().described() + " (default: " + o.placement + ")");
     app.add_flag(
         "--probe-caches", o.probe_caches,
         "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "

@@ -39,8 +39,8 @@ struct RunOptions {
     std::string size;
     std::string sizes;
     std::string threads;
-    std::string pin = "compact";
-    std::string placement = "local";
+    std::string pin = pin_name(PinMode::compact);
+    std::string placement = placement_name(PlacementKind::local);
     int reps = -1;  // -1: adaptive
     double min_time = 0.2;
     std::uint64_t seed = 1;
