@@ -20,6 +20,7 @@
 #include "harness/kernel/hugepage_modes.hpp"
 #include "harness/kernel/store_variants.hpp"
 #include "harness/measure/cache_probe.hpp"
+#include "harness/measure/output_formats.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
@@ -129,6 +130,20 @@ std::string pattern_names() {
     return join(names, ", ");
 }
 
+// The writer of a format --out can hold (the console table is no file's format).
+FileFormat file_format(OutputFormat f) {
+    switch (f) {
+        case OutputFormat::csv:
+            return FileFormat::csv;
+        case OutputFormat::gbench:
+            return FileFormat::gbench;
+        case OutputFormat::json:
+        case OutputFormat::table:
+            break;
+    }
+    return FileFormat::json;
+}
+
 }  // namespace
 }  // namespace run_command
 
@@ -191,9 +206,8 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
                    "seconds of counted repetitions per point when --reps is not given (default 0.2)");
     add_seed_option(app, o.seed, "seed of the random permutations, 0 to 18446744073709551615 (default 1)");
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
-    app.add_option(
-        "--format", o.format,
-        "table | json | csv | gbench (Google Benchmark's JSON): format of --out, or of stdout without --out");
+    app.add_option("--format", o.format,
+                   "format of --out, or of stdout without --out: " + output_formats().described());
     app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
     app.add_flag("--dry-run", o.dry_run, "check the options, list the points that would run, and stop");
     app.add_option(
@@ -219,7 +233,8 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     if (plan.dry_run) {
         std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text
                   << ", placement=" << plan.settings.placement.text
-                  << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + plan.format + ")") << "\n";
+                  << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + format_name(plan.format) + ")")
+                  << "\n";
         for (const auto& p : plan.points)
             std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
                       << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads
@@ -237,11 +252,9 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     const OutputFile* out = frame.file();
     if (to_file && (!out || out->path() != plan.out_path))
         throw std::logic_error("execute_plan: --out was not claimed");
-    const bool console_table = !plan.quiet && (to_file || plan.format == "table");
+    const bool console_table = !plan.quiet && (to_file || plan.format == OutputFormat::table);
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
-    const FileFormat format = plan.format == "csv"      ? FileFormat::csv
-                              : plan.format == "gbench" ? FileFormat::gbench
-                                                        : FileFormat::json;
+    const FileFormat format = run_command::file_format(plan.format);
     ResultDocument doc{build_context(topo, argv, plan.instruments, bandwidth_convention()), {}};
     if (!plan.caches_measured.is_null()) doc.context["caches_measured"] = plan.caches_measured;
 
@@ -264,7 +277,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         } catch (...) {
             // The finished points are kept: in the file (already saved) or on stdout.
             if (progress) std::fprintf(stderr, "\r\033[K");
-            if (!to_file && plan.format != "table") std::cout << doc.render(format, false) << std::flush;
+            if (!to_file && plan.format != OutputFormat::table) std::cout << doc.render(format, false) << std::flush;
             throw;
         }
         if (progress) std::fprintf(stderr, "\r\033[K");
@@ -295,7 +308,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         else if (!plan.quiet)
             std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path
                       << (complete ? "" : " (incomplete: interrupted)") << "\n";
-    } else if (plan.format != "table") {
+    } else if (plan.format != OutputFormat::table) {
         std::cout << doc.render(format, complete) << std::flush;
     }
     return frame.finish(status, std::to_string(doc.records.size()) + " of " + std::to_string(total) + " point(s)",
