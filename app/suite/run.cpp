@@ -214,7 +214,8 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
         "--counters", o.counters,
         "default | none | events, e.g. cycles,instructions,LLC-load-misses,page-faults (see ./suite list --counters)");
     app.add_option("--energy", o.energy,
-                   "auto | sysfs | perf | none: where RAPL energy is read (default auto; root: SUITE_SYSFS_ROOT)");
+                   "where RAPL energy is read: " + energy_backends().described() + " (default " + o.energy +
+                       "; root: SUITE_SYSFS_ROOT)");
     app.add_option("--energy-baseline", o.energy_baseline,
                    "measure idle power for SECONDS first and report energy above idle");
 }
