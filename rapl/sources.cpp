@@ -70,7 +70,7 @@ void name_zone(const std::string& name, std::optional<int> parent_socket, Energy
 }  // namespace
 
 EnergyBackend parse_energy_backend(const std::string& text) {
-    if (const Choice<EnergyBackend>* c = energy_backends().find(text)) return c->what;
+    if (const Choice<EnergyChoice>* c = energy_backends().find(text)) return c->what.backend;
     const std::string hint = nearest(text, energy_backends().names());
     throw UsageError("--energy=" + text + " is not a backend; accepted: " + energy_backends().accepted() +
                      (hint.empty() ? "" : " (did you mean '" + hint + "'?)"));

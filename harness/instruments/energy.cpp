@@ -4,19 +4,19 @@
 
 namespace suite {
 
-const ChoiceTable<EnergyBackend>& energy_backends() {
-    static const ChoiceTable<EnergyBackend> table{
+const ChoiceTable<EnergyChoice>& energy_backends() {
+    static const ChoiceTable<EnergyChoice> table{
         "--energy",
-        {{"auto", "the powercap files where readable, else the perf power PMU, else none", EnergyBackend::automatic},
-         {"sysfs", "the powercap files under /sys/class/powercap", EnergyBackend::sysfs},
-         {"perf", "the perf power PMU's energy events", EnergyBackend::perf},
-         {"none", "energy not measured", EnergyBackend::none}}};
+        {{"auto", "the powercap files where readable, else the perf power PMU, else none", {EnergyBackend::automatic}},
+         {"sysfs", "the powercap files under /sys/class/powercap", {EnergyBackend::sysfs, true}},
+         {"perf", "the perf power PMU's energy events", {EnergyBackend::perf, true}},
+         {"none", "energy not measured", {EnergyBackend::none}}}};
     return table;
 }
 
 const std::string& energy_backend_name(EnergyBackend b) {
     for (const auto& c : energy_backends().all())
-        if (c.what == b) return c.name;
+        if (c.what.backend == b) return c.name;
     throw std::logic_error("--energy: a backend without a name");
 }
 

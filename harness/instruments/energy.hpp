@@ -18,9 +18,14 @@ namespace suite {
 
 enum class EnergyBackend { automatic, sysfs, perf, none };
 
+struct EnergyChoice {
+    EnergyBackend backend = EnergyBackend::automatic;
+    bool names_a_source = false;  // one source asked for by name: the plan says when it cannot measure
+};
+
 // --energy's choices, one table: the program's opener (rapl/) and the plan parse --energy through
 // it, and messages and --help list its names.
-const ChoiceTable<EnergyBackend>& energy_backends();
+const ChoiceTable<EnergyChoice>& energy_backends();
 
 // The name of `b` in energy_backends(): what a record says its energy was read by.
 const std::string& energy_backend_name(EnergyBackend b);

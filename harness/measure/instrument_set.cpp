@@ -22,8 +22,8 @@ nlohmann::json per_call(const PerCall& p) { return {{"median", p.median}, {"min"
 Instruments make_instruments(const std::string& counters, const std::string& energy, const EnergyOpener& open_energy) {
     Instruments in;
     in.access = perf_access();
-    const Choice<EnergyBackend>* backend = energy_backends().find(energy);
-    const auto is = [&](EnergyBackend b) { return backend && backend->what == b; };
+    const Choice<EnergyChoice>* choice = energy_backends().find(energy);
+    const auto is = [&](EnergyBackend b) { return choice && choice->what.backend == b; };
     if (is(EnergyBackend::none)) {
         in.energy = energy_not_requested();
     } else if (open_energy) {
@@ -33,8 +33,9 @@ Instruments make_instruments(const std::string& counters, const std::string& ene
         in.energy = std::make_shared<NoEnergy>("this program has no energy instrument");
     } else {
         // Without an opener only the choices that need no backend mean anything.
-        const ChoiceTable<EnergyBackend> without = energy_backends().subset(
-            [](EnergyBackend b) { return b == EnergyBackend::automatic || b == EnergyBackend::none; });
+        const ChoiceTable<EnergyChoice> without = energy_backends().subset([](const EnergyChoice& c) {
+            return c.backend == EnergyBackend::automatic || c.backend == EnergyBackend::none;
+        });
         throw UsageError("--energy=" + energy + ": this program reads no energy; accepted: " + without.accepted());
     }
     in.counters = parse_counters(counters, in.access);

@@ -150,11 +150,9 @@ void plan_instruments(const RunOptions& o, const Topology& topo, const EnergyOpe
             if (std::string why = probe_event(e, plan.instruments.access); !why.empty())
                 plan.notes.push_back("counter " + e.name + " cannot be counted here: " + why);
     const EnergyInstrument& meter = *plan.instruments.energy;
-    // Said when a source was named (sysfs, perf) or idle power asked for: auto may well find none.
-    const Choice<EnergyBackend>* backend = energy_backends().find(o.energy);
-    const bool named_source =
-        backend && (backend->what == EnergyBackend::sysfs || backend->what == EnergyBackend::perf);
-    if ((named_source || o.energy_baseline > 0) && meter.requested() && !meter.available())
+    // Said when a source was named or idle power asked for: auto may well find none.
+    const Choice<EnergyChoice>* choice = energy_backends().find(o.energy);
+    if (((choice && choice->what.names_a_source) || o.energy_baseline > 0) && meter.requested() && !meter.available())
         plan.notes.push_back("energy cannot be measured here: " + meter.reason());
 }
 

@@ -104,7 +104,10 @@ TEST(OutputFormats, EveryFormatParsesAndAnUnknownOneListsTheTable) {
 
 TEST(EnergyBackends, EveryNameParsesAndAnUnknownOneListsTheTable) {
     ASSERT_EQ(energy_backends().accepted(), "auto, sysfs, perf, none");
-    for (const auto& c : energy_backends().all()) EXPECT_EQ(parse_energy_backend(c.name), c.what) << c.name;
+    for (const auto& c : energy_backends().all()) {
+        EXPECT_EQ(parse_energy_backend(c.name), c.what.backend) << c.name;
+        EXPECT_EQ(energy_backend_name(c.what.backend), c.name);
+    }
     EXPECT_EQ(refusal([] { parse_energy_backend("sysf"); }),
               "--energy=sysf is not a backend; accepted: auto, sysfs, perf, none (did you mean 'sysfs'?)");
     // Without an opener (a program that reads no energy) only auto and none mean anything.
