@@ -15,8 +15,7 @@
 
 namespace suite {
 
-enum class EnergyBackend { automatic, sysfs, perf, none };
-// "auto" | "sysfs" | "perf" | "none"; anything else is a UsageError.
+// A name of energy_backends(); anything else is a UsageError.
 EnergyBackend parse_energy_backend(const std::string& text);
 
 // SUITE_SYSFS_ROOT if set, else "/sys".

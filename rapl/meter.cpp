@@ -42,7 +42,7 @@ EnergyMeter EnergyMeter::open(EnergyBackend backend, const std::string& root) {
     };
     if (backend == EnergyBackend::sysfs || backend == EnergyBackend::automatic) {
         m.sources_ = discover_powercap(root, sysfs_reason);
-        m.backend_ = "sysfs";
+        m.backend_ = energy_backend_name(EnergyBackend::sysfs);
         if (usable(m.sources_)) return m;
         first_reason(m.sources_, sysfs_reason);
     }
@@ -50,7 +50,7 @@ EnergyMeter EnergyMeter::open(EnergyBackend backend, const std::string& root) {
         for (auto& s : m.sources_)
             if (s.fd >= 0) close(s.fd);
         m.sources_ = discover_perf_power(root, perf_reason);
-        m.backend_ = "perf";
+        m.backend_ = energy_backend_name(EnergyBackend::perf);
         if (usable(m.sources_)) return m;
         first_reason(m.sources_, perf_reason);
     }

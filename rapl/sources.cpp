@@ -13,6 +13,7 @@
 #include <map>
 #include <regex>
 
+#include "harness/common/did_you_mean.hpp"
 #include "harness/common/sysfs_file.hpp"
 #include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
@@ -69,11 +70,10 @@ void name_zone(const std::string& name, std::optional<int> parent_socket, Energy
 }  // namespace
 
 EnergyBackend parse_energy_backend(const std::string& text) {
-    if (text == "auto") return EnergyBackend::automatic;
-    if (text == "sysfs") return EnergyBackend::sysfs;
-    if (text == "perf") return EnergyBackend::perf;
-    if (text == "none") return EnergyBackend::none;
-    throw UsageError("--energy=" + text + " is not a backend; accepted: auto, sysfs, perf, none");
+    if (const Choice<EnergyChoice>* c = energy_backends().find(text)) return c->what.backend;
+    const std::string hint = nearest(text, energy_backends().names());
+    throw UsageError("--energy=" + text + " is not a backend; accepted: " + energy_backends().accepted() +
+                     (hint.empty() ? "" : " (did you mean '" + hint + "'?)"));
 }
 
 std::string sysfs_root() {

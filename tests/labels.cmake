@@ -37,7 +37,7 @@ suite_tests_label(results "Check.*:Compare.*:GateRule.*:History*:Dashboard.*:Fuz
 suite_tests_label(reports "ResultSchema.*:GbenchFormat.*:SuiteGbench.*:ParamsFacts.*")
 suite_tests_label(instruments "Counter*:TeamCountersTest.*:Energy*:PerfPower.*:Powercap.*:Instrument*:MachineLoad.*")
 suite_tests_label(machine "CpuModel.*:Pinning.*:Placement.*:Topology.*:HugePages*:RankShare.*:E2E.ResultRecordsPinningAndPagesAsObserved")
-suite_tests_label(measure "CacheProbe.*:CacheSteps.*:Plan.*:PlanParams.*:PlanVariants.*:ParseFinite.*:RunOptionsCli.*")
+suite_tests_label(measure "CacheProbe.*:OutputFormats.*:CacheSteps.*:Plan.*:PlanParams.*:PlanVariants.*:ParseFinite.*:RunOptionsCli.*")
 suite_tests_label(cli "Cli*:Cases/CliErrorTest.*:CpuMask.*:E2E.*:Signals/*:ExitStatus.*:Faults.*:DirectoryOfOutputs.*:Memory.*:\
 ValuesUsedSilently.*:Output.*:Readme.*:CommandFrame.*:Hardening.*")
 suite_tests_label(bench "Bench.*")

@@ -10,7 +10,8 @@ folder of its concern or program), every top-level source folder and every harne
 has its README, no source file is longer than 400 lines unless its first lines say why, and the
 engine names no kernel: no string literal in harness/ code is the name of a kernel the kernels
 register by a literal. And the mesh orderings are declared once: outside their tables
-(ORDERING_TABLES), no string literal in code is an ordering's name, and none lists three of them.
+(ORDERING_TABLES), no string literal in code is an ordering's name, and none lists three of them;
+likewise the names of --pin, --placement, --format and --energy outside their tables (OPTION_TABLES).
 
 usage: layout_test.py SOURCE_DIR        exit 0 clean, 1 with one line per violation
 """
@@ -55,6 +56,21 @@ NOT_AN_ORDERING = {
     ("app/suite/defaults.cpp", "random"),
     ("kernels/fem/sparse_libs.cpp", "amd"),
 }
+
+# The tables of --pin, --placement, --format and --energy: the one place each of their names is
+# written. Words other options and the records use for themselves too (--counters=none,
+# --hugepages=none, compare's --format=table, "json" for a file's kind, ...) are not looked for.
+OPTION_TABLES = ["harness/machine/team.cpp", "harness/machine/placement.cpp",
+                 "harness/measure/output_formats.cpp", "harness/instruments/energy.cpp"]
+SHARED_WORDS = {"none", "auto", "json", "table", "node"}
+
+
+def option_names(root: Path) -> set:
+    """The names the option tables declare, less the words shared with other uses."""
+    names = set()
+    for rel in OPTION_TABLES:
+        names.update(re.findall(r'\{"([\w-]+)",\s*"', (root / rel).read_text()))
+    return names - SHARED_WORDS
 
 
 def ordering_names(root: Path) -> set:
@@ -108,6 +124,9 @@ def main() -> int:
     orderings = ordering_names(root)
     if not {"natural", "hilbert", "amd"} <= orderings:
         problems.append(f"found only these ordering names to look for: {sorted(orderings)}; the test is looking in the wrong place")
+    options = option_names(root)
+    if not {"compact", "interleave", "gbench", "sysfs"} <= options:
+        problems.append(f"found only these option names to look for: {sorted(options)}; the test is looking in the wrong place")
     if not {"copy", "latency", "peak-flops"} <= names:
         problems.append(f"found only these kernel names to look for: {sorted(names)}; the test is looking in the wrong place")
     for path in sources:
@@ -124,6 +143,9 @@ def main() -> int:
         text = path.read_text()
         if here != "stream" and rel not in ORDERING_TABLES:
             problems.extend(ordering_literals(rel, COMMENT.sub("", text), orderings))
+        if rel not in OPTION_TABLES:
+            for name in sorted(set(LITERAL.findall(COMMENT.sub("", text))) & options):
+                problems.append(f'{rel}: the option value "{name}" as a literal; read it from its table ({", ".join(OPTION_TABLES)})')
         if here.startswith("harness/"):
             for name in sorted(set(LITERAL.findall(COMMENT.sub("", text))) & names):
                 if (here, name) not in NOT_A_KERNEL:

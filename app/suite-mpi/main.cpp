@@ -22,6 +22,7 @@
 #include "app/suite/parse.hpp"
 #include "app/suite/run.hpp"
 #include "harness/common/output_file.hpp"
+#include "harness/measure/output_formats.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/ranks.hpp"
 #include "harness/results/report.hpp"
@@ -119,8 +120,8 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
     Plan plan;
     on_every_rank(job, [&] {
         plan = make_plan(opts, topo, open_energy);
-        if (plan.format != "json" && !(plan.format == "table" && plan.out_path.empty()))
-            throw UsageError("--format=" + plan.format +
+        if (plan.format != OutputFormat::json && !(plan.format == OutputFormat::table && plan.out_path.empty()))
+            throw UsageError("--format=" + format_name(plan.format) +
                              ": suite-mpi writes JSON (a file with --out, or the table on the console)");
     });
     if (job.rank == 0 && !plan.dry_run)
@@ -198,7 +199,7 @@ int run_job(const std::vector<std::string>& args, const std::vector<std::string>
             out->write(doc.dump(1) + "\n");
             if (!plan.quiet)
                 std::cerr << "wrote " << doc["results"].size() << " record(s) to " << plan.out_path << "\n";
-        } else if (plan.format == "json") {
+        } else if (plan.format == OutputFormat::json) {
             std::cout << doc.dump(1) << "\n";
         }
         if (interrupted)

@@ -9,6 +9,7 @@
 #include "app/suite/frame.hpp"
 #include "app/suite/parse.hpp"
 #include "app/suite/plotter.hpp"
+#include "harness/common/choice_table.hpp"
 #include "harness/common/output_file.hpp"
 #include "harness/results/compare.hpp"
 #include "harness/results/compare_hosts.hpp"
@@ -16,6 +17,14 @@
 namespace suite {
 namespace compare_command {
 namespace {
+
+// compare's --format, one table; the behaviour is whether the comparison is written as Markdown.
+const ChoiceTable<bool>& compare_formats() {
+    static const ChoiceTable<bool> table{"--format",
+                                         {{"table", "columns for the console, the default", false},
+                                          {"markdown", "a Markdown table, e.g. for a pull request", true}}};
+    return table;
+}
 
 const char* const compare_examples = R"(
 Points are matched by kernel, variant, pattern or ordering, size, threads, pinning, placement
@@ -80,19 +89,18 @@ int cmd_compare(const std::vector<std::string>& args) {
         "suite compare: results of two or more runs (machines, builds) side by side, or the hosts of one MPI run"};
     app.footer(compare_examples);
     std::vector<std::string> paths;
-    std::string format = "table";
+    std::string format = compare_formats().all().front().name;
     bool force = false;
     std::string plot;
     app.add_option(
         "files", paths,
         "result files written by suite --out=FILE.json; the first is the reference (one file: an MPI run's hosts)");
-    app.add_option("--format", format, "table (default) | markdown");
+    app.add_option("--format", format, compare_formats().described());
     app.add_flag("--force", force,
                  "compare files that differ both as machines and in build or settings, or lack a role another has");
     app.add_option("--plot", plot, "directory for the figures: each file's figures against footprint (PNG)");
     if (!parse_command_line(app, "suite compare", args)) return 0;
-    if (format != "table" && format != "markdown")
-        throw UsageError("unknown --format '" + format + "'; accepted: table, markdown");
+    const bool markdown = compare_formats().at(format).what;
     const std::string two_files =
         "compare needs at least two result files, e.g. ./suite compare a.json b.json, or one of an MPI run";
     const std::string see_help = " (see ./suite compare --help)";
@@ -107,12 +115,12 @@ int cmd_compare(const std::vector<std::string>& args) {
         // One file: the hosts (or ranks) of an MPI run side by side; a plain run has nothing to line up.
         const ResultFile run = load_result_file(paths[0]);
         if (!run.mpi) throw UsageError(two_files + "; " + paths[0] + " is a run of one process" + see_help);
-        std::cout << render_host_comparison(run, format == "markdown") << std::flush;
+        std::cout << render_host_comparison(run, markdown) << std::flush;
         return 0;
     }
     std::vector<ResultFile> files;
     for (const auto& p : paths) files.push_back(load_result_file(p));
-    const std::string table = render_comparison(files, format == "markdown", force);
+    const std::string table = render_comparison(files, markdown, force);
     if (plot.empty()) {
         std::cout << table << std::flush;
         return 0;

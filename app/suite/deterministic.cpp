@@ -29,6 +29,7 @@
 #include "harness/common/units.hpp"
 #include "harness/instruments/callgrind_marks.hpp"
 #include "harness/kernel/arena.hpp"
+#include "harness/measure/output_formats.hpp"
 #include "harness/measure/plan.hpp"
 #include "harness/measure/result.hpp"
 #include "harness/results/build_info.hpp"
@@ -275,7 +276,8 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
     // translation work, and their bookkeeping between calls would disturb the simulated caches.
     opts.counters = "none";
     opts.energy = "none";
-    if (!opts.format.empty() && opts.format != "json")
+    const auto* asked = output_formats().find(opts.format);
+    if (!opts.format.empty() && (!asked || asked->what.format != OutputFormat::json))
         throw UsageError("--format=" + opts.format +
                          ": deterministic writes suite's JSON only (--out=FILE.json or stdout)");
     const Topology topo = Topology::load();
@@ -290,7 +292,7 @@ int cmd_deterministic(const std::vector<std::string>& args, const std::vector<st
     if (inner_out && callgrind::running_on_valgrind()) {
         // The inner run, under valgrind: one call per sample, so that each dump holds whole calls.
         plan.out_path = inner_out;
-        plan.format = "json";
+        plan.format = OutputFormat::json;
         plan.quiet = true;
         plan.settings.min_sample_s = 0;
         CommandFrame frame("suite");

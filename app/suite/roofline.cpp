@@ -70,7 +70,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
         "suite roofline: this machine's compute and bandwidth ceilings, measured, and a run's points placed on them"};
     app.footer(footer);
     app.get_formatter()->column_width(30);
-    std::string threads_text = "1,all", out, place, ceilings, pin = "compact", dram_size;
+    std::string threads_text = "1,all", out, place, ceilings, pin = pin_name(PinMode::compact), dram_size;
     double min_time = 0.2;
     bool no_probe = false, no_png = false;
     app.add_option("--threads,-t", threads_text, "thread counts: 1,2,4 | 1-8 | all (default 1,all)");
@@ -80,7 +80,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     app.add_option("--place", place, "a result file of this machine whose points are placed on the ceilings");
     app.add_option("--ceilings", ceilings,
                    "with --place: a roofline file written earlier by `suite roofline --out` (default: measure now)");
-    app.add_option("--pin", pin, "how the threads are pinned: compact | scatter | LIST (default compact)");
+    app.add_option("--pin", pin, "how the threads are pinned: " + pin_forms() + " (default " + pin + ")");
     app.add_option(
         "--dram-size", dram_size,
         "footprint of the memory ceiling, e.g. 1GiB (default: the default sweep's memory size, 16x the last level)");
@@ -161,7 +161,7 @@ int cmd_roofline(const std::vector<std::string>& args, const std::vector<std::st
     } else {
         RooflineOptions o = roofline_options();
         o.threads = threads;
-        o.pin = parse_pin(topo.this_system ? pin : "none", topo);
+        o.pin = parse_pin(topo.this_system ? pin : pin_name(PinMode::none), topo);
         o.min_time_s = min_time;
         o.dram_bytes = dram_bytes;
         o.probe = !no_probe;

@@ -20,6 +20,7 @@
 #include "harness/kernel/hugepage_modes.hpp"
 #include "harness/kernel/store_variants.hpp"
 #include "harness/measure/cache_probe.hpp"
+#include "harness/measure/output_formats.hpp"
 #include "harness/results/context.hpp"
 #include "harness/results/report.hpp"
 #include "kernels/mesh/mesh_spec.hpp"
@@ -129,6 +130,20 @@ std::string pattern_names() {
     return join(names, ", ");
 }
 
+// The writer of a format --out can hold (the console table is no file's format).
+FileFormat file_format(OutputFormat f) {
+    switch (f) {
+        case OutputFormat::csv:
+            return FileFormat::csv;
+        case OutputFormat::gbench:
+            return FileFormat::gbench;
+        case OutputFormat::json:
+        case OutputFormat::table:
+            break;
+    }
+    return FileFormat::json;
+}
+
 }  // namespace
 }  // namespace run_command
 
@@ -176,8 +191,9 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
     app.add_option("--sizes", o.sizes,
                    "sizes: a sweep FROM:TO[:xF] (e.g. 16KiB:1GiB, 16KiB:1GiB:x1.5) or a list 32KiB,1MiB");
     app.add_option("--threads,-t", o.threads, "thread counts: 1,2,4 | 1-8 | 1-8:2 | all (default: 1 and all)");
-    app.add_option("--pin", o.pin, "compact | scatter | none | a CPU list such as 0,2,4-7 (default: compact)");
-    app.add_option("--placement", o.placement, "local | node:N | remote | interleave (default: local, first touch)");
+    app.add_option("--pin", o.pin,
+                   pin_modes().described() + ", or a CPU list such as 0,2,4-7 (default: " + o.pin + ")");
+    app.add_option("--placement", o.placement, placement_kinds().described() + " (default: " + o.placement + ")");
     app.add_flag(
         "--probe-caches", o.probe_caches,
         "measure the caches first (a few seconds; ./suite info --probe shows the same) and size the default sweep "
@@ -190,16 +206,16 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
                    "seconds of counted repetitions per point when --reps is not given (default 0.2)");
     add_seed_option(app, o.seed, "seed of the random permutations, 0 to 18446744073709551615 (default 1)");
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
-    app.add_option(
-        "--format", o.format,
-        "table | json | csv | gbench (Google Benchmark's JSON): format of --out, or of stdout without --out");
+    app.add_option("--format", o.format,
+                   "format of --out, or of stdout without --out: " + output_formats().described());
     app.add_flag("--quiet,-q", o.quiet, "no table or progress on the console");
     app.add_flag("--dry-run", o.dry_run, "check the options, list the points that would run, and stop");
     app.add_option(
         "--counters", o.counters,
         "default | none | events, e.g. cycles,instructions,LLC-load-misses,page-faults (see ./suite list --counters)");
     app.add_option("--energy", o.energy,
-                   "auto | sysfs | perf | none: where RAPL energy is read (default auto; root: SUITE_SYSFS_ROOT)");
+                   "where RAPL energy is read: " + energy_backends().described() + " (default " + o.energy +
+                       "; root: SUITE_SYSFS_ROOT)");
     app.add_option("--energy-baseline", o.energy_baseline,
                    "measure idle power for SECONDS first and report energy above idle");
 }
@@ -218,7 +234,8 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     if (plan.dry_run) {
         std::cout << plan.points.size() << " point(s), pin=" << plan.settings.pin.text
                   << ", placement=" << plan.settings.placement.text
-                  << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + plan.format + ")") << "\n";
+                  << (plan.out_path.empty() ? "" : ", output " + plan.out_path + " (" + format_name(plan.format) + ")")
+                  << "\n";
         for (const auto& p : plan.points)
             std::cout << "  " << display_name(p.kernel->info.name, p.variant) << " " << p.access.label() << " "
                       << size_label(p.kernel->info.size_kind, p.size) << " threads=" << p.threads
@@ -236,11 +253,9 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
     const OutputFile* out = frame.file();
     if (to_file && (!out || out->path() != plan.out_path))
         throw std::logic_error("execute_plan: --out was not claimed");
-    const bool console_table = !plan.quiet && (to_file || plan.format == "table");
+    const bool console_table = !plan.quiet && (to_file || plan.format == OutputFormat::table);
     const bool progress = !plan.quiet && isatty(STDERR_FILENO);
-    const FileFormat format = plan.format == "csv"      ? FileFormat::csv
-                              : plan.format == "gbench" ? FileFormat::gbench
-                                                        : FileFormat::json;
+    const FileFormat format = run_command::file_format(plan.format);
     ResultDocument doc{build_context(topo, argv, plan.instruments, bandwidth_convention()), {}};
     if (!plan.caches_measured.is_null()) doc.context["caches_measured"] = plan.caches_measured;
 
@@ -263,7 +278,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         } catch (...) {
             // The finished points are kept: in the file (already saved) or on stdout.
             if (progress) std::fprintf(stderr, "\r\033[K");
-            if (!to_file && plan.format != "table") std::cout << doc.render(format, false) << std::flush;
+            if (!to_file && plan.format != OutputFormat::table) std::cout << doc.render(format, false) << std::flush;
             throw;
         }
         if (progress) std::fprintf(stderr, "\r\033[K");
@@ -294,7 +309,7 @@ int execute_plan(Plan& plan, const Topology& topo, const std::vector<std::string
         else if (!plan.quiet)
             std::cerr << "wrote " << doc.records.size() << " record(s) to " << plan.out_path
                       << (complete ? "" : " (incomplete: interrupted)") << "\n";
-    } else if (plan.format != "table") {
+    } else if (plan.format != OutputFormat::table) {
         std::cout << doc.render(format, complete) << std::flush;
     }
     return frame.finish(status, std::to_string(doc.records.size()) + " of " + std::to_string(total) + " point(s)",

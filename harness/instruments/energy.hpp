@@ -1,7 +1,7 @@
 #pragma once
 // The energy instrument as the engine sees it: read around every repetition, summarised per
-// point, described in the result's context. The engine never names a backend: the program builds
-// one from --energy (RAPL, ../../rapl/) and hands the plan an EnergyOpener. Where nothing is
+// point, described in the result's context. The engine builds no backend: the program builds one
+// from --energy (RAPL, ../../rapl/) and hands the plan an EnergyOpener. Where nothing is
 // measured the instrument is a NoEnergy, which says why and never reports 0 J.
 #include <functional>
 #include <memory>
@@ -10,10 +10,25 @@
 #include <utility>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
 #include "harness/instruments/instrument.hpp"
 #include "harness/instruments/measurements.hpp"
 
 namespace suite {
+
+enum class EnergyBackend { automatic, sysfs, perf, none };
+
+struct EnergyChoice {
+    EnergyBackend backend = EnergyBackend::automatic;
+    bool names_a_source = false;  // one source asked for by name: the plan says when it cannot measure
+};
+
+// --energy's choices, one table: the program's opener (rapl/) and the plan parse --energy through
+// it, and messages and --help list its names.
+const ChoiceTable<EnergyChoice>& energy_backends();
+
+// The name of `b` in energy_backends(): what a record says its energy was read by.
+const std::string& energy_backend_name(EnergyBackend b);
 
 // One domain as the context lists it: what it is, where it is read, and why not (if not).
 struct EnergyDomainInfo {

@@ -6,46 +6,82 @@
 
 #include "harness/common/did_you_mean.hpp"
 #include "harness/common/sysfs_file.hpp"
+#include "harness/common/text.hpp"
 #include "harness/common/units.hpp"
 #include "harness/kernel/hugepage_modes.hpp"
 
 namespace suite {
 
+namespace {
+
+// What a user writes for `c`: its name, with ":N" where it takes a node.
+std::string form(const Choice<PlacementBehaviour>& c) { return c.what.takes_node ? c.name + ":N" : c.name; }
+
+}  // namespace
+
+const ChoiceTable<PlacementBehaviour>& placement_kinds() {
+    static const ChoiceTable<PlacementBehaviour> table{
+        "--placement",
+        {{"local", "first touch: each page on the node of the thread that first writes it", {PlacementKind::local}},
+         {"node", "node:N, every array on NUMA node N", {PlacementKind::node, true}},
+         {"remote", "every array on the nearest node that none of the threads runs on", {PlacementKind::remote}},
+         {"interleave", "pages dealt round-robin over all NUMA nodes", {PlacementKind::interleave}}}};
+    return table;
+}
+
+const std::string& placement_name(PlacementKind k) {
+    for (const auto& c : placement_kinds().all())
+        if (c.what.kind == k) return c.name;
+    throw std::logic_error("--placement: a kind without a name");
+}
+
+std::string placement_forms() {
+    std::vector<std::string> forms;
+    for (const auto& c : placement_kinds().all()) forms.push_back(form(c));
+    return join(forms, ", ");
+}
+
+std::string placement_forms_other_than(PlacementKind k) {
+    std::vector<std::string> forms;
+    for (const auto& c : placement_kinds().all())
+        if (c.what.kind != k) forms.push_back(form(c));
+    const std::string last = forms.back();
+    forms.pop_back();
+    return forms.empty() ? last : join(forms, ", ") + " or " + last;
+}
+
 PlacementSpec parse_placement(std::string_view text, const Topology& topo) {
     PlacementSpec spec;
     spec.text = std::string(text);
-    const std::string accepted = "accepted: local, node:N, remote, interleave";
-    if (text == "local")
-        spec.kind = PlacementKind::local;
-    else if (text == "interleave")
-        spec.kind = PlacementKind::interleave;
-    else if (text == "remote") {
-        spec.kind = PlacementKind::remote;
-        if (topo.nodes.size() < 2)
-            throw UsageError("--placement=remote needs at least 2 NUMA nodes, and this machine has " +
-                             std::to_string(topo.nodes.size()) + "; use local, node:N or interleave");
-    } else if (text.rfind("node:", 0) == 0) {
-        spec.kind = PlacementKind::node;
-        const std::string n(text.substr(5));
-        const auto node = whole_number(n);
-        if (!node)
-            throw UsageError("invalid --placement '" + std::string(text) +
-                             "': expected node:N with N a node number (a whole number from 0), e.g. node:0");
-        // A number no node has is still a number: said so below, with the nodes there are.
-        spec.node = *node > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ? -1 : static_cast<int>(*node);
-        if (spec.node < 0 || !topo.find_node(spec.node)) {
-            std::string have;
-            for (const auto& node : topo.nodes) {
-                if (!have.empty()) have += ',';
-                have += std::to_string(node.os_index);
-            }
-            throw UsageError("--placement=node:" + n + ": this machine has no NUMA node " + n + " (its nodes are " +
-                             have + ")");
+    const std::size_t colon = text.find(':');
+    const Choice<PlacementBehaviour>* c = placement_kinds().find(text.substr(0, colon));
+    if (!c || c->what.takes_node != (colon != std::string_view::npos)) {
+        std::vector<std::string> candidates;  // node:0 for node:N, as a user would write it
+        for (const auto& k : placement_kinds().all()) candidates.push_back(k.what.takes_node ? k.name + ":0" : k.name);
+        std::string hint = nearest(text, candidates);
+        throw UsageError("unknown " + placement_kinds().what() + " '" + std::string(text) + "'" +
+                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + placement_forms());
+    }
+    spec.kind = c->what.kind;
+    if (spec.kind == PlacementKind::remote && topo.nodes.size() < 2)
+        throw UsageError("--placement=" + spec.text + " needs at least 2 NUMA nodes, and this machine has " +
+                         std::to_string(topo.nodes.size()) + "; use " + placement_forms_other_than(spec.kind));
+    if (!c->what.takes_node) return spec;
+    const std::string n(text.substr(colon + 1));
+    const auto node = whole_number(n);
+    if (!node)
+        throw UsageError("invalid --placement '" + spec.text + "': expected " + form(*c) + " with N a node number (a " +
+                         "whole number from 0), e.g. " + c->name + ":0");
+    // A number no node has is still a number: said so below, with the nodes there are.
+    spec.node = *node > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ? -1 : static_cast<int>(*node);
+    if (spec.node < 0 || !topo.find_node(spec.node)) {
+        std::string have;
+        for (const auto& node : topo.nodes) {
+            if (!have.empty()) have += ',';
+            have += std::to_string(node.os_index);
         }
-    } else {
-        std::string hint = nearest(text, {"local", "remote", "interleave", "node:0"});
-        throw UsageError("unknown --placement '" + std::string(text) + "'" +
-                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; " + accepted);
+        throw UsageError("--placement=" + spec.text + ": this machine has no NUMA node " + n + " (its nodes are " +
+                         have + ")");
     }
     return spec;
 }

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "harness/common/choice_table.hpp"
 #include "harness/kernel/arena.hpp"
 #include "harness/machine/topology.hpp"
 
@@ -19,11 +20,28 @@ struct PlacementSpec {
     std::string text;  // as given
 };
 
-// "local" | "node:N" | "remote" | "interleave". Throws UsageError for a node that does not
-// exist and for "remote" on a machine with one NUMA node.
+struct PlacementBehaviour {
+    PlacementKind kind = PlacementKind::local;
+    bool takes_node = false;  // named "NAME:N", N a NUMA node's number
+};
+
+// --placement's kinds (local, node:N, remote, interleave), one table: parse_placement, its
+// messages and --help read it.
+const ChoiceTable<PlacementBehaviour>& placement_kinds();
+
+// The name of `k` in placement_kinds(): what a plan's placement text is for a kind it sets itself.
+const std::string& placement_name(PlacementKind k);
+
+// The forms a user writes, "NAME:N" for a kind that takes a node: "local, node:N, remote, interleave".
+std::string placement_forms();
+// The forms of the kinds other than `k`, the last two joined by "or": "local, node:N or interleave".
+std::string placement_forms_other_than(PlacementKind k);
+
+// A kind of placement_kinds(), node:N with a node number. Throws UsageError for a node that does
+// not exist and for a kind that needs 2 NUMA nodes (remote) on a machine with one.
 PlacementSpec parse_placement(std::string_view text, const Topology& topo);
 
-// The node that "remote" places arrays on: one that none of `thread_nodes` is, the nearest of
+// The node that remote places arrays on: one that none of `thread_nodes` is, the nearest of
 // those by NUMA distance to the threads (the usual one-hop "scenario A"), lowest index on ties.
 // -1 when the threads cover every node.
 int choose_remote_node(const Topology& topo, const std::vector<int>& thread_nodes);

@@ -45,15 +45,29 @@ std::vector<int> current_cpuset() {
     return cpus;
 }
 
+const ChoiceTable<PinMode>& pin_modes() {
+    static const ChoiceTable<PinMode> table{
+        "--pin value",
+        {{"compact", "one thread a core, filling a package before the next, then the cores' second hyperthreads",
+          PinMode::compact},
+         {"scatter", "one thread a core, cores dealt round-robin over the NUMA nodes", PinMode::scatter},
+         {"none", "threads not pinned: each may run anywhere in the process's CPU set", PinMode::none}}};
+    return table;
+}
+
+const std::string& pin_name(PinMode m) {
+    for (const auto& c : pin_modes().all())
+        if (c.what == m) return c.name;
+    throw std::logic_error("--pin: a mode without a name (a CPU list has none)");
+}
+
+std::string pin_forms() { return pin_modes().accepted() + ", or a CPU list such as 0,2,4-7"; }
+
 PinSpec parse_pin(std::string_view text, const Topology& topo) {
     PinSpec spec;
     spec.text = std::string(text);
-    if (text == "compact")
-        spec.mode = PinMode::compact;
-    else if (text == "scatter")
-        spec.mode = PinMode::scatter;
-    else if (text == "none")
-        spec.mode = PinMode::none;
+    if (const Choice<PinMode>* named = pin_modes().find(text))
+        spec.mode = named->what;
     else if (!text.empty() && std::isdigit(static_cast<unsigned char>(text[0]))) {
         spec.mode = PinMode::list;
         spec.cpus = parse_cpu_list(text);
@@ -69,10 +83,9 @@ PinSpec parse_pin(std::string_view text, const Topology& topo) {
                                  " PUs; see ./suite info)");
         }
     } else {
-        std::string hint = nearest(text, {"compact", "scatter", "none"});
-        throw UsageError("unknown --pin value '" + std::string(text) + "'" +
-                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                         "; accepted: compact, scatter, none, or a CPU list such as 0,2,4-7");
+        std::string hint = nearest(text, pin_modes().names());
+        throw UsageError("unknown " + pin_modes().what() + " '" + std::string(text) + "'" +
+                         (hint.empty() ? "" : " (did you mean '" + hint + "'?)") + "; accepted: " + pin_forms());
     }
     initial_cpuset();  // remember the original set before anything is pinned
     return spec;

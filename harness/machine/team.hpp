@@ -8,6 +8,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "harness/common/choice_table.hpp"
 #include "harness/machine/topology.hpp"
 
 namespace suite {
@@ -20,7 +21,17 @@ struct PinSpec {
     std::string text;       // as given, for the record
 };
 
-// "compact" | "scatter" | "none" | a CPU list such as "0,2,4-7". Throws UsageError.
+// --pin's named modes (compact, scatter, none), one table: parse_pin, its messages and --help read
+// it. A CPU list (PinMode::list) is the one form that is not a name.
+const ChoiceTable<PinMode>& pin_modes();
+
+// The name of a named mode in pin_modes(); a logic error for PinMode::list.
+const std::string& pin_name(PinMode m);
+
+// The forms --pin accepts, for messages and --help: "compact, scatter, none, or a CPU list such as 0,2,4-7".
+std::string pin_forms();
+
+// A name of pin_modes() or a CPU list such as "0,2,4-7". Throws UsageError.
 PinSpec parse_pin(std::string_view text, const Topology& topo);
 
 // The order in which threads take PUs (OS indexes), empty for PinMode::none.

@@ -53,9 +53,9 @@ CacheProbe probe_caches(const Topology& topo, const ProbeOptions& o) {
     RunSettings settings;
     // One thread on the first PU of the compact order (or unpinned on a topology that is not
     // this machine's); best of 3 repetitions, each at least a millisecond (the runner batches).
-    settings.pin = parse_pin(topo.this_system ? "compact" : "none", topo);
+    settings.pin = parse_pin(pin_name(topo.this_system ? PinMode::compact : PinMode::none), topo);
     settings.placement.kind = PlacementKind::local;
-    settings.placement.text = "local";
+    settings.placement.text = placement_name(PlacementKind::local);
     settings.hugepages = o.hugepages;
     settings.reps = 3;
     settings.stop = o.stop;

@@ -22,15 +22,21 @@ nlohmann::json per_call(const PerCall& p) { return {{"median", p.median}, {"min"
 Instruments make_instruments(const std::string& counters, const std::string& energy, const EnergyOpener& open_energy) {
     Instruments in;
     in.access = perf_access();
-    if (energy == "none") {
+    const Choice<EnergyChoice>* choice = energy_backends().find(energy);
+    const auto is = [&](EnergyBackend b) { return choice && choice->what.backend == b; };
+    if (is(EnergyBackend::none)) {
         in.energy = energy_not_requested();
     } else if (open_energy) {
         in.energy = open_energy(energy);  // its usage errors before the counters'
         if (!in.energy) throw std::logic_error("the energy opener returned no instrument");
-    } else if (energy == "auto") {
+    } else if (is(EnergyBackend::automatic)) {
         in.energy = std::make_shared<NoEnergy>("this program has no energy instrument");
     } else {
-        throw UsageError("--energy=" + energy + ": this program reads no energy; accepted: auto, none");
+        // Without an opener only the choices that need no backend mean anything.
+        const ChoiceTable<EnergyChoice> without = energy_backends().subset([](const EnergyChoice& c) {
+            return c.backend == EnergyBackend::automatic || c.backend == EnergyBackend::none;
+        });
+        throw UsageError("--energy=" + energy + ": this program reads no energy; accepted: " + without.accepted());
     }
     in.counters = parse_counters(counters, in.access);
     return in;

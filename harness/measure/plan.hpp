@@ -12,6 +12,7 @@
 #include "harness/machine/topology.hpp"
 #include "harness/measure/cache_probe.hpp"
 #include "harness/measure/default_sizes.hpp"
+#include "harness/measure/output_formats.hpp"
 #include "harness/measure/runner.hpp"
 
 namespace suite {
@@ -39,13 +40,13 @@ struct RunOptions {
     std::string size;
     std::string sizes;
     std::string threads;
-    std::string pin = "compact";
-    std::string placement = "local";
+    std::string pin = pin_name(PinMode::compact);
+    std::string placement = placement_name(PlacementKind::local);
     int reps = -1;  // -1: adaptive
     double min_time = 0.2;
     std::uint64_t seed = 1;
     std::string out;
-    std::string format;  // table | json | csv; "" = from --out's extension, table on the console
+    std::string format;  // a name of output_formats(); "" = from --out's extension, table on the console
     bool quiet = false;
     bool dry_run = false;              // print the points and stop
     std::string counters = "default";  // default | none | event names, comma separated
@@ -60,7 +61,7 @@ struct Plan {
     std::vector<Point> points;
     RunSettings settings;
     std::string out_path;
-    std::string format;  // json | csv (for out_path), or what goes to stdout: table | json | csv
+    OutputFormat format = OutputFormat::table;  // of out_path, or of what goes to stdout
     bool quiet = false;
     bool dry_run = false;
     std::vector<std::string> notes;  // things the user should know before trusting the numbers

@@ -48,18 +48,24 @@ std::vector<PlannedKernel> select_kernels(const RunOptions& o) {
 }
 
 void plan_output(const RunOptions& o, Plan& plan) {
-    if (!o.format.empty() && o.format != "table" && o.format != "json" && o.format != "csv" && o.format != "gbench")
-        throw UsageError("unknown --format '" + o.format +
-                         "'; accepted: table, json, csv, gbench (Google Benchmark's JSON)");
+    const Choice<OutputFormatBehaviour>* asked = o.format.empty() ? nullptr : &output_formats().at(o.format);
     if (o.out.empty()) {
-        plan.format = o.format.empty() ? "table" : o.format;
+        plan.format = asked ? asked->what.format : OutputFormat::table;
         return;
     }
-    if (o.format == "table")
-        throw UsageError("--format=table cannot be written to a file; use json or csv (or gbench) with --out");
+    if (asked && !asked->what.to_file)
+        throw UsageError("--format=" + asked->name + " cannot be written to a file; use " + file_format_names() +
+                         " with --out");
     plan.out_path = o.out;
-    const bool csv_name = o.out.size() > 4 && o.out.substr(o.out.size() - 4) == ".csv";
-    plan.format = o.format.empty() ? (csv_name ? "csv" : "json") : o.format;
+    if (asked) {
+        plan.format = asked->what.format;
+        return;
+    }
+    plan.format = OutputFormat::json;  // unless the file's name ends as a format's files do
+    for (const auto& c : output_formats().all()) {
+        const std::string& suffix = c.what.out_suffix;
+        if (!suffix.empty() && o.out.size() > suffix.size() && o.out.ends_with(suffix)) plan.format = c.what.format;
+    }
 }
 
 // The thread counts, each once, and the pinning (plan.settings.pin) they run under.
@@ -144,7 +150,9 @@ void plan_instruments(const RunOptions& o, const Topology& topo, const EnergyOpe
             if (std::string why = probe_event(e, plan.instruments.access); !why.empty())
                 plan.notes.push_back("counter " + e.name + " cannot be counted here: " + why);
     const EnergyInstrument& meter = *plan.instruments.energy;
-    if ((o.energy == "sysfs" || o.energy == "perf" || o.energy_baseline > 0) && meter.requested() && !meter.available())
+    // Said when a source was named or idle power asked for: auto may well find none.
+    const Choice<EnergyChoice>* choice = energy_backends().find(o.energy);
+    if (((choice && choice->what.names_a_source) || o.energy_baseline > 0) && meter.requested() && !meter.available())
         plan.notes.push_back("energy cannot be measured here: " + meter.reason());
 }
 

@@ -106,7 +106,7 @@ Roofline measure_roofline(const Topology& topo, const RooflineOptions& o) {
     RunSettings settings;
     settings.pin = o.pin;
     settings.placement.kind = PlacementKind::local;
-    settings.placement.text = "local";
+    settings.placement.text = placement_name(PlacementKind::local);
     settings.min_time_s = o.min_time_s;
     settings.stop = o.stop;
     auto stopped = [&] { return o.stop && o.stop->load() != 0; };

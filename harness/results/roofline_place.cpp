@@ -6,6 +6,7 @@
 
 #include "harness/common/units.hpp"
 #include "harness/kernel/kernel.hpp"
+#include "harness/machine/placement.hpp"
 #include "harness/results/context_fields.hpp"
 #include "harness/results/history.hpp"
 #include "harness/results/result_file.hpp"
@@ -179,7 +180,7 @@ Placement place_points(const RooflineFile& roof, const ResultFile& file, const j
             skip("a record of an MPI run: the ceilings are one process's");
             continue;
         }
-        if (lp.key.placement != "local") {
+        if (lp.key.placement != placement_name(PlacementKind::local)) {
             skip("placement " + lp.key.placement + ": the ceilings are measured with local memory");
             continue;
         }

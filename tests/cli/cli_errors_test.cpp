@@ -287,7 +287,7 @@ const std::vector<Case>& cases() {
         {"FormatXml", {"--kernel=add", "--format=xml", "--out={tmp}/r.json"}, {"'xml'", "table, json, csv"}},
         {"FormatTableToFile",
          {"--kernel=add", "--format=table", "--out={tmp}/r.txt"},
-         {"--format=table", "json or csv"}},
+         {"--format=table", "json, csv or gbench"}},
 
         // Options and commands.
         {"UnknownOption", {"--bogus", "--out={tmp}/r.json"}, {"unknown option '--bogus'; see ./suite --help"}},
