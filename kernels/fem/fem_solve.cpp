@@ -6,7 +6,8 @@
 //                                                           λ, outer and CG iterations, the residual
 // --strategy picks how A (and M) are stored and multiplied: csr, every entry (csr.hpp), or
 // symmetric, one triangle and the window scheme of symmetric.hpp (0.5 to 0.7 of CSR's matrix bytes
-// along a curve or RCM, more than CSR's in an order that keeps neighbours far apart).
+// along a curve or RCM, more than CSR's in an order that keeps neighbours far apart), or sell,
+// SELL-C-σ (sell.hpp: chunks of C rows a vector, σ = --sell-sigma; rated by CSR's bytes).
 // A CG that does not converge within --cg-max iterations, or an inverse iteration within 1000
 // steps, is a solver failure: the record is not verified and the run exits with status 3.
 #include <omp.h>
@@ -26,6 +27,7 @@
 #include "harness/kernel/kernel.hpp"
 #include "kernels/fem/fem_checks.hpp"
 #include "kernels/fem/fem_point.hpp"
+#include "kernels/fem/sell_setup.hpp"
 #include "kernels/fem/solver.hpp"
 
 namespace suite::fem {
@@ -37,7 +39,7 @@ enum class Solve { spmv, cg, eigen };
 // How A (and M) are stored and multiplied (--strategy). The first is the plain kernel "": its
 // records keep the kernel's own name, as they did before the symmetric storage came, so that a
 // history of them continues.
-enum class Storage { csr, symmetric };
+enum class Storage { csr, symmetric, sell };
 
 const ChoiceTable<Storage>& storages() {
     static const ChoiceTable<Storage> table{
@@ -46,7 +48,11 @@ const ChoiceTable<Storage>& storages() {
          {"symmetric",
           "one triangle, the transposed half through a ring of 4096 rows a thread: about 60 % of the matrix bytes; "
           "facts: window, slots, far-entries, phases, synchronised-updates",
-          Storage::symmetric}}};
+          Storage::symmetric},
+         {"sell",
+          "SELL-C-σ: chunks of C rows (the build's SIMD width) padded to their longest, rows sorted by length within "
+          "--sell-sigma rows; rated by CSR's bytes; facts: sell-bytes-per-nnz, padding, sell-c, sell-sigma",
+          Storage::sell}}};
     return table;
 }
 
@@ -65,13 +71,16 @@ double cg_flops(std::uint64_t nnz, std::int64_t n) {
 class FemSolve final : public Kernel {
 public:
     FemSolve(const KernelConfig& cfg, Solve solve)
-        : cfg_(cfg), solve_(solve), symmetric_(storage_of(cfg.variant) == Storage::symmetric) {}
+        : cfg_(cfg), solve_(solve), storage_(storage_of(cfg.variant)), symmetric_(storage_ == Storage::symmetric) {}
 
     void setup(Arena& arena) override {
         d_.setup(arena, cfg_, FemPoint::Build::matrices);
         const int nt = cfg_.threads;
         sym_.counts = count_symmetric(d_.pattern, nt, default_window);
         if (symmetric_) setup_symmetric(arena);
+        if (storage_ == Storage::sell)
+            sell_ = allocate_sell(arena, d_.pattern, nt, static_cast<std::int64_t>(param(cfg_, "sell-sigma")),
+                                  d_.matrices.a, solve_ == Solve::eigen ? d_.matrices.m : nullptr);
         partial_ = arena.allocate<double>("team-sums", 16 * static_cast<std::size_t>(nt));
         x_ = d_.vector(arena, "x");
         y_ = d_.vector(arena, "y");
@@ -111,7 +120,7 @@ public:
     }
 
     void run(int calls) override {
-        const Operator a = op(d_.matrices.a, sym_a_), mv = op(d_.matrices.m, sym_m_);
+        const Operator a = op(d_.matrices.a, sym_a_, sell_.a), mv = op(d_.matrices.m, sym_m_, sell_.m);
         const std::int64_t n = d_.mesh.nv;
         ran_ = ran_ || calls > 0;
         for (int c = 0; c < calls; ++c) {
@@ -148,17 +157,20 @@ public:
 private:
     // The symmetric storage of A (and M for the inverse iteration), first touched by row blocks.
     void setup_symmetric(Arena& arena);
-    Operator op(const double* csr_values, SymmetricValues sym) const {
+    Operator op(const double* csr_values, SymmetricValues sym, const double* sell) const {
+        if (storage_ == Storage::sell) return Operator::of_sell(sell_.pattern, sell);
         return symmetric_ ? Operator::of_symmetric(sym_, sym) : Operator::of_csr(d_.pattern, csr_values);
     }
     double matrix_bytes() const { return symmetric_ ? sym_.counts.matrix_bytes() : csr_bytes(d_.nnz(), d_.mesh.nv); }
 
     KernelConfig cfg_;
     Solve solve_;
+    Storage storage_;
     bool symmetric_;
     FemPoint d_;
     SymmetricPattern sym_;  // counts always (the record's statistics); arrays for symmetric only
     SymmetricValues sym_a_, sym_m_;
+    SellStorage sell_;  // --strategy=sell only
     double* partial_ = nullptr;
     double *x_ = nullptr, *y_ = nullptr, *f_ = nullptr, *au_ = nullptr;
     CgVectors cg_;
@@ -213,6 +225,11 @@ Verification FemSolve::verify() {
     if (solve_ == Solve::spmv && symmetric_) {
         std::string figures;
         const std::string wrong = check_symmetric_product(p, a, sym_, sym_a_, x_, y_, figures);
+        if (!wrong.empty()) fail(wrong);
+        if (v.passed) what = figures;
+    } else if (solve_ == Solve::spmv && storage_ == Storage::sell) {
+        std::string figures;
+        const std::string wrong = check_sell_product(p, a, sell_.pattern, sell_.a, x_, y_, figures);
         if (!wrong.empty()) fail(wrong);
         if (v.passed) what = figures;
     } else if (solve_ == Solve::spmv) {
@@ -297,6 +314,7 @@ std::vector<Fact> FemSolve::facts() const {
         out.push_back({"synchronised-updates", static_cast<double>(c.threads - 1) * static_cast<double>(c.window - 1),
                        "a product"});
     }
+    if (storage_ == Storage::sell) add_sell_facts(sell_, out);
     return out;
 }
 
@@ -324,12 +342,13 @@ Work FemSolve::work() const {
         w.hardware_bytes = w.stream_bytes + its * 32 * nd;  // the write-allocate of q, and of x, r, p rewritten
     }
     const int vectors = solve_ == Solve::spmv ? 2 : solve_ == Solve::cg ? 6 : 7;
-    double symmetric = 0;  // the symmetric arrays, beside the CSR ones the kernel keeps
+    double symmetric = 0;  // the symmetric or SELL arrays, beside the CSR ones the kernel keeps
     if (symmetric_)
         symmetric = sym_.counts.matrix_bytes() +
                     (solve_ == Solve::eigen ? 8.0 * static_cast<double>((sym_.counts.slots + 1) * sym_.counts.n +
                                                                         static_cast<std::int64_t>(sym_.counts.far_nnz))
                                             : 0.0);
+    if (storage_ == Storage::sell) symmetric = sell_.footprint_bytes();
     w.footprint_bytes =
         static_cast<std::uint64_t>(csr_bytes(nz, n) + 8.0 * static_cast<double>(nz) + 8.0 * vectors * nd + 16 * nd +
                                    12.0 * static_cast<double>(d_.mesh.ne) + symmetric);
@@ -338,6 +357,7 @@ Work FemSolve::work() const {
 
 void validate_solve(const KernelConfig& cfg, const std::string& name, Solve s) {
     validate_solver_params(cfg, name, s != Solve::spmv, s == Solve::eigen);
+    validate_sell_sigma(param(cfg, "sell-sigma"), name);
     validate_fem(cfg, name, true);
 }
 
@@ -353,6 +373,7 @@ bool register_solve(const char* name, Solve s, const char* formula, const char* 
     e.info.plain_variant_name = storages().all().front().name;
     e.info.params = {delta_param()};
     for (ParamInfo& p : solver_params(s != Solve::spmv, s == Solve::eigen)) e.info.params.push_back(std::move(p));
+    e.info.params.push_back(sell_sigma_param());
     // Per unit: a nonzero's value and column (SpMV); a CG iteration's per-row bytes (about 7 nonzeros a row).
     e.info.read_bytes_per_unit = s == Solve::spmv ? 12 : 0;
     e.info.flops_per_unit = s == Solve::spmv ? 2 : 0;

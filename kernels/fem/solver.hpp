@@ -10,28 +10,40 @@
 
 #include "harness/kernel/blocks.hpp"
 #include "kernels/fem/csr.hpp"
+#include "kernels/fem/sell.hpp"
 #include "kernels/fem/symmetric.hpp"
 
 namespace suite::fem {
 
-// The matrix a solver multiplies by: its CSR rows (--strategy=csr), or the symmetric storage of
-// symmetric.hpp (--strategy=symmetric, the team of its counts).
+// The matrix a solver multiplies by: its CSR rows (--strategy=csr), the symmetric storage of
+// symmetric.hpp (--strategy=symmetric, the team of its counts), or SELL-C-σ of sell.hpp
+// (--strategy=sell, the team of its counts).
 struct Operator {
     const Pattern* csr = nullptr;
     const double* values = nullptr;
     const SymmetricPattern* sym = nullptr;
     SymmetricValues sym_values;
+    const SellPattern* sell = nullptr;
+    const double* sell_values = nullptr;
 
-    static Operator of_csr(const Pattern& p, const double* v) { return {&p, v, nullptr, {}}; }
-    static Operator of_symmetric(const SymmetricPattern& s, SymmetricValues v) { return {nullptr, nullptr, &s, v}; }
+    static Operator of_csr(const Pattern& p, const double* v) { return {&p, v, nullptr, {}, nullptr, nullptr}; }
+    static Operator of_symmetric(const SymmetricPattern& s, SymmetricValues v) {
+        return {nullptr, nullptr, &s, v, nullptr, nullptr};
+    }
+    static Operator of_sell(const SellPattern& s, const double* v) { return {nullptr, nullptr, nullptr, {}, &s, v}; }
 
     // y = A x by the whole team, `rows` this thread's block (my_block); x whole before. Calls
-    // on_row(i, y_i) once for each row, by the thread that completes it. CSR: this thread's
-    // rows, no barrier; symmetric: ends with a barrier (y whole after it).
+    // on_row(i, y_i) once for each row, by the thread that completes it. CSR and SELL: this
+    // thread's rows (SELL: in row order a window at a time), no barrier; symmetric: ends with a
+    // barrier (y whole after it).
     template <class OnRow>
     void apply(const double* x, double* y, Block rows, OnRow&& on_row) const {
         if (sym) {
             symmetric_product_team(*sym, sym_values, x, y, on_row);
+            return;
+        }
+        if (sell) {
+            sell_rows(*sell, sell_values, x, y, omp_get_thread_num(), rows, on_row);
             return;
         }
         const std::uint32_t* const rp = csr->row_ptr;
