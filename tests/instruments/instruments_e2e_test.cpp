@@ -129,7 +129,8 @@ TEST(InstrumentRun, EnergyFromAPowercapTreeIsMeasuredPerRepetitionExactly) {
     ASSERT_TRUE(p["available"].get<bool>()) << p.dump();
     const double batch = rec["repetitions"]["batch"].get<double>();
     // Whole millijoules per repetition: the counter's µJ converted exactly, none lost or invented.
-    // (A repetition between two steps measures 0 J; the median one, of several ms, does not.)
+    // (A repetition between two steps measures 0 J. Usually the median one, of several ms, sees
+    // steps, but on a loaded machine the moving thread may wait for a CPU through most of them.)
     auto whole_mj = [](double joules) { return std::abs(joules * 1e3 - std::round(joules * 1e3)) < 1e-6; };
     const double min = p["joules_per_call"]["min"].get<double>() * batch,
                  median = p["joules_per_call"]["median"].get<double>() * batch,
@@ -142,7 +143,7 @@ TEST(InstrumentRun, EnergyFromAPowercapTreeIsMeasuredPerRepetitionExactly) {
     EXPECT_LE(total, 9 * max + 1e-12);
     // The counter cannot have moved more than the fake moved it.
     EXPECT_LE(total, static_cast<double>(pkg.steps()) * 1e-3 + 1e-12);
-    EXPECT_GT(p["watts_median"].get<double>(), 0.0);
+    EXPECT_EQ(p["watts_median"].get<double>() > 0.0, median > 0.0) << p.dump();
     const double bytes = rec["work_per_repetition"]["stream_bytes"].get<double>();
     EXPECT_DOUBLE_EQ(p["nj_per_byte"].get<double>(), p["joules_per_call"]["median"].get<double>() / bytes * 1e9);
     // The core counter never moved: unavailable, with the reason, and no joules at all.
