@@ -46,7 +46,8 @@ SellCounts count_sell(const Pattern& p, int threads, std::int64_t sigma) {
         throw std::invalid_argument("σ = " + std::to_string(sigma) +
                                     " is not a positive multiple of C = " + std::to_string(sell_c));
     if (p.n >= (std::int64_t{1} << 31))
-        throw std::invalid_argument("SELL-C-σ takes fewer than 2^31 rows (its gathers' indices are signed 32-bit)");
+        throw std::invalid_argument(
+            "SELL-C-σ takes fewer than 2^31 rows (its row and column indices are 32-bit, with room for the padding)");
     SellCounts c;
     c.n = p.n;
     c.threads = threads;

@@ -50,7 +50,7 @@ struct SellCounts {
 };
 
 // Counts windows, chunks and padding; throws std::invalid_argument when σ is not a positive
-// multiple of C or the matrix has 2^31 rows or more (the gathers' indices are signed 32-bit).
+// multiple of C or the matrix has 2^31 rows or more (32-bit indices, with room for the padding).
 SellCounts count_sell(const Pattern& p, int threads, std::int64_t sigma);
 
 // The structure, on arrays the caller allocates from the counts.

@@ -43,18 +43,23 @@ Small small(const std::vector<std::uint32_t>& lengths) {
     return s;
 }
 
-// Whether this build's CSR row contracts a*x + s into an FMA: -(1 + 2^-29) + (1 + 2^-30)² is 2^-60
-// fused, 0 rounded first. SELL's AVX-512 loop multiplies and adds, so it equals CSR to the bit
-// where CSR does not fuse (GCC tuned for AMD's cores: this VM); the portable loop rounds as CSR's.
+// Whether a product contracts a*x + s into an FMA: -(1 + 2^-29) + (1 + 2^-30)² is 2^-60 fused, 0
+// rounded first. Each loop is probed as compiled in this build: CSR's row, and SELL's chunk (below,
+// through the product the solvers call). Where both fuse or neither does, SELL equals CSR to the bit.
+Small fma_probe() {
+    Small m = small({2, 1});  // row 0 the probe; row 1 makes the matrix square
+    m.val = {-1.0, 1.0 + std::ldexp(1.0, -30), 1.0};
+    return m;
+}
+const std::vector<double> fma_probe_x = {1.0 + std::ldexp(1.0, -29), 1.0 + std::ldexp(1.0, -30)};
 bool csr_fuses() {
-    const double e = std::ldexp(1.0, -30);
-    Small m = small({2});
-    m.val = {-1.0, 1.0 + e};
-    std::vector<double> x = {1.0 + 2 * e, 1.0 + e}, y(1);
-    spmv_rows(m.pattern(), m.val.data(), x.data(), y.data(), 0, 1);
+    Small m = fma_probe();
+    std::vector<double> y(1);
+    spmv_rows(m.pattern(), m.val.data(), fma_probe_x.data(), y.data(), 0, 1);
     return y[0] != 0.0;
 }
-bool bit_identical_here() { return sell_c != 8 || !csr_fuses(); }
+bool sell_fuses();
+bool bit_identical_here() { return csr_fuses() == sell_fuses(); }
 
 // y = A x by a team through the solvers' Operator; on_row's calls counted and their order checked.
 std::vector<double> team_product(const SellMatrix& s, const std::vector<double>& x, int threads) {
@@ -75,6 +80,11 @@ std::vector<double> team_product(const SellMatrix& s, const std::vector<double>&
     for (int t = 0; t < threads; ++t)
         EXPECT_EQ(ordered[static_cast<std::size_t>(t)], 1) << "rows in order, thread " << t;
     return y;
+}
+
+bool sell_fuses() {
+    Small m = fma_probe();
+    return team_product(make_sell(m.pattern(), m.val.data(), 1, sell_c), fma_probe_x, 1)[0] != 0.0;
 }
 
 TEST(FemSell, PaddingOfASmallMatrixCountedByHand) {
