@@ -1,12 +1,14 @@
 #!/usr/bin/python3
-"""fem-spmv's two storages side by side, against the read ceiling measured in the same session.
+"""fem-spmv's storages side by side, against the read ceiling measured in the same session.
 
 Each round runs, one after another:
   suite --kernel=load --sizes=SIZE --threads=T            the read ceiling (s += b[i], DRAM-sized)
-  suite --kernel=fem-spmv --mesh=M --ordering=O --strategy=csr,symmetric --threads=T   per ordering
+  suite --kernel=fem-spmv --mesh=M --ordering=O --strategy=csr,symmetric,sell --threads=T   per ordering
 and the table gives, per ordering and thread count, the median over the rounds of each point's
-median time: CSR's GB/s (STREAM convention) as a fraction of load's, the symmetric storage's speed-up
-over CSR (time ratio, the same nonzeros), and the symmetric facts (far entries, bytes a nonzero).
+median time: CSR's GB/s (STREAM convention) as a fraction of load's, the other storages' speed-ups
+over CSR (time ratios, the same nonzeros), the best storage's GB/s counted from the bytes CSR moves
+(its own savings a credit, SELL's padding a cost) as a fraction of load's, and the storages' facts
+(far entries, bytes a nonzero, SELL's padding).
 With --solvers, fem-cg and fem-eigen run once each way on --solver-mesh as well.
 
   /usr/bin/python3 bench/spmv_strategies.py                       # thesis mesh refine=4, 3 rounds
@@ -44,6 +46,7 @@ def main():
     p.add_argument("--threads", default="1,2")
     p.add_argument("--load-size", default="1GiB")
     p.add_argument("--rounds", type=int, default=3)
+    p.add_argument("--strategies", default="csr,symmetric,sell", help="fem-spmv's --strategy list; csr first (the ratios' base)")
     p.add_argument("--reps", type=int, default=10)
     p.add_argument("--solvers", action="store_true", help="also fem-cg and fem-eigen, once, on --solver-mesh")
     p.add_argument("--solver-mesh", default="file:../shared/meshes/unit_circle_fine.txt:refine=1")
@@ -62,7 +65,7 @@ def main():
             for r in run_suite(o.suite, ["--kernel=load", "--sizes=" + o.load_size, "--threads=" + o.threads, f"--reps={o.reps}"], out):
                 rates.setdefault(r["threads"], []).append(r["bandwidth_gbps"]["stream"]["median"])
             for ordering in orderings:
-                args = ["--kernel=fem-spmv", "--mesh=" + o.mesh, "--ordering=" + ordering, "--strategy=csr,symmetric", "--threads=" + o.threads,
+                args = ["--kernel=fem-spmv", "--mesh=" + o.mesh, "--ordering=" + ordering, "--strategy=" + o.strategies, "--threads=" + o.threads,
                         f"--reps={o.reps}"]
                 for r in run_suite(o.suite, args, out):
                     key = (r["variant"] or "csr", ordering, r["threads"])  # csr is the plain kernel, variant ""
@@ -71,7 +74,7 @@ def main():
         solver_rows = []
         if o.solvers:
             for kernel in ("fem-cg", "fem-eigen"):
-                args = ["--kernel=" + kernel, "--mesh=" + o.solver_mesh, "--ordering=hilbert,rcm", "--strategy=csr,symmetric",
+                args = ["--kernel=" + kernel, "--mesh=" + o.solver_mesh, "--ordering=hilbert,rcm", "--strategy=" + o.strategies,
                         "--threads=" + o.threads, "--reps=3"]
                 for r in run_suite(o.suite, args, out):
                     solver_rows.append({"kernel": kernel, "strategy": r["variant"], "ordering": r["ordering"], "threads": r["threads"],
@@ -81,22 +84,37 @@ def main():
     rows = []
     print(f"mesh {o.mesh}, {o.rounds} round(s), medians of the rounds' medians; load at {o.load_size}: " +
           ", ".join(f"{t} t {g:.1f} GB/s" for t, g in sorted(load.items())))
-    print("| ordering | threads | CSR ms | CSR GB/s | of load | symmetric ms | speed-up | far entries | B/nnz CSR | B/nnz sym |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    others = [x for x in o.strategies.split(",") if x != "csr"]
+    print("| ordering | threads | CSR ms | CSR GB/s | of load | " + " | ".join(f"{x} ms | speed-up" for x in others) +
+          " | best | best's GB/s (CSR bytes) | of load | far entries | B/nnz CSR | B/nnz sym | SELL padding |")
+    print("|" + " --- |" * (12 + 2 * len(others)))
     for ordering in orderings:
         for t in sorted(load):
-            c, s = med.get(("csr", ordering, t)), med.get(("symmetric", ordering, t))
-            if c is None or s is None:
+            c = med.get(("csr", ordering, t))
+            if c is None or any(med.get((x, ordering, t)) is None for x in others):
                 continue
-            f = fact[("symmetric", ordering, t)][0]
-            gbs = fact[("csr", ordering, t)][1]["stream_bytes"] / c / 1e9
-            row = {"ordering": ordering, "threads": t, "csr_ms": c * 1e3, "csr_gbps": gbs, "csr_of_load": gbs / load[t], "symmetric_ms": s * 1e3,
-                   "speedup": c / s, "far_entries": f.get("far-entries"), "csr_bytes_per_nnz": f.get("csr-bytes-per-nnz"),
-                   "symmetric_bytes_per_nnz": f.get("symmetric-bytes-per-nnz"), "rounds_csr_ms": [x * 1e3 for x in times[("csr", ordering, t)]],
-                   "rounds_symmetric_ms": [x * 1e3 for x in times[("symmetric", ordering, t)]]}
+            f = {}
+            for x in others:
+                f.update(fact[(x, ordering, t)][0])
+            csr_bytes = fact[("csr", ordering, t)][1]["stream_bytes"]
+            gbs = csr_bytes / c / 1e9
+            best = min(["csr"] + others, key=lambda x: med[(x, ordering, t)])
+            best_gbs = csr_bytes / med[(best, ordering, t)] / 1e9
+            row = {"ordering": ordering, "threads": t, "csr_ms": c * 1e3, "csr_gbps": gbs, "csr_of_load": gbs / load[t],
+                   "best": best, "best_gbps_csr_bytes": best_gbs, "best_of_load": best_gbs / load[t],
+                   "far_entries": f.get("far-entries"), "csr_bytes_per_nnz": f.get("csr-bytes-per-nnz"),
+                   "symmetric_bytes_per_nnz": f.get("symmetric-bytes-per-nnz"), "sell_padding": f.get("padding"),
+                   "rounds_csr_ms": [x * 1e3 for x in times[("csr", ordering, t)]]}
+            for x in others:
+                row[f"{x}_ms"] = med[(x, ordering, t)] * 1e3
+                row[f"{x}_speedup"] = c / med[(x, ordering, t)]
+                row[f"rounds_{x}_ms"] = [y * 1e3 for y in times[(x, ordering, t)]]
             rows.append(row)
-            print(f"| {ordering} | {t} | {row['csr_ms']:.2f} | {gbs:.1f} | {row['csr_of_load']:.2f} | {row['symmetric_ms']:.2f} | {row['speedup']:.2f} | "
-                  f"{row['far_entries']:.4f} | {row['csr_bytes_per_nnz']:.2f} | {row['symmetric_bytes_per_nnz']:.2f} |")
+            num = lambda v, fmt: "-" if v is None else format(v, fmt)  # noqa: E731
+            print(f"| {ordering} | {t} | {row['csr_ms']:.2f} | {gbs:.1f} | {row['csr_of_load']:.2f} | " +
+                  " | ".join(f"{row[x + '_ms']:.2f} | {row[x + '_speedup']:.2f}" for x in others) +
+                  f" | {best} | {best_gbs:.1f} | {row['best_of_load']:.2f} | {num(row['far_entries'], '.4f')} | "
+                  f"{num(row['csr_bytes_per_nnz'], '.2f')} | {num(row['symmetric_bytes_per_nnz'], '.2f')} | {num(row['sell_padding'], '.4f')} |")
     for s in solver_rows:
         print(f"{s['kernel']} {s['strategy']} {s['ordering']} {s['threads']} t: {s['median_s']:.3f} s, {s['cg_iterations_per_s']:.0f} CG iterations/s")
     if o.json:

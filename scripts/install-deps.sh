@@ -27,6 +27,9 @@ if [ "${1:-build}" = test ]; then
   want+=(libopenmpi-dev openmpi-bin)
   # tests/install_test.py: what the installed programs open, traced (nothing in the source tree).
   want+=(strace)
+  # Eigen's headers: suite-spmv-eigen (make bench-spmv) is built, and CTest's spmv_eigen checks every
+  # fem-spmv product, SELL-C-σ's included, against Eigen's.
+  want+=(libeigen3-dev)
 fi
 if [ "${1:-build}" = arm64 ] || [ "${1:-build}" = test ]; then
   # make build-arm64 / make test-arm64: the aarch64 cross build (Debian's cross compiler and the
