@@ -38,7 +38,7 @@ const std::vector<std::string>& case_order_v1();
 // How the particles are kept in order (Setup::particles).
 struct ParticleOrder {
     bool shuffle = false;    // shuffled once at the start
-    bool sorts = false;      // sorted along the curve at the start and as Setup::sort_every says
+    bool sorts = false;      // sorted by element (the grid's order) at the start and as Setup::sort_every says
     bool renumbers = false;  // and the grid renumbered, active elements first, at the same steps
 };
 const ChoiceTable<ParticleOrder>& particle_orders();

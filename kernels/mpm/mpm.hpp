@@ -275,9 +275,9 @@ void update_stress(State& st);  // velocity scatter, nodal velocities, stress an
 // located between steps (make_state, sort_particles and renumber_active leave it so too).
 void step(State& st);
 
-// Reorders the particles by their elements' positions along the curve (counting sort on
-// grid.curve[elem]): afterwards the particles of one element are contiguous, elements in curve
-// order. Keeps them located.
+// Reorders the particles by element number (a stable counting sort): afterwards the particles
+// of one element are contiguous, in the grid's element order (the curve's on a curve-ordered
+// grid, and after renumber_active). Keeps them located.
 void sort_particles(State& st);
 // The particles in order `order` (particle i of the result = particle order[i]), located again.
 // Placed particles keep their storage: each thread gathers its static block of the result into
@@ -312,7 +312,7 @@ struct Setup {
     // seeded:   as the seeding left them, element by element in the grid's order, never
     //           reordered: what a real code that seeds and never sorts has;
     // shuffled: shuffled once and never reordered (the worst case: a restart file's order);
-    // sorted:   sorted along the curve at the start and every sort_every steps;
+    // sorted:   sorted by element, in the grid's order, at the start and as sort_every says;
     // dynamic:  sorted as above, and the grid renumbered (renumber_active) at the same steps.
     std::string particles = "seeded";
     // Steps between reorderings; 0: at the start only; sort_auto (--sort-every=auto): whenever the

@@ -6,7 +6,7 @@
 // One repetition:
 //   mpm-p2g   nodes zeroed; for p, corner i of elem[p]:
 //               m_n += w_i m_p;  p_n += w_i m_p v_p;  f_n += w_i m_p g - V_p σ_p ∇N_i
-//             --strategy: serial, atomic, colour, partition (particles sorted along the curve)
+//             --strategy: serial, atomic, colour, partition (particles sorted by element)
 //   mpm-g2p   for p: v_p += dt Σ_i w_i f_n / m_n;  x_p += dt Σ_i w_i p_n / m_n
 //             --particles: seeded, shuffled, sorted, dynamic
 //   mpm-step  K = --sort-every whole steps (locate, P2G, grid, G2P, velocity scatter, stress),
