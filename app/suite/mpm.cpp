@@ -83,6 +83,7 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
     s.ordering = o.ordering;
     s.particles = o.particles;
     s.sort_every = o.sort_every;
+    s.sort_threshold = order.sort_threshold;
     s.threads = o.threads;
     s.seed = o.seed;
     s.force = o.force;
@@ -106,7 +107,7 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
         if (!(s.sort_threshold > 0) || s.sort_threshold > 1e9)
             throw UsageError("--sort-threshold=" + o.sort_threshold +
                              ": the decay a reordering costs, a number > 0 and at most 1e9 (default " +
-                             format_number(mpm::default_sort_threshold) + ")");
+                             format_number(order.sort_threshold) + " for --particles=" + o.particles + ")");
     }
     if (o.warm_steps > 0 && o.warm_steps >= o.steps)
         throw UsageError("--warm-steps=" + std::to_string(o.warm_steps) +

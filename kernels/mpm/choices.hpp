@@ -40,6 +40,9 @@ struct ParticleOrder {
     bool shuffle = false;    // shuffled once at the start
     bool sorts = false;      // sorted by element (the grid's order) at the start and as Setup::sort_every says
     bool renumbers = false;  // and the grid renumbered, active elements first, at the same steps
+    // --sort-every=auto's threshold where --sort-threshold is not given: the decay a reordering
+    // costs (docs/mpm.md, "When to reorder"), so in proportion to what one reordering costs.
+    double sort_threshold = default_sort_threshold;
 };
 const ChoiceTable<ParticleOrder>& particle_orders();
 

@@ -53,6 +53,7 @@ public:
         setup_.ordering = cfg.access.name;
         setup_.particles = phase == Phase::assembly ? "sorted" : cfg.variant;
         setup_.sort_every = phase == Phase::step ? sort_every_of(cfg) : 0;
+        setup_.sort_threshold = particle_orders().at(setup_.particles).what.sort_threshold;
         setup_.settings.per_element = static_cast<int>(cfg.param("ppe"));
         setup_.strategy = phase == Phase::assembly ? parse_strategy(cfg.variant)
                                                    : (cfg.threads > 1 ? Strategy::partition : Strategy::serial);

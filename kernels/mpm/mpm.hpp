@@ -299,7 +299,8 @@ void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vecto
 // Setup::sort_every of --sort-every=auto.
 inline constexpr int sort_auto = -1;
 // --sort-every=auto's threshold (OrderTracker), from the cost model of docs/mpm.md ("When to
-// reorder"): a reordering costs as much as about this much decay, measured once.
+// reorder"): a sort costs as much as about this much decay, measured once. Each particle order's
+// own default is in its choice (ParticleOrder::sort_threshold: dynamic's reordering costs more).
 inline constexpr double default_sort_threshold = 8;
 
 // A simulation as the kernels and `suite mpm` set it up: which grid, in which order, how the
