@@ -8,10 +8,10 @@
 //              values, with int copies of row_ptr and col (made once, untimed)
 // GB/s counts the minimal traffic of each: its matrix bytes, 8 B a row of x and 8 of y (CSR and
 // Eigen: 12 B a nonzero and 4 B a row pointer; symmetric: its own structure, about 7.5 B a
-// nonzero; sell: CSR's, its padding a cost and not a credit, as fem-spmv counts it). (Eigen 3.4 moves more: its `=` zeroes y on one thread, then adds A x into it, 16 B a
-// row more; that is its cost, not counted.) Every y must agree with Eigen's before anything is
-// timed, to 1e-12 of the row's Σ|a_ij x_j|; then the five products alternate, the first call of
-// each a warm-up. The ratios are of median times.
+// nonzero; sell: CSR's, its padding a cost and not a credit, as fem-spmv counts it). (Eigen 3.4 moves more: its `=`
+// zeroes y on one thread, then adds A x into it, 16 B a row more; that is its cost, not counted.) Every y must agree
+// with Eigen's before anything is timed, to 1e-12 of the row's Σ|a_ij x_j|; then the five products alternate, the first
+// call of each a warm-up. The ratios are of median times.
 //   suite-spmv-eigen                                    the thesis mesh, hilbert, 1 thread
 //   suite-spmv-eigen --ordering=natural,hilbert,rcm --threads=2 --json=spmv.json
 #include <omp.h>
@@ -195,7 +195,8 @@ nlohmann::json compare(const Options& o, const std::string& ordering) {
 int run(int argc, char** argv) {
     Options o;
     CLI::App app{
-        "fem-spmv's products (plain and tuned CSR, symmetric, SELL-C-σ) against Eigen's sparse matrix-vector product on "
+        "fem-spmv's products (plain and tuned CSR, symmetric, SELL-C-σ) against Eigen's sparse matrix-vector product "
+        "on "
         "the same matrix"};
     app.add_option("--mesh", o.mesh, "mesh spec (as suite's --mesh)")->capture_default_str();
     app.add_option("--ordering", o.orderings, fem::fem_orderings().accepted() + ", or a comma list of them")
