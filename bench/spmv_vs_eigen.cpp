@@ -10,8 +10,8 @@
 // Eigen: 12 B a nonzero and 4 B a row pointer; symmetric: its own structure, about 7.5 B a
 // nonzero; sell: CSR's, its padding a cost and not a credit, as fem-spmv counts it). (Eigen 3.4 moves more: its `=`
 // zeroes y on one thread, then adds A x into it, 16 B a row more; that is its cost, not counted.) Every y must agree
-// with Eigen's before anything is timed, to 1e-12 of the row's Σ|a_ij x_j|; then the five products alternate, the first
-// call of each a warm-up. The ratios are of median times.
+// with Eigen's before anything is timed, to 1e-12 of the row's Σ|a_ij x_j|; then the five products
+// alternate, the first call of each a warm-up. The ratios are of median times.
 //   suite-spmv-eigen                                    the thesis mesh, hilbert, 1 thread
 //   suite-spmv-eigen --ordering=natural,hilbert,rcm --threads=2 --json=spmv.json
 #include <omp.h>
