@@ -85,8 +85,7 @@ void add_mpm_options(CLI::App& app, Options& o) {
                    "--sort-every=auto's threshold: the decay (the fall of the share of neighbours in one element, "
                    "summed over the steps since the last reordering) that a reordering costs, > 0 (default " +
                        format_number(mpm::particle_orders().at("sorted").what.sort_threshold) + " for sorted, " +
-                       format_number(mpm::particle_orders().at("dynamic").what.sort_threshold) +
-                       " for dynamic, whose reordering costs about four sorts)");
+                       format_number(mpm::particle_orders().at("dynamic").what.sort_threshold) + " for dynamic)");
     app.add_option("--strategy", o.strategy,
                    "how threads share the scatters to nodes: " + mpm::strategies().accepted() +
                        " (default serial for 1 thread, partition for more)");
