@@ -81,11 +81,16 @@ void add_mpm_options(CLI::App& app, Options& o) {
            "when sorted or dynamic particles are reordered: auto, whenever their order has decayed past "
            "--sort-threshold (the default; docs/mpm.md, \"When to reorder\"), or every K steps, 0: at the start only")
         ->type_name("auto|K");
+    // Each particle order carries its own default (ParticleOrder::sort_threshold); named once where they agree.
+    const double sorted_default = mpm::particle_orders().at("sorted").what.sort_threshold,
+                 dynamic_default = mpm::particle_orders().at("dynamic").what.sort_threshold;
     app.add_option("--sort-threshold", o.sort_threshold,
                    "--sort-every=auto's threshold: the decay (the fall of the share of neighbours in one element, "
                    "summed over the steps since the last reordering) that a reordering costs, > 0 (default " +
-                       format_number(mpm::particle_orders().at("sorted").what.sort_threshold) + " for sorted, " +
-                       format_number(mpm::particle_orders().at("dynamic").what.sort_threshold) + " for dynamic)");
+                       (sorted_default == dynamic_default ? format_number(sorted_default)
+                                                          : format_number(sorted_default) + " for sorted, " +
+                                                                format_number(dynamic_default) + " for dynamic") +
+                       ")");
     app.add_option("--strategy", o.strategy,
                    "how threads share the scatters to nodes: " + mpm::strategies().accepted() +
                        " (default serial for 1 thread, partition for more)");
