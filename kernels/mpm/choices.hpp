@@ -41,7 +41,7 @@ struct ParticleOrder {
     bool sorts = false;      // sorted by element (the grid's order) at the start and as Setup::sort_every says
     bool renumbers = false;  // and the grid renumbered, active elements first, at the same steps
     // --sort-every=auto's threshold where --sort-threshold is not given: the decay a reordering
-    // costs (docs/mpm.md, "When to reorder"), so in proportion to what one reordering costs.
+    // costs (docs/mpm.md, "When to reorder"), measured for each order.
     double sort_threshold = default_sort_threshold;
 };
 const ChoiceTable<ParticleOrder>& particle_orders();
