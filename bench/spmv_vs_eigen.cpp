@@ -196,8 +196,7 @@ int run(int argc, char** argv) {
     Options o;
     CLI::App app{
         "fem-spmv's products (plain and tuned CSR, symmetric, SELL-C-σ) against Eigen's sparse matrix-vector product "
-        "on "
-        "the same matrix"};
+        "on the same matrix"};
     app.add_option("--mesh", o.mesh, "mesh spec (as suite's --mesh)")->capture_default_str();
     app.add_option("--ordering", o.orderings, fem::fem_orderings().accepted() + ", or a comma list of them")
         ->delimiter(',')

@@ -73,12 +73,12 @@ const ChoiceTable<ParticleOrder>& particle_orders() {
           "sorted by element at the start and again as --sort-every says (default auto: when the order has "
           "decayed)",
           {.sorts = true}},
-         // A renumbering with its sort costs 4.3 sorts, but its order also decays where the share
-         // does not see it (particles that drift out of the renumbered elements land in far
-         // memory): 4 sorts' threshold ran slower than 8 (docs/mpm.md, "When to reorder").
+         // The default threshold, though a renumbering with its sort costs 4.3 sorts: its order also
+         // decays where the share does not see it (particles that drift out of the renumbered
+         // elements land in far memory), and 4 sorts' threshold ran slower (docs/mpm.md).
          {"dynamic",
           "sorted, and the grid renumbered active elements first, at the same steps",
-          {.sorts = true, .renumbers = true, .sort_threshold = default_sort_threshold}}},
+          {.sorts = true, .renumbers = true}}},
         {{"unsorted", "shuffled"}}};
     return table;
 }
