@@ -13,7 +13,7 @@ For each point: its runs' spread (the standard deviation of the log medians over
 their Qn), its repetitions' typical spread, how many runs flagged it unstable, and in how many
 trials each slowdown was caught (REGRESSED) or called inconclusive.
 
-Usage: bench/gate_reach.py [--runs 37] [--gap 2] [--from RUN.json ...] [--out results/bench] [--suite ./suite]
+Usage: bench/gate_reach.py [--runs 37] [--gap 2] [--fresh-arrays] [--from RUN.json ...] [--out results/bench] [--suite ./suite]
 Writes OUT/gate_reach.{json,md}, and the runs to OUT/gate_reach_runs/. --quick: 10 scaled copies
 of a committed fixture run, a check that it all runs.
 """
@@ -40,6 +40,8 @@ p.add_argument("--out", default=os.path.join(top, "results", "bench"))
 p.add_argument("--runs", type=int, default=37, help="runs of the recipe (default 37: 36 pairs; at least 8)")
 p.add_argument("--gap", type=float, default=2, help="seconds between runs (default 2)")
 p.add_argument("--history", type=int, default=6, help="runs of history each pair is gated against (default 6)")
+p.add_argument("--fresh-arrays", action="store_true",
+               help="the recipe with --fresh-arrays: each repetition on arrays allocated anew (docs/noise.md)")
 p.add_argument("--from", dest="given", nargs="+", default=[], help="result files of earlier runs, instead of running")
 p.add_argument("--quick", action="store_true", help="10 scaled copies of a committed fixture run: a check that it all runs")
 a = p.parse_args()
@@ -50,7 +52,7 @@ if not a.given and not a.quick and a.runs < a.history + 2:
 if a.history < 1:
     print(f"gate_reach: --history must be at least 1 (got {a.history})", file=sys.stderr)
     sys.exit(2)
-RECIPE = ["--kernel=triad,copy", "--sizes=64KiB,64MiB", "--threads=1", "--reps=5"]
+RECIPE = ["--kernel=triad,copy", "--sizes=64KiB,64MiB", "--threads=1", "--reps=5"] + (["--fresh-arrays"] if a.fresh_arrays else [])
 SLOWDOWNS = (1.25, 1.5, 2.0)
 
 

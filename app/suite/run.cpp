@@ -204,6 +204,11 @@ void setup_run_options(CLI::App& app, RunOptions& o) {
                      "warm-up, 3 for calls under 50 ms)");
     app.add_option("--min-time", o.min_time,
                    "seconds of counted repetitions per point when --reps is not given (default 0.2)");
+    app.add_flag("--fresh-arrays", o.fresh_arrays,
+                 "each counted repetition after the first on the point's arrays allocated and first-touched anew, "
+                 "then warmed by one uncounted call: the median is over as many page placements as repetitions, and "
+                 "moves less from run to run where the placement sets the bandwidth (a CI gate's DRAM points here; "
+                 "docs/noise.md). Off by default: one allocation, as STREAM and likwid-bench");
     add_seed_option(app, o.seed, "seed of the random permutations, 0 to 18446744073709551615 (default 1)");
     app.add_option("--out,-o", o.out, "write results to FILE (JSON, or CSV for *.csv or with --format=csv)");
     app.add_option("--format", o.format,

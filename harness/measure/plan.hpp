@@ -44,6 +44,7 @@ struct RunOptions {
     std::string placement = placement_name(PlacementKind::local);
     int reps = -1;  // -1: adaptive
     double min_time = 0.2;
+    bool fresh_arrays = false;  // --fresh-arrays
     std::uint64_t seed = 1;
     std::string out;
     std::string format;  // a name of output_formats(); "" = from --out's extension, table on the console

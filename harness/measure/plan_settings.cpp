@@ -128,6 +128,7 @@ void plan_repetitions(const RunOptions& o, Plan& plan) {
     if (!(o.min_time > 0) || o.min_time > 3600)
         throw UsageError("--min-time must be more than 0 and at most 3600 seconds");
     plan.settings.min_time_s = o.min_time;
+    plan.settings.fresh_arrays = o.fresh_arrays;
     plan.settings.seed = o.seed;
 }
 

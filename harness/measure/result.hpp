@@ -75,6 +75,7 @@ struct Record {
     int repetitions = 0;                // counted ones, after the warm-up
     int warmup = 0;                     // uncounted calls before the repetitions (the runner sets it)
     int batch = 1;                      // kernel calls per timed sample (tiny sizes); times are per call
+    bool fresh_arrays = false;          // --fresh-arrays: each counted repetition on arrays set up anew
     std::vector<double> samples_s;      // per call, one per counted repetition
     TimeStats time;
     Rates rates;

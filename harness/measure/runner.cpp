@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -113,10 +114,10 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
         if (cfg.params.count(name)) cfg.params[name] = value;
     rec.params = cfg.params;
 
-    Arena arena(policy);
+    std::optional<Arena> arena(std::in_place, policy);
     auto kernel = point.kernel->make(cfg);
-    kernel->setup(arena);
-    rec.pages = arena.observe();
+    kernel->setup(*arena);
+    rec.pages = arena->observe();
     if (const std::uint64_t llc = topo.last_level_cache_total_bytes(); llc > 0 && !rec.pages.empty()) {
         std::uint64_t smallest = rec.pages.front().bytes;
         for (const auto& a : rec.pages) smallest = std::min(smallest, a.bytes);
@@ -177,7 +178,17 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     // the counts would no longer repeat exactly. The record then has no stability block.
     const bool judge_load = !callgrind::running_on_valgrind();
     const LoadSnapshot load_before = judge_load ? take_load_snapshot(cpus) : LoadSnapshot{};
+    rec.fresh_arrays = settings.fresh_arrays;
     for (int r = 0; r < rec.repetitions; ++r) {
+        if (r > 0 && settings.fresh_arrays) {
+            kernel.reset();  // the old arrays go before the new ones come: one point's memory at a time
+            arena.reset();
+            arena.emplace(policy);
+            kernel = point.kernel->make(cfg);
+            kernel->setup(*arena);
+            kernel->run(rec.batch);  // warm, as the first arrays were
+            rec.warmup += rec.batch;
+        }
         sync_ranks(settings);
         for (RepetitionInstrument* i : around) i->start();
         t0 = Clock::now();

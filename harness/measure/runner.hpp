@@ -37,6 +37,12 @@ struct RunSettings {
     int reps = 0;                             // counted repetitions; 0: adaptive (>= min_time in total, >= min_reps)
     int min_reps = 5;
     double min_time_s = 0.2;
+    // --fresh-arrays: each counted repetition after the first on the point's arrays allocated and
+    // first-touched anew (the kernel set up again), then warmed with one uncounted batch. On this
+    // VM a DRAM point's bandwidth follows where its pages landed, fixed for an allocation: its
+    // repetitions agree while its median moves from run to run (docs/noise.md). Over fresh
+    // arrays the median is over as many placements as repetitions.
+    bool fresh_arrays = false;
     // Shorter kernel calls are batched so that a sample spans many clock ticks and the default
     // 0.2 s of repetitions stays at most ~200 samples (every one of them is written to the result).
     double min_sample_s = 1e-3;

@@ -99,7 +99,8 @@ nlohmann::json to_json(const Record& r) {
                       {"interleave_nodes", r.interleave_nodes},
                       {"arrays", pages}};
     j["hugepages"] = hugepages_json(r);
-    j["repetitions"] = {{"counted", r.repetitions}, {"warmup", r.warmup}, {"batch", r.batch}};
+    j["repetitions"] = {
+        {"counted", r.repetitions}, {"warmup", r.warmup}, {"batch", r.batch}, {"fresh_arrays", r.fresh_arrays}};
     j["time_s"] = {{"min", r.time.min},   {"median", r.time.median}, {"max", r.time.max},
                    {"mean", r.time.mean}, {"cv", r.time.cv},         {"samples", r.samples_s}};
     j["work_per_repetition"] = {{"units", r.work.units},
