@@ -56,23 +56,23 @@ KernelEntry counting_entry() {
     return e;
 }
 
-RunSettings settings(const Topology& topo, bool fresh) {
+// Four counted repetitions of the counting kernel, the census taken from zero.
+Record run_counting(bool fresh) {
+    const Topology topo = Topology::load();
+    static const KernelEntry entry = counting_entry();
     RunSettings s;
     s.pin = parse_pin("compact", topo);
     s.placement = parse_placement("local", topo);
     s.reps = 4;
     s.fresh_arrays = fresh;
-    return s;
+    census = {};
+    return run_point(Point{&entry, {}, "", 4096, 1}, s, topo);
 }
 
 }  // namespace
 
 TEST(FreshArrays, EachRepetitionAfterTheFirstOnANewSetUp) {
-    const Topology topo = Topology::load();
-    const KernelEntry entry = counting_entry();
-    const Point p{&entry, {}, "", 4096, 1};
-    census = {};
-    const Record rec = run_point(p, settings(topo, true), topo);
+    const Record rec = run_counting(true);
     EXPECT_TRUE(rec.verification.passed);
     EXPECT_TRUE(rec.fresh_arrays);
     EXPECT_EQ(census.setups, 4);
@@ -84,11 +84,7 @@ TEST(FreshArrays, EachRepetitionAfterTheFirstOnANewSetUp) {
 }
 
 TEST(FreshArrays, OneSetUpByDefault) {
-    const Topology topo = Topology::load();
-    const KernelEntry entry = counting_entry();
-    const Point p{&entry, {}, "", 4096, 1};
-    census = {};
-    const Record rec = run_point(p, settings(topo, false), topo);
+    const Record rec = run_counting(false);
     EXPECT_TRUE(rec.verification.passed);
     EXPECT_FALSE(rec.fresh_arrays);
     EXPECT_EQ(census.setups, 1);
