@@ -181,7 +181,9 @@ Record run_point(const Point& point, const RunSettings& settings, const Topology
     rec.fresh_arrays = settings.fresh_arrays;
     for (int r = 0; r < rec.repetitions; ++r) {
         if (r > 0 && settings.fresh_arrays) {
-            kernel.reset();  // the old arrays go before the new ones come: one point's memory at a time
+            // The old arrays go before the new ones come: one point's memory at a time. The new ones
+            // follow the same policy; rec.pages stays the first set's.
+            kernel.reset();
             arena.reset();
             arena.emplace(policy);
             kernel = point.kernel->make(cfg);
