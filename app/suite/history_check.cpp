@@ -34,8 +34,9 @@ edge (at least 1 %). Outside the band but inside its widening is inconclusive, s
 and repetitions that would tell. A series with fewer than 5 runs in the window has no band and is
 gated by check's rule (at 25 % under auto); the output says which, and how many runs it needs. --base-commit SHA (a pull request's merge-base) pools that commit's runs
 instead of the latest of any branch, and keeps the window's runs for the spread. --confirm RUN2,
-a rerun of the same build: a change counts only where both runs show it (a machine's stray run
-is rarely stray twice at the same point; a change of the code is in both).
+a rerun of the same build: the two runs' mean is judged against the band for a mean of two, and a
+change counts only where both runs moved that way (a machine's stray run moves the mean by half
+and not the other run; a change of the code is in both, and their mean has less of the noise).
 
 Examples:
   ./suite history check run.json
@@ -105,7 +106,9 @@ int history_check(const std::vector<std::string>& args) {
     std::string commit, tolerance = "10%", alpha = "0.01", base_commit, markdown, confirm;
     unsigned window = 10;
     app.add_option("run", runs, "the result file of the run to gate");
-    app.add_option("--confirm", confirm, "a rerun of the same build: a change counts only where both runs show it");
+    app.add_option("--confirm", confirm,
+                   "a rerun of the same build: the two runs' mean is judged, and a change counts only where both "
+                   "runs show it");
     add_db_options(app, a);
     add_whole_option(app, "--window", window, 1, 1000,
                      "how many of the most recent runs of each series to pool (default 10)");
@@ -175,11 +178,9 @@ int history_check(const std::vector<std::string>& args) {
                          std::to_string(rule.min_runs - most_runs) + " more run(s), or give --tolerance=25%");
     // Same machine and build by construction; the one difference check_run could find is which
     // huge-page settings the points asked for, when only some of the run's points have history.
-    CheckReport rep = gate_with_bands(base, run, rule);
-    if (!confirm.empty())
-        confirm_findings(rep, gate_with_bands(window_baseline(series, rerun, id, h.find_run(run_content_hash(rerun)),
-                                                              window, label, base_commit),
-                                              rerun, rule));
+    // The rerun has the run's commit, so the window leaves it out as it leaves out the run.
+    CheckReport rep = gate_with_bands(base, run, rule, confirm.empty() ? nullptr : &rerun);
+    if (!confirm.empty()) note_confirmation(rep, rerun.path);
     rep.notes.insert(rep.notes.begin(), std::to_string(base.runs_pooled) + " run(s) of the history pooled");
     rep.notes.insert(rep.notes.end(), run.notes.begin(), run.notes.end());
     if (md.claimed()) {

@@ -38,7 +38,18 @@ double RunBand::widened(double se) const {
     const double typical = std::isfinite(typical_se) ? typical_se : 0;
     if (!usable() || !std::isfinite(se) || se <= typical) return half_width;
     const double m = static_cast<double>(std::max<std::size_t>(centre_runs, 1));
-    return quantile * std::sqrt(spread * spread * (1 + 1 / m) + se * se - typical * typical);
+    return quantile * std::sqrt(spread * spread * (run_share + 1 / m) + se * se - typical * typical);
+}
+
+RunBand RunBand::for_pair() const {
+    RunBand b = *this;
+    b.run_share = (1 + rerun_correlation) / 2;
+    if (!usable()) return b;
+    const double m = static_cast<double>(std::max<std::size_t>(centre_runs, 1));
+    b.half_width = quantile * spread * std::sqrt(b.run_share + 1 / m);
+    b.low = centre * std::exp(-b.half_width);
+    b.high = centre * std::exp(b.half_width);
+    return b;
 }
 
 double median_standard_error(double noise, std::size_t n) {
@@ -120,8 +131,8 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
         // repetitions that would tell, were they as spread as these (se^2 = pi/2 noise^2 / n).
         const double m = static_cast<double>(std::max<std::size_t>(band.centre_runs, 1));
         const double typical = std::isfinite(band.typical_se) ? band.typical_se : 0;
-        const double room =
-            std::pow(distance / band.quantile, 2) - band.spread * band.spread * (1 + 1 / m) + typical * typical;
+        const double room = std::pow(distance / band.quantile, 2) -
+                            band.spread * band.spread * (band.run_share + 1 / m) + typical * typical;
         const double reps = std::ceil(std::acos(-1.0) / 2 * noise * noise / room);
         const bool below = run.median < band.centre;
         f.verdict = Verdict::inconclusive;
@@ -132,6 +143,49 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     } else {
         f.verdict = worse_change > 0 ? Verdict::regressed : Verdict::improved;
     }
+    return f;
+}
+
+Finding judge_pair(const Measure& base, const Measure& run, const Measure& rerun, const RunBand& band,
+                   const HistoryRule& rule) {
+    if (!band.usable() || !(run.median > 0) || !(rerun.median > 0)) {
+        Finding f = judge_with_band(base, run, band, rule);
+        const Finding g = judge_with_band(base, rerun, band, rule);
+        if ((f.verdict == Verdict::regressed || f.verdict == Verdict::improved) && g.verdict != f.verdict) {
+            f.note = std::string(f.verdict == Verdict::regressed ? "regressed" : "improved") +
+                     " here but not in the rerun (" + (g.run >= g.baseline ? "+" : "") +
+                     format_significant((g.run / g.baseline - 1) * 100, 3) + "% there)";
+            f.verdict = Verdict::inconclusive;
+        }
+        return f;
+    }
+    // The pair's median, and both runs' repetitions each moved onto it: their spread is the runs'
+    // own noise, not the distance between the two, which the band's spread already carries.
+    Measure pair = run;
+    pair.median = std::sqrt(run.median * rerun.median);
+    pair.samples.clear();
+    for (const Measure* m : {&run, &rerun})
+        for (double x : m->samples) pair.samples.push_back(x * pair.median / m->median);
+    Finding f = judge_with_band(base, pair, band.for_pair(), rule);
+    if (f.verdict != Verdict::regressed && f.verdict != Verdict::improved) return f;
+    // Each run on its own must have moved the same way by more than the minimum effect.
+    const bool lower_better = base.direction == Direction::lower_is_better;
+    const double effect = rule.auto_tolerance ? rule.auto_floor : rule.gate.tolerance;
+    auto worse = [&](double median) {
+        const double change = median / band.centre - 1;
+        return lower_better ? change : -change;
+    };
+    const double w1 = worse(run.median), w2 = worse(rerun.median);
+    const bool agree = f.verdict == Verdict::regressed ? w1 > effect && w2 > effect : w1 < -effect && w2 < -effect;
+    if (agree) return f;
+    auto percent_change = [&](double median) {
+        const double c = (median / band.centre - 1) * 100;
+        return (c >= 0 ? "+" : "") + format_significant(c, 3) + "%";
+    };
+    f.note = "the mean of the run and its rerun left the band, but not both runs moved that way by more than " +
+             percent_text(effect) + " (run " + percent_change(run.median) + ", rerun " + percent_change(rerun.median) +
+             ")";
+    f.verdict = Verdict::inconclusive;
     return f;
 }
 

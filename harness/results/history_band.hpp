@@ -20,8 +20,8 @@
 // This VM's medians have heavy tails: about one run in four is 20 to 45 % off at some point, every
 // repetition of it agreeing, with nothing changed. No band of one run absorbs that and still sees
 // a 1.25x slowdown, so the spread is a robust one, and a stray run is told from a change by a
-// second run: with --confirm, a figure regresses only where a rerun of the same build regresses too
-// (docs/results-tools.md).
+// second run: with --confirm, the mean of the run and a rerun of the same build is judged, and a
+// figure regresses only where both runs moved that way (judge_pair; docs/results-tools.md).
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -40,7 +40,7 @@ struct HistoryRule {
     // under --tolerance=auto (the A/A reruns of docs/results-tools.md: no false alarm at 25 %).
     double fallback_tolerance = 0.25;
     std::size_t min_runs = 5;  // runs the band needs (the spread of 4 logarithms says little)
-    bool confirmed = false;    // --confirm: a rerun must show the change too
+    bool confirmed = false;    // --confirm: judged with a rerun (judge_pair)
 };
 
 // The two-sided chance a band leaves to one figure, for a run that gates `family` figures:
@@ -51,6 +51,14 @@ struct HistoryRule {
 // 2 of 13 and 2 of 11 left-out pairs against 0 of 13 and 1 of 11 at this one
 // (docs/results-tools.md). The rerun stays a second line of defence, not a licence.
 double band_alpha(double alpha, std::size_t family);
+
+// How the noise of a run and its rerun, taken seconds apart, is taken to correlate when their
+// mean is judged (judge_pair). The log medians of consecutive runs 2 to 4 s apart on this VM
+// correlated -0.45 to 0.45 (12 series of 37 runs, mean 0.13; docs/results-tools.md): 0.5 stands
+// above every one, so that the band for the pair is narrower than a run's by a factor of at most
+// sqrt((0.75 + 1/m) / (1 + 1/m)), 0.89 at m = 6 runs, where runs that shared a slow state fully
+// would need the run's own.
+inline constexpr double rerun_correlation = 0.5;
 
 struct RunBand {
     std::size_t runs = 0;          // medians the spread was estimated from
@@ -65,7 +73,12 @@ struct RunBand {
     // The typical standard error of a window run's median from its own repetitions (log units);
     // NAN: not known (no repetitions stored), taken as 0, so that a run is widened by all of its own.
     double typical_se = NAN;
+    // The variance of the judged median in units of one run's: 1 for a run, (1 + rho) / 2 for
+    // the mean of a run and its rerun whose noise correlates rho (for_pair).
+    double run_share = 1;
     bool usable() const { return std::isfinite(half_width); }
+    // The band for the mean of the log medians of a run and its rerun (rerun_correlation).
+    RunBand for_pair() const;
     // The half-width for a run whose median has standard error `se` (NAN: unknown): the band's,
     // widened by what `se` exceeds typical_se.
     double widened(double se) const;
@@ -99,6 +112,18 @@ std::string no_band_reason(const RunBand& band, std::size_t min_runs);
 // naming the median and the repetitions that would tell. Without a band, check's own judge at
 // --tolerance (at fallback_tolerance under auto), and the note says so.
 Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& band, const HistoryRule& rule);
+
+// --confirm: a run and its rerun judged together. With a band: the mean of their log medians (the
+// geometric mean; for the widening, their repetitions, each run's scaled onto it) against the band for a pair
+// (RunBand::for_pair), and a change counts only where each of the two runs moved that way by
+// more than the minimum effect; otherwise inconclusive, the note giving both changes. One stray
+// run, however far, moves the mean by half its distance and not the other run; a change of the
+// code moves both, and their mean has less of the runs' noise than either (a 1.5x slowdown at
+// 64 MiB, caught in 10 to 13 pairs of 36 when each run had to leave the band alone, was caught in
+// 24 and 25 this way, with no false alarm in 108 unchanged pairs: docs/results-tools.md).
+// Without a band: each run by judge_with_band, and the verdict stands only where both agree.
+Finding judge_pair(const Measure& base, const Measure& run, const Measure& rerun, const RunBand& band,
+                   const HistoryRule& rule);
 
 // "auto", or a tolerance as parse_tolerance reads it; sets rule.auto_tolerance or rule.gate.tolerance.
 void parse_history_tolerance(const std::string& text, HistoryRule& rule);

@@ -148,11 +148,14 @@ WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFi
     return out;
 }
 
-CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, const HistoryRule& rule) {
+CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, const HistoryRule& rule,
+                            const ResultFile* rerun) {
     CheckReport rep = check_run(base.file, run, rule.gate, true);
-    std::map<PointKey, const LoadedPoint*> in_base, in_run;
+    std::map<PointKey, const LoadedPoint*> in_base, in_run, in_rerun;
     for (const auto& p : base.file.points) in_base[matching_key(p.key)] = &p;
     for (const auto& p : run.points) in_run[matching_key(p.key)] = &p;
+    if (rerun)
+        for (const auto& p : rerun->points) in_rerun[matching_key(p.key)] = &p;
     auto measure_of = [](const LoadedPoint* p, const std::string& figure) -> const Measure* {
         for (const auto& m : p->measures)
             if (m.name + " " + m.unit == figure) return &m;
@@ -187,14 +190,21 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         RunBand band =
             fit_band(med->second.window, med->second.centre, alpha, rule.min_runs, &pooled[{f.key, f.figure}]);
         band.typical_se = typical_standard_error(med->second.se);
-        Finding g = judge_with_band(*bm, *rm, band, rule);
+        const auto rr = in_rerun.find(matching_key(f.key));
+        const Measure* rrm = rr == in_rerun.end() ? nullptr : measure_of(rr->second, f.figure);
+        Finding g = rrm ? judge_pair(*bm, *rm, *rrm, band, rule) : judge_with_band(*bm, *rm, band, rule);
+        if (rerun && !rrm && (g.verdict == Verdict::regressed || g.verdict == Verdict::improved)) {
+            g.verdict = Verdict::inconclusive;
+            g.note = "the rerun " + rerun->path + " lacks this figure: nothing confirms the change";
+        }
         g.key = f.key;
         g.host = f.host;
         without_band += !band.usable() && band.runs < rule.min_runs;
         // Without a band, check_run's verdict on an unstable point stands: inconclusive whatever
         // the change. With one, the band widened by the run's own repetitions has judged it.
         const bool timed = bm->name.rfind("callgrind", 0) != 0;
-        if (timed && !band.usable() && (b->second->unstable || r->second->unstable)) {
+        const bool rerun_unstable = rr != in_rerun.end() && rr->second->unstable;
+        if (timed && !band.usable() && (b->second->unstable || r->second->unstable || rerun_unstable)) {
             g.verdict = Verdict::inconclusive;
             g.note = f.note;
         }
@@ -208,8 +218,12 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval, "
         "the spread pooled with the machine's and widened by the run's own repetitions, at " +
         format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) +
-        (rule.confirmed ? ", confirmed by a rerun," : "") + " over " + std::to_string(family) +
-        " figures) and is beyond " + effect + "; without a band, when the repetitions tell it from the pool's at p < " +
+        (rerun ? "; with a rerun, the two runs' mean against the band for a mean of two (their noise taken to "
+                 "correlate " +
+                     format_significant(rerun_correlation, 2) + "), and each run moved that way"
+               : "") +
+        " over " + std::to_string(family) + " figures) and is beyond " + effect +
+        "; without a band, when the repetitions tell it from the pool's at p < " +
         format_significant(rule.gate.alpha, 3);
     if (without_band) {
         std::size_t fewest = SIZE_MAX;
@@ -225,23 +239,9 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
     return rep;
 }
 
-void confirm_findings(CheckReport& first, const CheckReport& second) {
-    std::map<std::pair<PointKey, std::string>, const Finding*> again;
-    for (const Finding& f : second.findings) again[{matching_key(f.key), f.figure}] = &f;
-    for (Finding& f : first.findings) {
-        if (f.verdict != Verdict::regressed && f.verdict != Verdict::improved) continue;
-        if (f.figure == "verification") continue;  // a failed verification needs no second opinion
-        const auto it = again.find({matching_key(f.key), f.figure});
-        if (it != again.end() && it->second->verdict == f.verdict) continue;
-        const std::string was = f.verdict == Verdict::regressed ? "regressed" : "improved";
-        f.verdict = Verdict::inconclusive;
-        f.note = was + " here but not in the confirming run " + second.run_path +
-                 (it == again.end()
-                      ? " (which lacks this figure)"
-                      : " (" + std::string(it->second->run / it->second->baseline >= 1 ? "+" : "") +
-                            format_significant((it->second->run / it->second->baseline - 1) * 100, 3) + "% there)");
-    }
-    first.notes.push_back("confirmed by " + second.run_path + ": a change counts only where both runs show it");
+void note_confirmation(CheckReport& rep, const std::string& rerun_path) {
+    rep.notes.push_back("confirmed by " + rerun_path +
+                        ": judged on the mean of the two runs, and a change counts only where both runs show it");
 }
 
 }  // namespace suite

@@ -54,12 +54,12 @@ bool same_commit(const std::string& stored, const std::string& given);
 // band (judge_with_band): one band a point and figure, each at alpha · 2 / (figures with a band)
 // (Bonferroni over the run's figures). rule_text says how; the notes name the figures gated
 // without a band.
-CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, const HistoryRule& rule);
+// `rerun` (--confirm): a rerun of the same build; each figure is then judged on both runs
+// together (judge_pair).
+CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, const HistoryRule& rule,
+                            const ResultFile* rerun = nullptr);
 
-// --confirm: `first` keeps a regression (or improvement) only where `second`, a rerun of the same
-// build gated against the same history, has the same verdict on the same figure; elsewhere the
-// figure is inconclusive, its note naming the rerun's change. This VM's stray runs are rarely
-// stray twice at one point, while a change of the code is in both runs.
-void confirm_findings(CheckReport& first, const CheckReport& second);
+// --confirm's note on the report: which rerun, and how the two were judged.
+void note_confirmation(CheckReport& rep, const std::string& rerun_path);
 
 }  // namespace suite

@@ -162,12 +162,11 @@ NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window,
             HistoryRule r = rule;
             if (!use_band) r.auto_tolerance = false;
             const RunBand band = use_band ? pooled : RunBand{};
-            auto verdict_of = [&](const SeriesEntry& x) {
-                const Measure run = entry_measure(x, s);
-                return judge_with_band(pool_entries(w, run), run, band, r).verdict;
-            };
-            Verdict v = verdict_of(e);
-            if (confirm && v != verdict_of(s.entries[j])) v = Verdict::inconclusive;
+            // Confirmed: the entry and the next judged together, as history check --confirm does.
+            const Measure run = entry_measure(e, s);
+            const Verdict v =
+                confirm ? judge_pair(pool_entries(w, run), run, entry_measure(s.entries[j], s), band, r).verdict
+                        : judge_with_band(pool_entries(w, run), run, band, r).verdict;
             ++n.tried;
             out.runs_tried.insert(e.run_id);
             if (v == Verdict::regressed) {

@@ -137,6 +137,44 @@ TEST(HistoryBand, AChangeInsideTheBandIsUnchangedWhateverTheRepetitionsSay) {
     EXPECT_EQ(judge_with_band(base, spread, band, rule).verdict, Verdict::inconclusive);
 }
 
+TEST(HistoryBand, ARunAndItsRerunAreJudgedOnTheirMean) {
+    RunBand band = fit_band({100, 97, 103, 99, 101, 96, 104}, {}, 0.01, 5);
+    band.typical_se = 0.005;
+    ASSERT_TRUE(band.usable());
+    // For the mean of two runs whose noise correlates 0.5: sqrt(0.75 + 1/7) against sqrt(1 + 1/7).
+    const RunBand pair = band.for_pair();
+    EXPECT_DOUBLE_EQ(pair.run_share, (1 + rerun_correlation) / 2);
+    EXPECT_NEAR(pair.half_width / band.half_width, std::sqrt((0.75 + 1.0 / 7) / (1 + 1.0 / 7)), 1e-12);
+    EXPECT_NEAR(pair.low * pair.high, band.centre * band.centre, 1e-9);
+    const Measure base = rate(100, {99, 100, 101, 100, 99, 101});
+    HistoryRule rule;
+    rule.auto_tolerance = true;
+    // Both runs just inside a run's band, outside the pair's: each alone is unchanged, the two regress.
+    const double d = (band.half_width + pair.half_width) / 2;
+    const double slow = 100 * std::exp(-d);
+    const Measure run = rate(slow, {slow, slow * 1.001, slow * 0.999, slow, slow}),
+                  rerun = rate(slow * 1.002, {slow, slow * 1.003, slow * 1.002, slow * 1.001, slow * 1.002});
+    ASSERT_EQ(judge_with_band(base, run, band, rule).verdict, Verdict::unchanged);
+    ASSERT_EQ(judge_with_band(base, rerun, band, rule).verdict, Verdict::unchanged);
+    const Finding both = judge_pair(base, run, rerun, band, rule);
+    EXPECT_EQ(both.verdict, Verdict::regressed) << both.note;
+    EXPECT_NEAR(both.run, std::sqrt(run.median * rerun.median), 1e-9) << "the run column shows the pair's mean";
+    // One stray run, however far, with a rerun that did not move: inconclusive, both changes named.
+    const Measure stray = rate(40, {40, 40.1, 39.9, 40, 40}), steady = rate(101, {101, 100.9, 101.1, 101, 101});
+    ASSERT_EQ(judge_with_band(base, stray, band, rule).verdict, Verdict::regressed);
+    const Finding one = judge_pair(base, stray, steady, band, rule);
+    EXPECT_NE(one.verdict, Verdict::regressed);
+    // The mean of 40 and 101 is 64, outside the band: it is the rerun that says no.
+    EXPECT_EQ(one.verdict, Verdict::inconclusive);
+    EXPECT_NE(one.note.find("run -60%, rerun +1%"), std::string::npos) << one.note;
+    // Without a band, each run by check's rule, and the verdict only where both agree.
+    const Measure far = rate(50, {50, 50.1, 49.9, 50.2, 49.8});
+    EXPECT_EQ(judge_pair(base, far, far, RunBand{}, rule).verdict, Verdict::regressed);
+    const Finding no_band = judge_pair(base, far, steady, RunBand{}, rule);
+    EXPECT_EQ(no_band.verdict, Verdict::inconclusive);
+    EXPECT_NE(no_band.note.find("regressed here but not in the rerun"), std::string::npos) << no_band.note;
+}
+
 TEST(HistoryBand, AutoToleranceFollowsEachSeriesSpreadWithAFloor) {
     HistoryRule rule;
     parse_history_tolerance("auto", rule);
