@@ -20,6 +20,12 @@ std::string percent_text(double x) {
     return buf;
 }
 
+// "+12.5%" or "-3%": a ratio's change, signed.
+std::string signed_change(double ratio) {
+    const double c = (ratio - 1) * 100;
+    return (c >= 0 ? "+" : "") + format_significant(c, 3) + "%";
+}
+
 std::vector<double> logs_of(const std::vector<double>& v, bool& all_positive) {
     std::vector<double> out;
     all_positive = true;
@@ -37,16 +43,19 @@ std::vector<double> logs_of(const std::vector<double>& v, bool& all_positive) {
 double RunBand::widened(double se) const {
     const double typical = std::isfinite(typical_se) ? typical_se : 0;
     if (!usable() || !std::isfinite(se) || se <= typical) return half_width;
+    return quantile * std::sqrt(runs_variance() + se * se - typical * typical);
+}
+
+double RunBand::runs_variance() const {
     const double m = static_cast<double>(std::max<std::size_t>(centre_runs, 1));
-    return quantile * std::sqrt(spread * spread * (run_share + 1 / m) + se * se - typical * typical);
+    return spread * spread * (run_share + 1 / m);
 }
 
 RunBand RunBand::for_pair() const {
     RunBand b = *this;
     b.run_share = (1 + rerun_correlation) / 2;
     if (!usable()) return b;
-    const double m = static_cast<double>(std::max<std::size_t>(centre_runs, 1));
-    b.half_width = quantile * spread * std::sqrt(b.run_share + 1 / m);
+    b.half_width = quantile * std::sqrt(b.runs_variance());
     b.low = centre * std::exp(-b.half_width);
     b.high = centre * std::exp(b.half_width);
     return b;
@@ -76,7 +85,7 @@ RunBand fit_band(const std::vector<double>& window, const std::vector<double>& c
     }
     const boost::math::students_t t(std::max(0.5, b.df));
     b.quantile = boost::math::quantile(boost::math::complement(t, alpha / 2));
-    b.half_width = b.quantile * b.spread * std::sqrt(1 + 1 / static_cast<double>(lc.size()));
+    b.half_width = b.quantile * std::sqrt(b.runs_variance());  // centre_runs = lc.size() here
     b.low = b.centre * std::exp(-b.half_width);
     b.high = b.centre * std::exp(b.half_width);
     return b;
@@ -129,10 +138,8 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     } else if (distance <= half) {
         // Outside the runs' band, inside what this run's own repetitions leave open: the
         // repetitions that would tell, were they as spread as these (se^2 = pi/2 noise^2 / n).
-        const double m = static_cast<double>(std::max<std::size_t>(band.centre_runs, 1));
         const double typical = std::isfinite(band.typical_se) ? band.typical_se : 0;
-        const double room = std::pow(distance / band.quantile, 2) -
-                            band.spread * band.spread * (band.run_share + 1 / m) + typical * typical;
+        const double room = std::pow(distance / band.quantile, 2) - band.runs_variance() + typical * typical;
         const double reps = std::ceil(std::acos(-1.0) / 2 * noise * noise / room);
         const bool below = run.median < band.centre;
         f.verdict = Verdict::inconclusive;
@@ -153,8 +160,7 @@ Finding judge_pair(const Measure& base, const Measure& run, const Measure& rerun
         const Finding g = judge_with_band(base, rerun, band, rule);
         if ((f.verdict == Verdict::regressed || f.verdict == Verdict::improved) && g.verdict != f.verdict) {
             f.note = std::string(f.verdict == Verdict::regressed ? "regressed" : "improved") +
-                     " here but not in the rerun (" + (g.run >= g.baseline ? "+" : "") +
-                     format_significant((g.run / g.baseline - 1) * 100, 3) + "% there)";
+                     " here but not in the rerun (" + signed_change(g.run / g.baseline) + " there)";
             f.verdict = Verdict::inconclusive;
         }
         return f;
@@ -178,13 +184,9 @@ Finding judge_pair(const Measure& base, const Measure& run, const Measure& rerun
     const double w1 = worse(run.median), w2 = worse(rerun.median);
     const bool agree = f.verdict == Verdict::regressed ? w1 > effect && w2 > effect : w1 < -effect && w2 < -effect;
     if (agree) return f;
-    auto percent_change = [&](double median) {
-        const double c = (median / band.centre - 1) * 100;
-        return (c >= 0 ? "+" : "") + format_significant(c, 3) + "%";
-    };
     f.note = "the mean of the run and its rerun left the band, but not both runs moved that way by more than " +
-             percent_text(effect) + " (run " + percent_change(run.median) + ", rerun " + percent_change(rerun.median) +
-             ")";
+             percent_text(effect) + " (run " + signed_change(run.median / band.centre) + ", rerun " +
+             signed_change(rerun.median / band.centre) + ")";
     f.verdict = Verdict::inconclusive;
     return f;
 }

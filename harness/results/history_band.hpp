@@ -79,6 +79,9 @@ struct RunBand {
     bool usable() const { return std::isfinite(half_width); }
     // The band for the mean of the log medians of a run and its rerun (rerun_correlation).
     RunBand for_pair() const;
+    // The variance, in log units squared, of the judged median's distance from the centre that
+    // the runs' spread accounts for: spread^2 (run_share + 1/m), m the centre's runs.
+    double runs_variance() const;
     // The half-width for a run whose median has standard error `se` (NAN: unknown): the band's,
     // widened by what `se` exceeds typical_se.
     double widened(double se) const;
