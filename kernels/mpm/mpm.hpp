@@ -299,9 +299,10 @@ void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vecto
 // Setup::sort_every of --sort-every=auto.
 inline constexpr int sort_auto = -1;
 // --sort-every=auto's threshold (OrderTracker), from the cost model of docs/mpm.md ("When to
-// reorder"): a sort costs as much as about this much decay, measured once. Each particle order's
-// own default is in its choice (ParticleOrder::sort_threshold; both 8 today, docs/mpm.md).
-inline constexpr double default_sort_threshold = 8;
+// reorder"): a sort costs as much as about this much decay, measured. Each particle order's own
+// default is in its choice (ParticleOrder::sort_threshold: 1 for sorted, 3 for dynamic); this is
+// a bare Setup's, sorted's.
+inline constexpr double default_sort_threshold = 1;
 
 // A simulation as the kernels and `suite mpm` set it up: which grid, in which order, how the
 // particles are kept in order. build() loads the mesh, orders it once (the static reordering),

@@ -76,7 +76,7 @@ TEST(MpmAutoCli, MpmStepUnderAutoRunsAFixedRepetitionAndRecordsItsReorderings) {
     EXPECT_TRUE(rec["verification"]["passed"].get<bool>()) << detail;
     EXPECT_NE(detail.find("reorder"), std::string::npos) << detail;
     const nlohmann::json& f = rec["facts"];
-    EXPECT_EQ(f["sort-threshold"]["value"], 8) << "dynamic's default (docs/mpm.md)";
+    EXPECT_EQ(f["sort-threshold"]["value"], 3) << "dynamic's default (docs/mpm.md)";
     EXPECT_EQ(f["reorderings"]["value"], f["reorderings-decayed"]["value"]) << "auto reorders only on decay";
     // A fixed K stays a number; a name that is neither is refused in one line.
     const Outcome k = run_suite({"--kernel=mpm-step", "--mesh=box:6,6,6", "--particles=sorted", "--sort-every=7",
