@@ -109,6 +109,18 @@ mpm::Setup setup_of(const Options& o, const CLI::App& given) {
                              ": the decay a reordering costs, a number > 0 and at most 1e9 (default " +
                              format_number(order.sort_threshold) + " for --particles=" + o.particles + ")");
     }
+    if (!o.renumber_share.empty()) {
+        if (!order.renumbers || o.sort_every != mpm::sort_auto)
+            throw UsageError("--renumber-share=" + o.renumber_share +
+                             ": it applies to --sort-every=auto (the default) with --particles=dynamic, not " +
+                             (order.renumbers ? mpm::sort_every_text(o.sort_every) : "--particles=" + o.particles));
+        s.renumber_share = parse_finite(o.renumber_share, "--renumber-share");
+        if (!(s.renumber_share >= 0 && s.renumber_share <= 1))
+            throw UsageError("--renumber-share=" + o.renumber_share +
+                             ": the share of the particles outside the last renumbering's elements, a number from 0 "
+                             "to 1 (default " +
+                             format_number(mpm::default_renumber_share) + ")");
+    }
     if (o.warm_steps > 0 && o.warm_steps >= o.steps)
         throw UsageError("--warm-steps=" + std::to_string(o.warm_steps) +
                          ": the rate is measured over the steps after the warm ones, and --steps=" +

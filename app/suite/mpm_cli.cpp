@@ -91,6 +91,11 @@ void add_mpm_options(CLI::App& app, Options& o) {
                                                           : format_number(sorted_default) + " for sorted, " +
                                                                 format_number(dynamic_default) + " for dynamic") +
                        ")");
+    app.add_option("--renumber-share", o.renumber_share,
+                   "dynamic under --sort-every=auto: a reordering renumbers the grid too when at least this share of "
+                   "the particles lie outside the elements that held particles at the last renumbering, else it "
+                   "sorts them alone; 0 to 1, 0: every time (default " +
+                       format_number(mpm::default_renumber_share) + ")");
     app.add_option("--strategy", o.strategy,
                    "how threads share the scatters to nodes: " + mpm::strategies().accepted() +
                        " (default serial for 1 thread, partition for more)");

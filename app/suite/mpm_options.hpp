@@ -17,6 +17,7 @@ struct Options {
     std::string particles = "seeded";
     int sort_every = mpm::sort_auto;  // --sort-every: auto or K
     std::string sort_threshold;       // "": mpm::default_sort_threshold
+    std::string renumber_share;       // "": mpm::default_renumber_share
     std::string strategy;             // "": serial for 1 thread, partition for more
     int threads = 1;
     int ppe = 4;

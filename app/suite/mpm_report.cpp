@@ -35,6 +35,8 @@ nlohmann::json reorderings_json(const ReportInput& in) {
     if (!particle_sorts(in.setup)) return nullptr;
     nlohmann::json list = nlohmann::json::array();
     std::uint64_t decayed = 0, every = 0;
+    const bool automatic = in.setup.sort_every == mpm::sort_auto;
+    const bool renumbers = mpm::particle_orders().at(in.setup.particles).what.renumbers;
     for (const mpm::Reordering& r : t.log) {
         decayed += r.cause == mpm::ReorderCause::decayed ? 1 : 0;
         every += r.cause == mpm::ReorderCause::every ? 1 : 0;
@@ -42,20 +44,27 @@ nlohmann::json reorderings_json(const ReportInput& in) {
                         {"cause", mpm::reorder_cause_name(r.cause)},
                         {"decay", r.decay},
                         {"same_element_before", r.same_before},
-                        {"same_element_after", r.same_after}});
+                        {"same_element_after", r.same_after},
+                        {"outside", renumbers ? nlohmann::json(r.outside) : nlohmann::json(nullptr)},
+                        {"renumbered", r.renumbered}});
     }
-    const bool automatic = in.setup.sort_every == mpm::sort_auto;
-    return {{"schedule", automatic ? "auto" : "every " + std::to_string(in.setup.sort_every) + " steps"},
-            {"threshold", automatic ? nlohmann::json(in.setup.sort_threshold) : nlohmann::json(nullptr)},
-            {"count", t.count},
-            {"decayed", decayed},
-            {"every", every},
-            {"listed", t.log.size()},
-            {"list", list},
-            {"detail",
-             "after step `step`: start (the first), every (K steps since the last), decayed (auto: `decay`, the sum "
-             "over the steps since the last of how far same_element fell below its value after that one, reached "
-             "the threshold); same_element before and after the reordering"}};
+    return {
+        {"schedule", automatic ? "auto" : "every " + std::to_string(in.setup.sort_every) + " steps"},
+        {"threshold", automatic ? nlohmann::json(in.setup.sort_threshold) : nlohmann::json(nullptr)},
+        {"renumber_share", automatic && renumbers ? nlohmann::json(in.setup.renumber_share) : nlohmann::json(nullptr)},
+        {"count", t.count},
+        {"renumbered", renumbers ? nlohmann::json(t.renumberings) : nlohmann::json(nullptr)},
+        {"decayed", decayed},
+        {"every", every},
+        {"listed", t.log.size()},
+        {"list", list},
+        {"detail",
+         "after step `step`: start (the first), every (K steps since the last), decayed (auto: `decay`, the sum "
+         "over the steps since the last of how far same_element fell below its value after that one, reached "
+         "the threshold); same_element before and after the reordering; dynamic: outside (the share of the particles "
+         "in "
+         "elements that held none at the last renumbering, before this one) and whether the grid was renumbered "
+         "(always at start and every; under auto where outside reached renumber_share)"}};
 }
 
 const char* const no_step = "no step was taken (--steps=0, or the run stopped before its first step)";
@@ -279,7 +288,10 @@ std::string summary_text(const ReportInput& in) {
              std::to_string(st.order.count) + " (the start's included), " +
                  (in.setup.sort_every == mpm::sort_auto
                       ? "when the order had decayed past " + format_number(in.setup.sort_threshold) + " (auto)"
-                      : mpm::sort_every_text(in.setup.sort_every)));
+                      : mpm::sort_every_text(in.setup.sort_every)) +
+                 (mpm::particle_orders().at(in.setup.particles).what.renumbers
+                      ? "; the grid renumbered at " + std::to_string(st.order.renumberings) + " of them"
+                      : std::string()));
     line("clamped", std::to_string(st.clamped) + " particle position(s) pulled back onto a wall, in all");
     for (const auto& c : r.checks)
         line(c.name == "finite and inside the box" ? "NaN check" : c.name,
@@ -296,6 +308,9 @@ nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
             {"sort_every", s.sort_every == mpm::sort_auto ? nlohmann::json("auto") : nlohmann::json(s.sort_every)},
             {"sort_threshold", s.sort_every == mpm::sort_auto && particle_sorts(s) ? nlohmann::json(s.sort_threshold)
                                                                                    : nlohmann::json(nullptr)},
+            {"renumber_share", s.sort_every == mpm::sort_auto && mpm::particle_orders().at(s.particles).what.renumbers
+                                   ? nlohmann::json(s.renumber_share)
+                                   : nlohmann::json(nullptr)},
             {"strategy", mpm::strategy_name(s.strategy)},
             {"threads", s.threads},
             {"ppe", m.per_element},

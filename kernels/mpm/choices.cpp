@@ -73,12 +73,10 @@ const ChoiceTable<ParticleOrder>& particle_orders() {
           "sorted by element at the start and again as --sort-every says (default auto: when the order has "
           "decayed)",
           {.sorts = true}},  // the threshold default_sort_threshold (mpm.hpp)
-         // Three times sorted's, though a renumbering with its sort costs about four sorts: its
-         // order also decays where the share does not see it (particles that drift out of the
-         // renumbered elements land in far memory). Both measured (docs/mpm.md, "When to reorder").
          {"dynamic",
-          "sorted, and the grid renumbered active elements first, at the same steps",
-          {.sorts = true, .renumbers = true, .sort_threshold = 3}}},
+          "sorted as sorted is, and the grid renumbered active elements first at the start and when the particles "
+          "have left its active elements",
+          {.sorts = true, .renumbers = true}}},
         {{"unsorted", "shuffled"}}};
     return table;
 }

@@ -137,12 +137,20 @@ int sort_every_of(const KernelConfig& cfg) {
 
 std::vector<Fact> reordering_facts(const State& st, const Setup& s, std::uint64_t since) {
     const OrderTracker& t = st.order;
-    std::uint64_t decayed = 0;
-    for (std::size_t i = since; i < t.log.size(); ++i) decayed += t.log[i].cause == ReorderCause::decayed ? 1 : 0;
+    std::uint64_t decayed = 0, renumbered = 0;
+    for (std::size_t i = since; i < t.log.size(); ++i) {
+        decayed += t.log[i].cause == ReorderCause::decayed ? 1 : 0;
+        renumbered += t.log[i].renumbered ? 1 : 0;
+    }
     std::vector<Fact> f{{"reorderings", static_cast<double>(t.count - since), "reorderings in the timed steps"}};
+    const bool renumbers = particle_orders().at(s.particles).what.renumbers;
+    if (renumbers)
+        f.push_back({"renumberings", static_cast<double>(renumbered), "of those that renumbered the grid too"});
     if (s.sort_every == sort_auto) {
         f.push_back({"reorderings-decayed", static_cast<double>(decayed), "reorderings the decay called for"});
         f.push_back({"sort-threshold", s.sort_threshold, "same-element share x steps"});
+        if (renumbers)
+            f.push_back({"renumber-share", s.renumber_share, "share of the particles outside the renumbered elements"});
     }
     return f;
 }

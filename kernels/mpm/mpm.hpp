@@ -288,8 +288,9 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order);
 
 // Renumbers the grid so that the elements holding particles come first, in curve order, then
 // the others in their current order; nodes by first touch of that element order. Particles keep
-// their positions; their elem is remapped. Rebuilds the scatter plan.
-void renumber_active(State& st);
+// their positions; their elem is remapped. Rebuilds the scatter plan. Returns how many elements
+// hold particles (the prefix they now fill).
+std::uint32_t renumber_active(State& st);
 
 // The grid with elements in order perm (element i of the result = element perm[i]) and node v
 // renumbered new_id[v]; particle elements remapped through the inverse. The nodes are not
@@ -300,9 +301,14 @@ void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vecto
 inline constexpr int sort_auto = -1;
 // --sort-every=auto's threshold (OrderTracker), from the cost model of docs/mpm.md ("When to
 // reorder"): a sort costs as much as about this much decay, measured. Each particle order's own
-// default is in its choice (ParticleOrder::sort_threshold: 1 for sorted, 3 for dynamic); this is
-// a bare Setup's, sorted's.
+// default is in its choice (ParticleOrder::sort_threshold); this is a bare Setup's, and both
+// sorted's and dynamic's.
 inline constexpr double default_sort_threshold = 1;
+// dynamic under --sort-every=auto: a reordering the decay calls for renumbers the grid as well
+// only when at least this share of the particles lie outside the elements that held particles at
+// the last renumbering (OrderTracker::prefix); else it sorts them alone. Measured (docs/mpm.md,
+// "When to reorder"); 0 renumbers at every reordering.
+inline constexpr double default_renumber_share = 0.05;
 
 // A simulation as the kernels and `suite mpm` set it up: which grid, in which order, how the
 // particles are kept in order. build() loads the mesh, orders it once (the static reordering),
@@ -315,12 +321,15 @@ struct Setup {
     //           reordered: what a real code that seeds and never sorts has;
     // shuffled: shuffled once and never reordered (the worst case: a restart file's order);
     // sorted:   sorted by element, in the grid's order, at the start and as sort_every says;
-    // dynamic:  sorted as above, and the grid renumbered (renumber_active) at the same steps.
+    // dynamic:  sorted as above, and the grid renumbered (renumber_active) at the start, at every
+    //           K steps, and under auto where renumber_share of the particles have left the
+    //           elements of the last renumbering.
     std::string particles = "seeded";
     // Steps between reorderings; 0: at the start only; sort_auto (--sort-every=auto): whenever the
     // order has decayed past sort_threshold (OrderTracker).
     int sort_every = sort_auto;
     double sort_threshold = default_sort_threshold;
+    double renumber_share = default_renumber_share;
     Settings settings;
     Strategy strategy = Strategy::serial;
     int threads = 1;
@@ -345,8 +354,10 @@ State build(const Setup& s, Arena* arena = nullptr);
 // One step, then the reordering due after it: every sort_every steps, or under sort_auto when the
 // decay accumulated since the last one (OrderTracker) has reached sort_threshold.
 void advance(State& st, const Setup& s);
-// Sorts the particles (dynamic: after renumbering the grid), as a reordering of this setup's
-// particle order, and restarts the tracker's decay from the order it leaves; logged with `cause`.
+// Sorts the particles (dynamic: after renumbering the grid, unless the decay called for it and
+// fewer than renumber_share of the particles are outside the last renumbering's elements), as a
+// reordering of this setup's particle order, and restarts the tracker's decay from the order it
+// leaves; logged with `cause`.
 void reorder(State& st, const Setup& s, ReorderCause cause);
 // "--sort-every=auto" or "--sort-every=K" (the value as a setup holds it).
 std::string sort_every_text(int sort_every);

@@ -28,6 +28,10 @@ struct Reordering {
     double decay = 0;        // the decay accumulated since the one before (OrderTracker::decay)
     double same_before = 0;  // same_element before it, and after it
     double same_after = 0;
+    // dynamic: the share of particles in elements that held none at the last renumbering (numbered
+    // from OrderTracker::prefix on) before it, and whether the grid was renumbered this time
+    double outside = 0;
+    bool renumbered = false;
 };
 
 // How far the order has decayed since the last reordering, in what --sort-every=auto reads: the
@@ -45,6 +49,10 @@ struct OrderTracker {
     static constexpr std::size_t log_limit = 100000;
     ReorderCause last_cause = ReorderCause::none;
     std::uint64_t last_step = 0;
+    // dynamic particles: the elements numbered below prefix held particles at the last renumbering
+    // (renumber_active puts them first); renumberings counts those since the state was built
+    std::uint32_t prefix = 0;
+    std::uint64_t renumberings = 0;
 };
 
 }  // namespace suite::mpm

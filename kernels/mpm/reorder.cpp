@@ -127,7 +127,7 @@ void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vecto
     locate(st);
 }
 
-void renumber_active(State& st) {
+std::uint32_t renumber_active(State& st) {
     const Grid& g = st.grid;
     const std::size_t ne = g.elements(), nv = g.nodes();
     std::vector<char> active(ne, 0);
@@ -137,6 +137,7 @@ void renumber_active(State& st) {
     for (std::size_t e = 0; e < ne; ++e)
         if (active[e]) perm.push_back(static_cast<std::uint32_t>(e));
     std::sort(perm.begin(), perm.end(), [&](std::uint32_t a, std::uint32_t b) { return g.curve[a] < g.curve[b]; });
+    const auto held = static_cast<std::uint32_t>(perm.size());
     for (std::size_t e = 0; e < ne; ++e)
         if (!active[e]) perm.push_back(static_cast<std::uint32_t>(e));
     // Nodes by first touch along the new element order.
@@ -151,6 +152,7 @@ void renumber_active(State& st) {
     for (auto& id : new_id)
         if (id == none) id = next++;
     permute(st, perm, new_id);
+    return held;
 }
 
 }  // namespace suite::mpm

@@ -66,6 +66,9 @@ State build(const Setup& s, Arena* arena) {
     if (s.sort_every == sort_auto && !(s.sort_threshold > 0 && s.sort_threshold <= 1e9))
         throw UsageError("--sort-threshold=" + format_number(s.sort_threshold) +
                          ": the decay a reordering costs, a number in (0, 1e9]");
+    if (!(s.renumber_share >= 0 && s.renumber_share <= 1))
+        throw UsageError("--renumber-share=" + format_number(s.renumber_share) +
+                         ": the share of the particles outside the last renumbering's elements, a number in [0, 1]");
     const mesh::MeshSpec spec = mesh::parse_mesh_spec(s.mesh);
     const mesh::MeshCounts counts = mesh::mesh_counts(spec);
     if (counts.dim != 3)
@@ -110,10 +113,22 @@ const char* reorder_cause_name(ReorderCause c) {
 void reorder(State& st, const Setup& s, ReorderCause cause) {
     OrderTracker& t = st.order;
     const double before = same_element_share(st.particles);
-    if (particle_orders().at(s.particles).what.renumbers) renumber_active(st);
+    const bool renumbers = particle_orders().at(s.particles).what.renumbers;
+    double outside = 0;
+    if (renumbers) {
+        std::uint64_t out = 0;
+        for (std::uint32_t e : st.particles.elem) out += e >= t.prefix ? 1 : 0;
+        outside = st.particles.size() ? static_cast<double>(out) / static_cast<double>(st.particles.size()) : 0;
+    }
+    const bool renumber = renumbers && (cause != ReorderCause::decayed || outside >= s.renumber_share);
+    if (renumber) {
+        t.prefix = renumber_active(st);
+        ++t.renumberings;
+    }
     sort_particles(st);
     const double after = same_element_share(st.particles);
-    if (t.log.size() < OrderTracker::log_limit) t.log.push_back({st.steps, cause, t.decay, before, after});
+    if (t.log.size() < OrderTracker::log_limit)
+        t.log.push_back({st.steps, cause, t.decay, before, after, outside, renumber});
     ++t.count;
     t.last_cause = cause;
     t.last_step = st.steps;

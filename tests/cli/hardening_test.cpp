@@ -189,6 +189,12 @@ TEST(ValuesUsedSilently, OptionsTheRunWouldNotUseAndUnusableMaterialsAreRefusedA
                    {"--sort-threshold=2", "not --particles=seeded"});
     expect_refused(run_suite({"mpm", "--particles=dynamic", "--sort-threshold=0", "--dry-run"}),
                    {"--sort-threshold=0", "> 0"});
+    expect_refused(run_suite({"mpm", "--particles=sorted", "--renumber-share=0.1", "--dry-run"}),
+                   {"--renumber-share=0.1", "applies to --sort-every=auto", "not --particles=sorted"});
+    expect_refused(run_suite({"mpm", "--particles=dynamic", "--sort-every=5", "--renumber-share=0.1", "--dry-run"}),
+                   {"--renumber-share=0.1", "with --particles=dynamic, not --sort-every=5"});
+    expect_refused(run_suite({"mpm", "--particles=dynamic", "--renumber-share=1.5", "--dry-run"}),
+                   {"--renumber-share=1.5", "a number from 0 to 1 (default 0.05)"});
     expect_refused(run_suite({"mpm", "--case=dam-break", "--column=0.3,1,0.6", "--dry-run"}),
                    {"--column does not apply to --case=dam-break"});
     expect_refused(run_suite({"mpm", "--case=dam-collapse", "--viscosity=0.1", "--dry-run"}),
@@ -214,6 +220,7 @@ TEST(ValuesUsedSilently, OptionsTheRunWouldNotUseAndUnusableMaterialsAreRefusedA
     EXPECT_EQ(run_suite({"mpm", "--particles=sorted", "--sort-every=3", "--dry-run"}).status, 0);
     EXPECT_EQ(run_suite({"mpm", "--particles=dynamic", "--sort-every=auto", "--sort-threshold=2", "--dry-run"}).status,
               0);
+    EXPECT_EQ(run_suite({"mpm", "--particles=dynamic", "--renumber-share=0", "--dry-run"}).status, 0);
     EXPECT_EQ(run_suite({"mpm", "--dt=1e-4", "--dry-run"}).status, 0);
 }
 

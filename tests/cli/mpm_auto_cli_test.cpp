@@ -46,14 +46,23 @@ TEST(MpmAutoCli, MpmJsonAndFrontCsvSayWhenEachReorderingHappenedAndWhy) {
     std::size_t marked = 0;
     for (std::size_t at = csv.find(",decayed,"); at != std::string::npos; at = csv.find(",decayed,", at + 1)) ++marked;
     EXPECT_EQ(marked, r["decayed"].get<std::size_t>());
-    for (const auto& e : r["list"])
+    EXPECT_EQ(r["renumber_share"], 0.05) << "dynamic's default";
+    EXPECT_TRUE(r["list"][0]["renumbered"].get<bool>()) << "the start renumbers the grid";
+    std::size_t renumbered = 0;
+    for (const auto& e : r["list"]) {
+        renumbered += e["renumbered"].get<bool>() ? 1 : 0;
         if (e["cause"] == "decayed") {
             EXPECT_GE(e["decay"].get<double>(), 0.05) << e;
+            EXPECT_EQ(e["renumbered"].get<bool>(), e["outside"].get<double>() >= 0.05) << e;
         }
+    }
+    EXPECT_EQ(r["renumbered"].get<std::size_t>(), renumbered);
     const nlohmann::json every = read_json(c + "/mpm.json")["reorderings"];
     EXPECT_EQ(every["schedule"], "every 5 steps");
     EXPECT_EQ(every["every"], 8) << "40 steps, every 5";
     EXPECT_TRUE(every["threshold"].is_null());
+    EXPECT_TRUE(every["renumber_share"].is_null()) << "a fixed K renumbers at every reordering";
+    EXPECT_EQ(every["renumbered"], every["count"]);
     EXPECT_TRUE(read_json(a + "/mpm.json")["reorderings"].is_null()) << "seeded particles never reorder";
     // The reorderings change the order, not the physics: the particles end where the seeded run's do.
     for (const auto& other : {c, d}) {
@@ -76,7 +85,9 @@ TEST(MpmAutoCli, MpmStepUnderAutoRunsAFixedRepetitionAndRecordsItsReorderings) {
     EXPECT_TRUE(rec["verification"]["passed"].get<bool>()) << detail;
     EXPECT_NE(detail.find("reorder"), std::string::npos) << detail;
     const nlohmann::json& f = rec["facts"];
-    EXPECT_EQ(f["sort-threshold"]["value"], 3) << "dynamic's default (docs/mpm.md)";
+    EXPECT_EQ(f["sort-threshold"]["value"], 1) << "dynamic's default (docs/mpm.md)";
+    EXPECT_EQ(f["renumber-share"]["value"], 0.05) << "dynamic's default (docs/mpm.md)";
+    EXPECT_LE(f["renumberings"]["value"].get<double>(), f["reorderings"]["value"].get<double>());
     EXPECT_EQ(f["reorderings"]["value"], f["reorderings-decayed"]["value"]) << "auto reorders only on decay";
     // A fixed K stays a number; a name that is neither is refused in one line.
     const Outcome k = run_suite({"--kernel=mpm-step", "--mesh=box:6,6,6", "--particles=sorted", "--sort-every=7",

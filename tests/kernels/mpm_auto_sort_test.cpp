@@ -140,3 +140,66 @@ TEST(MpmAutoSort, ABadThresholdIsRefused) {
         EXPECT_THROW(build(s), UsageError) << bad;
     }
 }
+
+// dynamic under auto: every reordering the decay calls for sorts; it renumbers the grid too only
+// where the share of particles outside the last renumbering's elements has reached renumber_share.
+TEST(MpmAutoSort, DynamicRenumbersOnlyWhereTheParticlesHaveLeftTheRenumberedElements) {
+    Team team(1);
+    mpm::Setup s = dam_break("dynamic", sort_auto, 0.2);
+    s.renumber_share = 0.1;
+    State st = build(s);
+    ASSERT_EQ(st.order.log.size(), 1u);
+    EXPECT_TRUE(st.order.log[0].renumbered) << "the start renumbers";
+    EXPECT_EQ(st.order.renumberings, 1u);
+    for (int k = 0; k < 300; ++k) {
+        const std::uint64_t before = st.order.count;
+        const std::vector<std::uint32_t> curve = st.grid.curve;
+        const std::uint32_t prefix = st.order.prefix;
+        advance(st, s);
+        if (st.order.count == before) continue;
+        const Reordering& r = st.order.log.back();
+        ASSERT_EQ(r.cause, ReorderCause::decayed);
+        // outside is the share of the particles in elements numbered from the last prefix on,
+        // before the reordering: the elements a sort alone leaves as they are.
+        if (!r.renumbered) {
+            std::uint64_t out = 0;
+            for (std::uint32_t e : st.particles.elem) out += e >= prefix ? 1 : 0;
+            EXPECT_DOUBLE_EQ(r.outside, static_cast<double>(out) / static_cast<double>(st.particles.size()));
+        }
+        EXPECT_EQ(r.renumbered, r.outside >= s.renumber_share) << "after step " << r.step << ": " << r.outside;
+        // A sort alone leaves the grid's element order as it was.
+        if (r.renumbered) {
+            // Right after a renumbering every particle is in its prefix.
+            for (std::uint32_t e : st.particles.elem) ASSERT_LT(e, st.order.prefix);
+        } else {
+            EXPECT_EQ(st.grid.curve, curve) << "after step " << r.step;
+        }
+    }
+    std::uint64_t renumbered = 0, sorted_alone = 0;
+    for (const Reordering& r : st.order.log) (r.renumbered ? renumbered : sorted_alone) += 1;
+    EXPECT_EQ(renumbered, st.order.renumberings);
+    EXPECT_GE(renumbered, 2u) << "the water spreads over the floor: it leaves the elements of the start";
+    EXPECT_GE(sorted_alone, 2u) << "and between renumberings the particles are sorted alone";
+}
+
+TEST(MpmAutoSort, DynamicAtShareZeroRenumbersAtEveryReordering) {
+    Team team(1);
+    mpm::Setup s = dam_break("dynamic", sort_auto, 0.2);
+    s.renumber_share = 0;
+    State st = build(s);
+    for (int k = 0; k < 150; ++k) advance(st, s);
+    ASSERT_GE(st.order.count, 3u);
+    EXPECT_EQ(st.order.renumberings, st.order.count);
+    const mpm::Setup every = dam_break("dynamic", 7);
+    State b = build(every);
+    for (int k = 0; k < 21; ++k) advance(b, every);
+    EXPECT_EQ(b.order.renumberings, 4u) << "a fixed K renumbers at every reordering, the start's included";
+}
+
+TEST(MpmAutoSort, ABadRenumberShareIsRefused) {
+    for (double bad : {-0.1, 1.5}) {
+        mpm::Setup s = dam_break("dynamic", sort_auto);
+        s.renumber_share = bad;
+        EXPECT_THROW(build(s), UsageError) << bad;
+    }
+}
