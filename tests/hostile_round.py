@@ -263,11 +263,12 @@ def cases(d):
                     ("--density", ["0", "-1", "1e300"]), ("--poisson", ["0.5", "-1", "1", "nan"]),
                     ("--seed", ["-1", "abc"]), ("--particles", ["bogus"]), ("--ordering", ["bogus"]),
                     ("--strategy", ["bogus"]), ("--sort-every", ["-1", "abc", "autos"]), ("--sort-threshold", ["0", "nan", "abc"]),
-                    ("--warm-steps", ["-1"]),
+                    ("--renumber-share", ["-1", "2", "nan", "abc"]), ("--warm-steps", ["-1"]),
                     ("--newmark", ["bogus", "0.1,0.1", "1,1,1"]), ("--strain", ["bogus"]),
                     ("--force", ["bogus"]), ("--column", ["0", "-1", "bogus"])]:
         for v in vals:
             c.append((mp + [o + "=" + v], u))
+    c += [(mp + ["--particles=dynamic", "--renumber-share=" + v], u) for v in ["-0.5", "1.01", "nan", "inf"]]
     c += [(["mpm", "--mesh=box:4,4,4", "--integrator=implicit", "--dt=1e-300", "--dry-run"], u),
           (["mpm", "--mesh=box:4,4,4", "--dt=0", "--dry-run"], ok),
           (["mpm", "--mesh=box:4,4,4", "--out=" + d + "/notes.txt", "--steps=1", "--no-png"], u),
