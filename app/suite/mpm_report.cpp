@@ -28,6 +28,7 @@ double particle_rate(const ReportInput& in) {
 nlohmann::json or_null(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
 
 bool particle_sorts(const mpm::Setup& s) { return mpm::particle_orders().at(s.particles).what.sorts; }
+bool particle_renumbers(const mpm::Setup& s) { return mpm::particle_orders().at(s.particles).what.renumbers; }
 
 // When the particles were reordered and why (front.csv's column `reordered` marks the same steps).
 nlohmann::json reorderings_json(const ReportInput& in) {
@@ -36,7 +37,7 @@ nlohmann::json reorderings_json(const ReportInput& in) {
     nlohmann::json list = nlohmann::json::array();
     std::uint64_t decayed = 0, every = 0;
     const bool automatic = in.setup.sort_every == mpm::sort_auto;
-    const bool renumbers = mpm::particle_orders().at(in.setup.particles).what.renumbers;
+    const bool renumbers = particle_renumbers(in.setup);
     for (const mpm::Reordering& r : t.log) {
         decayed += r.cause == mpm::ReorderCause::decayed ? 1 : 0;
         every += r.cause == mpm::ReorderCause::every ? 1 : 0;
@@ -61,9 +62,9 @@ nlohmann::json reorderings_json(const ReportInput& in) {
         {"detail",
          "after step `step`: start (the first), every (K steps since the last), decayed (auto: `decay`, the sum "
          "over the steps since the last of how far same_element fell below its value after that one, reached "
-         "the threshold); same_element before and after the reordering; dynamic: outside (the share of the particles "
-         "in "
-         "elements that held none at the last renumbering, before this one) and whether the grid was renumbered "
+         "the threshold); same_element before and after the reordering; dynamic: outside (the share of the "
+         "particles in elements that held none at the last renumbering, before this one) and whether the grid was "
+         "renumbered "
          "(always at start and every; under auto where outside reached renumber_share)"}};
 }
 
@@ -289,7 +290,7 @@ std::string summary_text(const ReportInput& in) {
                  (in.setup.sort_every == mpm::sort_auto
                       ? "when the order had decayed past " + format_number(in.setup.sort_threshold) + " (auto)"
                       : mpm::sort_every_text(in.setup.sort_every)) +
-                 (mpm::particle_orders().at(in.setup.particles).what.renumbers
+                 (particle_renumbers(in.setup)
                       ? "; the grid renumbered at " + std::to_string(st.order.renumberings) + " of them"
                       : std::string()));
     line("clamped", std::to_string(st.clamped) + " particle position(s) pulled back onto a wall, in all");
@@ -301,51 +302,51 @@ std::string summary_text(const ReportInput& in) {
 
 nlohmann::json options_json(const Options& o, const mpm::Setup& s) {
     const mpm::Settings& m = s.settings;
-    return {{"case", o.case_name},
-            {"mesh", s.mesh},
-            {"ordering", s.ordering},
-            {"particles", s.particles},
-            {"sort_every", s.sort_every == mpm::sort_auto ? nlohmann::json("auto") : nlohmann::json(s.sort_every)},
-            {"sort_threshold", s.sort_every == mpm::sort_auto && particle_sorts(s) ? nlohmann::json(s.sort_threshold)
+    return {
+        {"case", o.case_name},
+        {"mesh", s.mesh},
+        {"ordering", s.ordering},
+        {"particles", s.particles},
+        {"sort_every", s.sort_every == mpm::sort_auto ? nlohmann::json("auto") : nlohmann::json(s.sort_every)},
+        {"sort_threshold", s.sort_every == mpm::sort_auto && particle_sorts(s) ? nlohmann::json(s.sort_threshold)
+                                                                               : nlohmann::json(nullptr)},
+        {"renumber_share", s.sort_every == mpm::sort_auto && particle_renumbers(s) ? nlohmann::json(s.renumber_share)
                                                                                    : nlohmann::json(nullptr)},
-            {"renumber_share", s.sort_every == mpm::sort_auto && mpm::particle_orders().at(s.particles).what.renumbers
-                                   ? nlohmann::json(s.renumber_share)
-                                   : nlohmann::json(nullptr)},
-            {"strategy", mpm::strategy_name(s.strategy)},
-            {"threads", s.threads},
-            {"ppe", m.per_element},
-            {"material", m.material.model == mpm::Material::Model::fluid ? "fluid" : "elastic"},
-            {"young", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr)
-                                                                      : nlohmann::json(m.material.young)},
-            {"poisson", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr)
-                                                                        : nlohmann::json(m.material.poisson)},
-            {"sound_speed", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.sound_speed)
-                                                                            : nlohmann::json(nullptr)},
-            {"viscosity", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.viscosity)
-                                                                          : nlohmann::json(nullptr)},
-            {"density", m.material.density},
-            {"column", {m.region.hi[0], m.region.hi[1], m.region.hi[2]}},
-            {"gravity", {m.gravity[0], m.gravity[1], m.gravity[2]}},
-            {"courant", m.courant},
-            {"damping", m.damping},
-            {"integration", m.integration == mpm::Integration::mixed ? "mixed" : "particle"},
-            {"integrator", mpm::integrator_name(m.integrator)},
-            {"solver", m.integrator == mpm::Integrator::explicit_step
-                           ? nlohmann::json(nullptr)
-                           : nlohmann::json(mpm::linear_solver_name(m.implicit.solver))},
-            {"newmark", m.integrator == mpm::Integrator::implicit ? nlohmann::json{m.implicit.beta, m.implicit.gamma}
-                                                                  : nlohmann::json(nullptr)},
-            {"strain", m.integrator == mpm::Integrator::explicit_step
-                           ? nlohmann::json(nullptr)
-                           : nlohmann::json(m.implicit.large_strain ? "large" : "small")},
-            {"newton_max", m.integrator == mpm::Integrator::explicit_step ? nlohmann::json(nullptr)
-                                                                          : nlohmann::json(m.implicit.newton_max)},
-            {"dt_given", m.dt},
-            {"force", s.force},
-            {"seed", s.seed},
-            {"steps", o.steps},
-            {"warm_steps", o.warm_steps},
-            {"vtk_every", o.vtk_every}};
+        {"strategy", mpm::strategy_name(s.strategy)},
+        {"threads", s.threads},
+        {"ppe", m.per_element},
+        {"material", m.material.model == mpm::Material::Model::fluid ? "fluid" : "elastic"},
+        {"young",
+         m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr) : nlohmann::json(m.material.young)},
+        {"poisson", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(nullptr)
+                                                                    : nlohmann::json(m.material.poisson)},
+        {"sound_speed", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.sound_speed)
+                                                                        : nlohmann::json(nullptr)},
+        {"viscosity", m.material.model == mpm::Material::Model::fluid ? nlohmann::json(m.material.viscosity)
+                                                                      : nlohmann::json(nullptr)},
+        {"density", m.material.density},
+        {"column", {m.region.hi[0], m.region.hi[1], m.region.hi[2]}},
+        {"gravity", {m.gravity[0], m.gravity[1], m.gravity[2]}},
+        {"courant", m.courant},
+        {"damping", m.damping},
+        {"integration", m.integration == mpm::Integration::mixed ? "mixed" : "particle"},
+        {"integrator", mpm::integrator_name(m.integrator)},
+        {"solver", m.integrator == mpm::Integrator::explicit_step
+                       ? nlohmann::json(nullptr)
+                       : nlohmann::json(mpm::linear_solver_name(m.implicit.solver))},
+        {"newmark", m.integrator == mpm::Integrator::implicit ? nlohmann::json{m.implicit.beta, m.implicit.gamma}
+                                                              : nlohmann::json(nullptr)},
+        {"strain", m.integrator == mpm::Integrator::explicit_step
+                       ? nlohmann::json(nullptr)
+                       : nlohmann::json(m.implicit.large_strain ? "large" : "small")},
+        {"newton_max", m.integrator == mpm::Integrator::explicit_step ? nlohmann::json(nullptr)
+                                                                      : nlohmann::json(m.implicit.newton_max)},
+        {"dt_given", m.dt},
+        {"force", s.force},
+        {"seed", s.seed},
+        {"steps", o.steps},
+        {"warm_steps", o.warm_steps},
+        {"vtk_every", o.vtk_every}};
 }
 
 }  // namespace suite::mpm_command
