@@ -74,19 +74,24 @@ void locate(State& st) {
     }
     if (lost) throw std::runtime_error("MPM: a particle's walk through the grid did not end (a broken mesh?)");
     st.node_hi = node_hi;
-    if (st.plan.strategy == Strategy::colour || st.plan.strategy == Strategy::partition) {
-        // Counting sort of the particles by element; stable, so a sorted particle order
-        // stays the bins' order.
-        Bins& b = st.bins;
-        const std::size_t ne = st.grid.elements();
-        b.start.assign(ne + 1, 0);
-        b.order.resize(pt.size());
-        for (std::int64_t p = 0; p < np; ++p) ++b.start[pt.elem[p] + 1];
-        for (std::size_t e = 0; e < ne; ++e) b.start[e + 1] += b.start[e];
-        b.next.assign(b.start.begin(), b.start.end() - 1);
-        std::vector<std::uint32_t>& next = b.next;
-        for (std::int64_t p = 0; p < np; ++p) b.order[next[pt.elem[p]]++] = static_cast<std::uint32_t>(p);
-    }
+    bin_particles(st);
+}
+
+void bin_particles(State& st) {
+    if (st.plan.strategy != Strategy::colour && st.plan.strategy != Strategy::partition) return;
+    // Counting sort of the particles by element; stable, so a sorted particle order stays the
+    // bins' order.
+    const Particles& pt = st.particles;
+    const std::int64_t np = static_cast<std::int64_t>(pt.size());
+    Bins& b = st.bins;
+    const std::size_t ne = st.grid.elements();
+    b.start.assign(ne + 1, 0);
+    b.order.resize(pt.size());
+    for (std::int64_t p = 0; p < np; ++p) ++b.start[pt.elem[p] + 1];
+    for (std::size_t e = 0; e < ne; ++e) b.start[e + 1] += b.start[e];
+    b.next.assign(b.start.begin(), b.start.end() - 1);
+    std::vector<std::uint32_t>& next = b.next;
+    for (std::int64_t p = 0; p < np; ++p) b.order[next[pt.elem[p]]++] = static_cast<std::uint32_t>(p);
 }
 
 }  // namespace suite::mpm

@@ -279,7 +279,11 @@ void step(State& st);
 // of one element are contiguous, in the grid's element order (the curve's on a curve-ordered
 // grid, and after renumber_active). Keeps them located.
 void sort_particles(State& st);
-// The particles in order `order` (particle i of the result = particle order[i]), located again.
+// The bins alone (colour and partition strategies; the others have none), from the particles'
+// elements as they stand: what locate ends with, and all a permutation of located particles needs.
+void bin_particles(State& st);
+// The particles of a located state in order `order` (particle i of the result = particle
+// order[i]), still located: each keeps its element and weights, so only the bins are rebuilt.
 // Placed particles keep their storage: each thread gathers its static block of the result into
 // its own part of the reorder scratch and, after a barrier, copies it back into the same block
 // of the array, so every page stays where the policy and the first touch put it. Own memory is

@@ -82,7 +82,7 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
             for (auto& acc : pt.accel)
                 if (acc.size() == static_cast<std::size_t>(n)) gather_back(acc.data(), o, 1, b, mine);
         }
-        locate(st);  // the bins, in the new order
+        bin_particles(st);
         return;
     }
     std::vector<double> scratch;
@@ -94,7 +94,7 @@ void reorder_particles(State& st, const std::vector<std::uint32_t>& order) {
     std::vector<std::uint32_t> iscratch;
     gather(pt.elem, order, 1, iscratch);
     gather(pt.id, order, 1, iscratch);
-    locate(st);  // the bins, in the new order
+    bin_particles(st);
 }
 
 void permute(State& st, const std::vector<std::uint32_t>& perm, const std::vector<std::uint32_t>& new_id) {

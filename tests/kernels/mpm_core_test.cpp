@@ -239,6 +239,50 @@ TEST(MpmReorder, SortParticlesOrdersThemByElementAndKeepsEachOne) {
     expect_located(st);
 }
 
+// A reordering does not locate the particles again (a permutation keeps each one's element and
+// weights): what it leaves must be, bit for bit, what a locate would make of it, bins included.
+TEST(MpmReorder, AReorderedStateIsWhatLocatingItAgainGives) {
+    Team team(2);
+    for (Strategy strategy : {Strategy::serial, Strategy::partition, Strategy::colour}) {
+        const std::string where = strategy_name(strategy);
+        mpm::Setup s;
+        s.mesh = "box:6,6,6";
+        s.particles = "shuffled";
+        s.strategy = strategy;
+        s.threads = 2;
+        s.sort_every = 0;
+        State st = build(s);
+        for (int n = 0; n < 10; ++n) advance(st, s);
+        std::vector<std::uint32_t> order(st.particles.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(order.size() - 1 - i);
+        for (int pass = 0; pass < 2; ++pass) {
+            const std::vector<std::uint32_t> bins_before = st.bins.start;
+            if (pass == 0)
+                reorder_particles(st, order);
+            else
+                sort_particles(st);
+            State again = st;
+            locate(again);
+            const std::string what = where + (pass == 0 ? ", reversed" : ", sorted");
+            EXPECT_EQ(st.particles.elem, again.particles.elem) << what;
+            EXPECT_EQ(st.particles.w, again.particles.w) << what;
+            EXPECT_EQ(st.node_hi, again.node_hi) << what;
+            EXPECT_EQ(st.bins.start, again.bins.start) << what;
+            EXPECT_EQ(st.bins.start, bins_before) << what << ": the elements' counts changed";
+            ASSERT_EQ(st.bins.order.size(), again.bins.order.size()) << what;
+            EXPECT_TRUE(std::equal(st.bins.order.begin(), st.bins.order.end(), again.bins.order.begin())) << what;
+            if (strategy != Strategy::serial) {
+                // The bins follow the new order: particle bins.order[k] lies in the element whose range holds k.
+                for (std::size_t e = 0; e + 1 < st.bins.start.size(); ++e)
+                    for (std::uint32_t k = st.bins.start[e]; k < st.bins.start[e + 1]; ++k)
+                        ASSERT_EQ(st.particles.elem[st.bins.order[k]], e) << what << ", slot " << k;
+            } else {
+                EXPECT_TRUE(st.bins.start.empty()) << what << ": the serial scatter keeps no bins";
+            }
+        }
+    }
+}
+
 TEST(MpmReorder, RenumberActivePutsTheOccupiedElementsFirst) {
     Team team(1);
     State st = moving_dam("shuffled");
