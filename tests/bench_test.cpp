@@ -48,6 +48,17 @@ TEST(Bench, VsPeersQuickHoldsEveryKindAgainstItsPeers) {
     if (likwid) want.insert("load");  // its only peer is likwid-bench's
     EXPECT_EQ(kinds, want);
     EXPECT_EQ(doc["rows"].size(), 2 * kinds.size());
+    // Without likwid-bench the run says so, on stderr and in both outputs, rather than passing
+    // for a comparison with every peer.
+    const std::string table = slurp(dir.file("vs_peers_quick.md"));
+    if (likwid) {
+        EXPECT_TRUE(doc["peers_left_out"].is_null()) << doc["peers_left_out"].dump();
+        EXPECT_EQ(table.find("Not a comparison with every peer"), std::string::npos) << table;
+    } else {
+        EXPECT_NE(doc["peers_left_out"].get<std::string>().find("likwid-bench not found"), std::string::npos);
+        EXPECT_NE(table.find("Not a comparison with every peer: likwid-bench not found"), std::string::npos) << table;
+        EXPECT_NE(r.err.find("vs_peers: likwid-bench not found"), std::string::npos) << r.err;
+    }
 }
 
 TEST(Bench, VsLikwidQuickRunsBothSidesAndWritesTheRatios) {
