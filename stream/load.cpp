@@ -103,15 +103,18 @@ private:
         slot.calls += static_cast<std::uint64_t>(calls);
     }
 
-    // 64 partial sums in eight vector accumulators (GCC vectors of 8 doubles: one 512-bit
-    // register each with AVX-512), so that the adds of consecutive vectors do not wait for one
-    // another and the loop runs at the speed of the loads. The accumulators are named locals,
+    // Eight vector accumulators of the build's widest vector (arch.hpp's ntvec: 8 doubles with
+    // AVX-512, 4 with AVX2, 2 with SSE2 and NEON), so that the adds of consecutive vectors do
+    // not wait for one another and the loop runs at the speed of the loads. A vector wider than
+    // the registers is not: GCC splits it in halves through the stack, and 64-byte vectors on an
+    // AVX2 build (a Zen 3) stored and reloaded every accumulator every add, 17.6 GB/s at 32 KiB
+    // against likwid-bench's 107. The accumulators are named locals,
     // not an array: the compiler fence after every call then leaves them in registers, where an
     // array (indexed by the tail loop) was stored and reloaded every call, which with two
     // threads at 32 KiB cost a fifth of the bandwidth. The tail has a sum of its own.
-    using acc_vec = double __attribute__((vector_size(64)));
-    // Taken by reference, not returned: a 64-byte vector returned by value has another ABI
-    // without AVX-512 (the x86-64-v3 build), which GCC warns of; inlined, the code is the same.
+    using acc_vec = double __attribute__((vector_size(sizeof(ntvec))));
+    // Taken by reference, not returned (a vector returned by value has an ABI that depends on
+    // the ISA, which GCC warns of); inlined, the code is the same.
     static void add_loaded(acc_vec& acc, const double* p) {
         acc_vec v;
         std::memcpy(&v, p, sizeof v);  // an unaligned vector load

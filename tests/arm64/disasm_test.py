@@ -4,6 +4,7 @@
 
 - the nt loops of copy, scale, add, triad and store stream with STNP (NEON) and their SVE twins
   with STNT1D; the plain loops use ordinary stores, and their SVE twins are SVE code;
+- load's loop keeps its eight accumulators in q registers (fadd v.2d), nothing vector stored;
 - peak-flops' loops are 12 independent FMAs of their width on registers, nothing else but the
   loop counter: fmadd d (scalar), fmla v.2d (neon), fmla/fmad z.d (sve).
 
@@ -56,6 +57,14 @@ store = f"{ns}Store::"
 check(re.search(r"\bstnp\s+q\d+, q\d+", bodies(store + "nt_store_loop(")) is not None, "store: nt loop streams with stnp")
 check("stnt1d" in bodies(store + "nt_store_loop_sve("), "store: nt loop's SVE twin streams with stnt1d")
 check("stnp" not in bodies(store + "sequential_loop("), "store: the plain loop uses ordinary stores")
+
+# The OpenMP body, where the loop is (the function around it passes its arguments on the stack).
+load = "\n".join("\n".join(b) for n, b in functions.items() if f"{ns}Load::sequential_loop(" in n and "_omp_fn" in n)
+accumulators = set(re.findall(r"\bfadd\s+(v\d+)\.2d, \1\.2d", load))
+spills = re.findall(r"^.*\bst(?:r|p|1)\w*\s+q\d+.*$", load, re.M)
+check(len(accumulators) >= 8, f"load: adds into 8 vector accumulators (found {len(accumulators)})")
+check(load != "" and not spills, "load: no vector stored in the loop (64-byte GCC vectors on NEON spilled every add)"
+      + ("" if not spills else f": {spills[0].strip()}"))
 
 
 def loop_of(body):
