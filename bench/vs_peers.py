@@ -4,6 +4,7 @@ this machine: likwid-bench's assembly, STREAM's loops built as stream.c's users 
 (gcc -O3 -march=native -fopenmp), and glibc's memcpy and memset per thread block (build/ref_stream).
 
 Usage: bench/vs_peers.py [--rounds N] [--out DIR] [--suite ./suite] [--ref build/ref_stream] [--quick]
+                         [--kinds copy,load]
 
 Sizes: 32 KiB, 1 MiB, half the last level the cache probe measures (all instances), and 1 GiB
 (DRAM), each the footprint of all arrays together; 1 thread and all threads, pinned compact
@@ -24,7 +25,8 @@ Kinds and their peers:
 The suite's figure for a kind is its best variant at that point (plain, -nt, or -rep for copy and
 store, the string instructions rep movsb / rep stosq: a user picks the one that suits the size);
 all are in the JSON. Two ratios: of the sides' medians, and the median over the rounds of each
-round's ratio (best variant over best peer). Writes DIR/vs_peers.{json,md}.
+round's ratio (best variant over best peer). Writes DIR/vs_peers.{json,md}; with --kinds, only
+those kinds, to DIR/vs_peers_KIND-KIND.{json,md} (a focused re-run leaves the whole table alone).
 """
 import argparse
 import json
@@ -48,6 +50,7 @@ ap.add_argument("--likwid", default=shutil.which("likwid-bench") or "/usr/bin/li
 ap.add_argument("--out", default=os.path.join(top, "results", "bench"))
 ap.add_argument("--rounds", type=int, default=3)
 ap.add_argument("--quick", action="store_true", help="32 KiB and 1 MiB, one thread, one round: a check that it all runs")
+ap.add_argument("--kinds", help="a comma-separated subset of copy, scale, add, triad, load, store (default all)")
 a = ap.parse_args()
 
 KiB, MiB, GiB = 1 << 10, 1 << 20, 1 << 30
@@ -59,6 +62,14 @@ KINDS = {
     "load": (["load"], ["likwid:load"]),
     "store": (["store", "store-nt", "store-rep"], ["likwid:store", "likwid:store_mem", "ref:memset"]),
 }
+if a.kinds is not None:
+    chosen = [k for k in a.kinds.split(",") if k]
+    unknown = [k for k in chosen if k not in KINDS]
+    if unknown or not chosen:
+        print(f"vs_peers: --kinds={a.kinds}: {'unknown kind ' + unknown[0] if unknown else 'no kind given'}; "
+              f"accepted: a comma-separated subset of {', '.join(KINDS)}", file=sys.stderr)
+        sys.exit(2)
+    KINDS = {k: v for k, v in KINDS.items() if k in chosen}
 
 
 def run(argv):
@@ -196,7 +207,7 @@ if missing:
 text = "\n".join(md) + "\n"
 print(text)
 os.makedirs(a.out, exist_ok=True)
-suffix = "_quick" if a.quick else ""
+suffix = ("_quick" if a.quick else "") + ("_" + "-".join(KINDS) if a.kinds is not None else "")
 write_text(os.path.join(a.out, f"vs_peers{suffix}.json"), json.dumps({"rounds": rounds, "rows": rows, "cpu": info.get("cpu_model"),
                                                                           "peers_left_out": missing or None}, indent=1) + "\n")
 write_text(os.path.join(a.out, f"vs_peers{suffix}.md"), text)

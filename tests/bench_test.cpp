@@ -61,6 +61,30 @@ TEST(Bench, VsPeersQuickHoldsEveryKindAgainstItsPeers) {
     }
 }
 
+// --kinds: a focused re-run of some kinds, to a file of its own that leaves the whole table alone;
+// a kind it does not know is refused before anything runs.
+TEST(Bench, VsPeersKindsRunsThoseKindsAloneAndRefusesOthers) {
+    TempDir dir;
+    const std::string script = std::string(SUITE_SOURCE_DIR) + "/bench/vs_peers.py";
+    Outcome r = run_program({SUITE_PYTHON, script, "--quick", "--kinds=scale,store", "--suite", SUITE_BINARY, "--ref",
+                             SUITE_REF_STREAM, "--out", dir.path().string()},
+                            300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("vs_peers_quick.json")));
+    const json doc = json::parse(slurp(dir.file("vs_peers_quick_scale-store.json")));
+    std::set<std::string> kinds;
+    for (const auto& row : doc["rows"]) kinds.insert(row["kind"].get<std::string>());
+    EXPECT_EQ(kinds, (std::set<std::string>{"scale", "store"}));
+    EXPECT_EQ(doc["rows"].size(), 4u) << doc.dump(1);  // 32 KiB and 1 MiB each
+
+    r = run_program({SUITE_PYTHON, script, "--kinds=copy,lod", "--suite", SUITE_BINARY, "--out", dir.path().string()},
+                    60);
+    EXPECT_EQ(r.status, 2) << describe(r);
+    EXPECT_EQ(r.err,
+              "vs_peers: --kinds=copy,lod: unknown kind lod; accepted: a comma-separated subset of copy, scale, add, "
+              "triad, load, store\n");
+}
+
 TEST(Bench, VsLikwidQuickRunsBothSidesAndWritesTheRatios) {
     TempDir dir;
     Outcome r = run_program({SUITE_PYTHON, std::string(SUITE_SOURCE_DIR) + "/bench/vs_likwid.py", "--quick", "--suite",
