@@ -108,10 +108,10 @@ private:
     // not wait for one another and the loop runs at the speed of the loads. A vector wider than
     // the registers is not: GCC splits it in halves through the stack, and 64-byte vectors on an
     // AVX2 build (a Zen 3) stored and reloaded every accumulator every add, 17.6 GB/s at 32 KiB
-    // against likwid-bench's 107. The accumulators are named locals,
-    // not an array: the compiler fence after every call then leaves them in registers, where an
-    // array (indexed by the tail loop) was stored and reloaded every call, which with two
-    // threads at 32 KiB cost a fifth of the bandwidth. The tail has a sum of its own.
+    // against likwid-bench's 107. The accumulators are named locals, not an array: the compiler
+    // fence after every call then leaves them in registers, where an array (indexed by the tail
+    // loop) was stored and reloaded every call, which with two threads at 32 KiB cost a fifth of
+    // the bandwidth. The tail has a sum of its own.
     using acc_vec = double __attribute__((vector_size(sizeof(ntvec))));
     // Taken by reference, not returned (a vector returned by value has an ABI that depends on
     // the ISA, which GCC warns of); inlined, the code is the same.
