@@ -183,8 +183,8 @@ std::string read_chart_library(const std::string& path) {
 std::string page_html(const std::vector<Series>& series, const DashboardOptions& options) {
     nlohmann::json doc = {{"title", options.title}, {"window", options.window}, {"series", nlohmann::json::array()}};
     // The gate's share of alpha (band_alpha, history_band.hpp) among the figures a run gates, here
-    // the series of its machine and build (fingerprint and context class) that the page shows.
-    // A count that is 0 in every run (a counter that never fired) is listed once, not charted.
+    // the series of its machine and build (fingerprint and context class) that the page shows
+    // (below). A count that is 0 in every run (a counter that never fired) is listed once, not charted.
     std::vector<const Series*> charted;
     doc["all_zero"] = nlohmann::json::array();
     for (const auto& s : series) {
@@ -196,8 +196,6 @@ std::string page_html(const std::vector<Series>& series, const DashboardOptions&
         else
             charted.push_back(&s);
     }
-    std::map<std::pair<std::string, std::string>, std::size_t> gated;
-    for (const Series* s : charted) ++gated[{s->fingerprint, s->context_class}];
     // The spreads of one machine, build and figure pooled as history check pools them.
     const std::size_t min_runs = HistoryRule{}.min_runs;
     std::map<std::string, std::vector<std::size_t>> groups;
@@ -221,9 +219,27 @@ std::string page_html(const std::vector<Series>& series, const DashboardOptions&
         const MachineNoise noise = pool_spreads(w, min_runs);
         for (std::size_t m = 0; m < members.size(); ++m) pooled[members[m]] = noise.series[m];
     }
+    // The family, as history check counts it for the next run: the figures with a window long
+    // enough for a band, as the independent tests they amount to (effective_figures).
+    std::map<std::pair<std::string, std::string>, std::map<PointKey, std::vector<SeriesWindow>>> gated;
+    for (std::size_t i = 0; i < charted.size(); ++i) {
+        if (windows[i].size() < min_runs) continue;
+        SeriesWindow sw;
+        for (std::size_t k : windows[i]) {
+            sw.medians.push_back(charted[i]->entries[k].median);
+            sw.runs.push_back(charted[i]->entries[k].run_id);
+        }
+        gated[{charted[i]->fingerprint, charted[i]->context_class}][charted[i]->key].push_back(std::move(sw));
+    }
+    std::map<std::pair<std::string, std::string>, double> family;
+    for (auto& [machine, points] : gated) {
+        std::vector<std::vector<SeriesWindow>> w;
+        for (auto& [key, figures] : points) w.push_back(std::move(figures));
+        family[machine] = effective_figures(w, min_runs);
+    }
     for (std::size_t i = 0; i < charted.size(); ++i) {
         const Series& s = *charted[i];
-        const double alpha = band_alpha(options.alpha, gated[{s.fingerprint, s.context_class}]);
+        const double alpha = band_alpha(options.alpha, family[{s.fingerprint, s.context_class}]);
         std::vector<double> medians;
         for (std::size_t k : windows[i]) medians.push_back(s.entries[k].median);
         const RunBand band = fit_band(medians, {}, alpha, min_runs, &pooled[i]);

@@ -191,9 +191,7 @@ Finding judge_pair(const Measure& base, const Measure& run, const Measure& rerun
     return f;
 }
 
-double band_alpha(double alpha, std::size_t family) {
-    return std::min(1.0, 2 * alpha / static_cast<double>(std::max<std::size_t>(family, 1)));
-}
+double band_alpha(double alpha, double family) { return std::min(1.0, 2 * alpha / std::max(family, 1.0)); }
 
 void parse_history_tolerance(const std::string& text, HistoryRule& rule) {
     if (text == "auto") {

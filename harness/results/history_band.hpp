@@ -50,7 +50,7 @@ struct HistoryRule {
 // last minutes, consecutive runs share them, and at that share the confirmed gate false-alarmed on
 // 2 of 13 and 2 of 11 left-out pairs against 0 of 13 and 1 of 11 at this one
 // (docs/results-tools.md). The rerun stays a second line of defence, not a licence.
-double band_alpha(double alpha, std::size_t family);
+double band_alpha(double alpha, double family);
 
 // How the noise of a run and its rerun, taken seconds apart, is taken to correlate when their
 // mean is judged (judge_pair). The log medians of consecutive runs 2 to 4 s apart on this VM

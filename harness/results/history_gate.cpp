@@ -161,14 +161,21 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
             if (m.name + " " + m.unit == figure) return &m;
         return nullptr;
     };
-    // The family of the Bonferroni correction: every figure judged that has runs enough for a band.
+    // The family of the Bonferroni correction: every figure judged that has runs enough for a
+    // band, counted as the independent tests they amount to (effective_figures).
     std::size_t family = 0;
+    std::map<PointKey, std::vector<SeriesWindow>> family_points;
     for (const auto& f : rep.findings) {
         auto it = base.medians.find({f.key, f.figure});
-        family +=
-            it != base.medians.end() && fit_band(it->second.window, it->second.centre, 0.5, rule.min_runs).usable();
+        if (it == base.medians.end() || !fit_band(it->second.window, it->second.centre, 0.5, rule.min_runs).usable())
+            continue;
+        ++family;
+        family_points[f.key].push_back({it->second.window, it->second.runs});
     }
-    const double alpha = band_alpha(rule.gate.alpha, family);
+    std::vector<std::vector<SeriesWindow>> points;
+    for (auto& [key, windows] : family_points) points.push_back(std::move(windows));
+    const double effective = effective_figures(points, rule.min_runs);
+    const double alpha = band_alpha(rule.gate.alpha, family ? effective : 0);
     // The series of one figure share the machine's noise: their spreads are pooled (history_pool.hpp).
     std::map<std::string, std::vector<std::pair<PointKey, SeriesWindow>>> by_figure;
     for (const auto& [id, med] : base.medians) by_figure[id.second].push_back({id.first, {med.window, med.runs}});
@@ -222,7 +229,8 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
                  "correlate " +
                      format_significant(rerun_correlation, 2) + "), and each run moved that way"
                : "") +
-        " over " + std::to_string(family) + " figures) and is beyond " + effect +
+        " over " + std::to_string(family) + " figures, " + format_significant(effective, 3) +
+        " as independent tests since their runs' noise correlates) and is beyond " + effect +
         "; without a band, when the repetitions tell it from the pool's at p < " +
         format_significant(rule.gate.alpha, 3);
     if (without_band) {

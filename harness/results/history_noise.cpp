@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <tuple>
 
 #include "harness/common/stats.hpp"
 #include "harness/results/history_gate.hpp"
@@ -117,19 +118,45 @@ RunBand pooled_band(const Group& g, std::size_t k, std::int64_t skip, std::int64
 NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window, const HistoryRule& rule, bool use_band,
                           bool confirm) {
     NoiseReport out;
-    // The Bonferroni family of a run: the series of its machine and build that have it.
-    std::map<std::pair<std::string, std::int64_t>, std::size_t> family;
     auto group_of = [](const Series& s) { return s.fingerprint + " " + s.context_class; };
-    for (const Series& s : series)
-        for (const SeriesEntry& e : s.entries) ++family[{group_of(s), e.run_id}];
     std::map<std::string, Group> groups;
+    std::map<std::string, Group> machines;              // every series of a machine and build
     std::vector<std::pair<Group*, std::size_t>> place;  // each series' group and its index there
     for (const Series& s : series) {
         Group& g = groups[group_of(s) + " " + s.figure + " " + s.unit];
         place.emplace_back(&g, g.members.size());
         g.members.push_back(&s);
         g.flagged.push_back(flagged_series(s, rule.min_runs));
+        machines[group_of(s)].members.push_back(&s);
+        machines[group_of(s)].flagged.push_back(g.flagged.back());
     }
+    // The Bonferroni family of a run gated leaving out runs `skip` and `also`, as history check
+    // counts it: the figures of its machine and build that have it and a window long enough for
+    // a band, as the independent tests they amount to (effective_figures).
+    std::map<std::tuple<std::string, std::int64_t, std::int64_t>, double> families;
+    auto family_of = [&](const Series& of, std::int64_t skip, std::int64_t also) {
+        const auto id = std::make_tuple(group_of(of), skip, also);
+        const auto known = families.find(id);
+        if (known != families.end()) return known->second;
+        const Group& m = machines[group_of(of)];
+        std::map<PointKey, std::vector<SeriesWindow>> points;
+        for (std::size_t i = 0; i < m.members.size(); ++i) {
+            const Series& s = *m.members[i];
+            const bool has = skip < 0 || std::any_of(s.entries.begin(), s.entries.end(),
+                                                     [&](const SeriesEntry& e) { return e.run_id == skip; });
+            const auto w = nearest_window(s, skip, also, window, m.flagged[i]);
+            if (!has || w.size() < rule.min_runs) continue;
+            SeriesWindow sw;
+            for (const SeriesEntry* e : w) {
+                sw.medians.push_back(e->median);
+                sw.runs.push_back(e->run_id);
+            }
+            points[s.key].push_back(std::move(sw));
+        }
+        std::vector<std::vector<SeriesWindow>> windows;
+        for (auto& [key, w] : points) windows.push_back(std::move(w));
+        return families[id] = effective_figures(windows, rule.min_runs);
+    };
     for (const auto& [name, g] : groups) {
         MachineNoise latest;
         pooled_band(g, 0, -1, -1, window, rule.gate.alpha, rule.min_runs, nullptr, &latest);
@@ -142,9 +169,9 @@ NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window,
         const bool any = g.flagged[k];
         SeriesNoise n;
         n.series = &s;
-        const std::size_t latest_family = s.entries.empty() ? 1 : family[{group_of(s), s.entries.back().run_id}];
         std::vector<const SeriesEntry*> latest;
-        n.band = pooled_band(g, k, -1, -1, window, band_alpha(rule.gate.alpha, latest_family), rule.min_runs, &latest);
+        n.band = pooled_band(g, k, -1, -1, window, band_alpha(rule.gate.alpha, family_of(s, -1, -1)), rule.min_runs,
+                             &latest);
         n.sd_spread = sd_of_logs(medians_of(latest));
         for (std::size_t i = 0; i < s.entries.size(); ++i) {
             const SeriesEntry& e = s.entries[i];
@@ -154,7 +181,7 @@ NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window,
             while (confirm && j < s.entries.size() && s.entries[j].unstable && !any) ++j;
             if (confirm && j >= s.entries.size()) break;
             const std::int64_t also = confirm ? s.entries[j].run_id : -1;
-            const double alpha = band_alpha(rule.gate.alpha, family[{group_of(s), e.run_id}]);
+            const double alpha = band_alpha(rule.gate.alpha, family_of(s, e.run_id, also));
             std::vector<const SeriesEntry*> w;
             const RunBand pooled = pooled_band(g, k, e.run_id, also, window, alpha, rule.min_runs, &w);
             if (w.empty()) continue;

@@ -4,6 +4,7 @@
 #include <map>
 
 #include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
 #include <boost/math/special_functions/digamma.hpp>
 #include <boost/math/special_functions/trigamma.hpp>
 
@@ -34,10 +35,26 @@ struct Fit {
     std::map<std::int64_t, double> residual;  // by run: (log median - centre) / own spread, clipped
 };
 
-// The squared correlation of two series' residuals over the runs they share, adjusted for the
-// upward bias of r^2 on k pairs (1 - (1 - r^2)(k - 1)/(k - 2)); r itself in `r`. Fewer than 3
-// shared runs: 1 (nothing says they are apart).
-double squared_correlation(const Fit& a, const Fit& b, double& r) {
+// The fit of one window: its own spread and each run's residual; false where the window has
+// fewer than `min_runs` medians, one that is not positive, or no spread (an exact count).
+bool fit_window(const SeriesWindow& w, std::size_t index, std::size_t min_runs, ScaleEstimate& q, Fit& f) {
+    if (w.medians.size() < std::max<std::size_t>(min_runs, 2)) return false;
+    std::vector<double> logs;
+    for (double m : w.medians)
+        if (m > 0 && std::isfinite(m)) logs.push_back(std::log(m));
+    if (logs.size() != w.medians.size()) return false;
+    q = qn_scale(logs);
+    if (!(q.sigma > 0)) return false;
+    f = Fit{index, std::log(q.sigma * q.sigma), q.df, {}};
+    const double centre = median_of(logs);
+    for (std::size_t k = 0; k < logs.size() && k < w.runs.size(); ++k)
+        f.residual[w.runs[k]] = std::clamp((logs[k] - centre) / q.sigma, -residual_clip, residual_clip);
+    return true;
+}
+
+// The correlation of two series' residuals over the runs they share (NAN: fewer than 3, or one
+// that never moves), and how many runs that was.
+double residual_correlation(const Fit& a, const Fit& b, std::size_t& shared_runs) {
     double ab = 0, aa = 0, bb = 0;
     std::size_t k = 0;
     for (const auto& [run, x] : a.residual) {
@@ -48,10 +65,19 @@ double squared_correlation(const Fit& a, const Fit& b, double& r) {
         bb += it->second * it->second;
         ++k;
     }
-    r = NAN;
+    shared_runs = k;
+    if (k < 3 || !(aa > 0 && bb > 0)) return NAN;
+    return ab / std::sqrt(aa * bb);
+}
+
+// The squared correlation of two series' residuals over the runs they share, adjusted for the
+// upward bias of r^2 on k pairs (1 - (1 - r^2)(k - 1)/(k - 2)); r itself in `r`. Fewer than 3
+// shared runs: 1 (nothing says they are apart).
+double squared_correlation(const Fit& a, const Fit& b, double& r) {
+    std::size_t k = 0;
+    r = residual_correlation(a, b, k);
     if (k < 3) return 1;
-    if (!(aa > 0 && bb > 0)) return 0;
-    r = ab / std::sqrt(aa * bb);
+    if (!std::isfinite(r)) return 0;
     const double kk = static_cast<double>(k);
     return std::clamp(1 - (1 - r * r) * (kk - 1) / (kk - 2), 0.0, 1.0);
 }
@@ -64,22 +90,15 @@ MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t 
     std::vector<Fit> fits;
     for (std::size_t i = 0; i < windows.size(); ++i) {
         const SeriesWindow& w = windows[i];
-        if (w.medians.size() < std::max<std::size_t>(min_runs, 2)) continue;
-        std::vector<double> logs;
-        for (double m : w.medians)
-            if (m > 0 && std::isfinite(m)) logs.push_back(std::log(m));
-        if (logs.size() != w.medians.size()) continue;
-        const ScaleEstimate q = qn_scale(logs);
+        ScaleEstimate q;
+        Fit f;
+        const bool fitted = fit_window(w, i, min_runs, q, f);
+        if (!std::isfinite(q.sigma)) continue;
         PooledSpread& p = out.series[i];
         p.own = p.sigma = q.sigma;
         p.own_df = p.df = q.df;
         // A series that never moves (an exact count) says nothing about the machine's noise.
-        if (!(q.sigma > 0)) continue;
-        Fit f{i, std::log(q.sigma * q.sigma), q.df, {}};
-        const double centre = median_of(logs);
-        for (std::size_t k = 0; k < logs.size() && k < w.runs.size(); ++k)
-            f.residual[w.runs[k]] = std::clamp((logs[k] - centre) / q.sigma, -residual_clip, residual_clip);
-        fits.push_back(std::move(f));
+        if (fitted) fits.push_back(std::move(f));
     }
     const std::size_t s = fits.size();
     if (s < 3) return out;
@@ -141,6 +160,102 @@ MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t 
         p.df = d0 + f.df;
     }
     return out;
+}
+
+namespace {
+
+// The eigenvalues of a small symmetric matrix (row-major, n x n), by cyclic Jacobi rotations:
+// a point's handful of figures, so a few sweeps of n^2 rotations each.
+std::vector<double> symmetric_eigenvalues(std::vector<double> a, std::size_t n) {
+    for (int sweep = 0; sweep < 50; ++sweep) {
+        double off = 0;
+        for (std::size_t p = 0; p < n; ++p)
+            for (std::size_t q = p + 1; q < n; ++q) off += a[p * n + q] * a[p * n + q];
+        if (off < 1e-24) break;
+        for (std::size_t p = 0; p < n; ++p)
+            for (std::size_t q = p + 1; q < n; ++q) {
+                const double apq = a[p * n + q];
+                if (std::fabs(apq) < 1e-300) continue;
+                const double theta = (a[q * n + q] - a[p * n + p]) / (2 * apq);
+                const double t = (theta >= 0 ? 1 : -1) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
+                const double c = 1 / std::sqrt(t * t + 1), sn = t * c;
+                for (std::size_t k = 0; k < n; ++k) {  // columns p and q
+                    const double akp = a[k * n + p], akq = a[k * n + q];
+                    a[k * n + p] = c * akp - sn * akq;
+                    a[k * n + q] = sn * akp + c * akq;
+                }
+                for (std::size_t k = 0; k < n; ++k) {  // rows p and q
+                    const double apk = a[p * n + k], aqk = a[q * n + k];
+                    a[p * n + k] = c * apk - sn * aqk;
+                    a[q * n + k] = sn * apk + c * aqk;
+                }
+            }
+    }
+    std::vector<double> out(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = a[i * n + i];
+    return out;
+}
+
+}  // namespace
+
+double effective_figures(const std::vector<std::vector<SeriesWindow>>& points, std::size_t min_runs) {
+    const double z = -boost::math::quantile(boost::math::normal(), prior_quantile);
+    double total = 0;
+    for (const auto& figures : points) {
+        const std::size_t n = figures.size();
+        if (n == 0) continue;
+        std::vector<Fit> fits(n);
+        std::vector<bool> fitted(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            ScaleEstimate q;
+            fitted[i] = fit_window(figures[i], i, min_runs, q, fits[i]);
+        }
+        // The correlation matrix, each r at its lower bound in size (Fisher's z, one-sided at
+        // 1 - prior_quantile): six runs know a correlation of 0.6 hardly at all, and a doubtful
+        // one must not shrink the family.
+        std::vector<double> r(n * n, 0.0);
+        for (std::size_t a = 0; a < n; ++a) {
+            r[a * n + a] = 1;
+            for (std::size_t b = a + 1; b < n; ++b) {
+                std::size_t k = 0;
+                const double x = fitted[a] && fitted[b] ? residual_correlation(fits[a], fits[b], k) : NAN;
+                if (!std::isfinite(x) || k < 4) continue;
+                const double low = std::tanh(std::max(
+                    0.0, std::atanh(std::min(std::fabs(x), 0.999999)) - z / std::sqrt(static_cast<double>(k) - 3)));
+                r[a * n + b] = r[b * n + a] = std::copysign(low, x);
+            }
+        }
+        // Galwey's count for each set of figures linked by a correlation, so that figures apart
+        // from the rest count one each (the ratio is not additive over the blocks of a matrix).
+        std::vector<std::size_t> block(n);
+        for (std::size_t i = 0; i < n; ++i) block[i] = i;
+        for (bool merged = true; merged;) {
+            merged = false;
+            for (std::size_t a = 0; a < n; ++a)
+                for (std::size_t b = a + 1; b < n; ++b)
+                    if (r[a * n + b] != 0 && block[a] != block[b]) {
+                        block[a] = block[b] = std::min(block[a], block[b]);
+                        merged = true;
+                    }
+        }
+        for (std::size_t id = 0; id < n; ++id) {
+            std::vector<std::size_t> members;
+            for (std::size_t i = 0; i < n; ++i)
+                if (block[i] == id) members.push_back(i);
+            if (members.empty()) continue;
+            const std::size_t m = members.size();
+            std::vector<double> sub(m * m);
+            for (std::size_t a = 0; a < m; ++a)
+                for (std::size_t b = 0; b < m; ++b) sub[a * m + b] = r[members[a] * n + members[b]];
+            double root = 0, sum = 0;
+            for (double l : symmetric_eigenvalues(sub, m)) {
+                root += std::sqrt(std::max(l, 0.0));
+                sum += std::max(l, 0.0);
+            }
+            total += sum > 0 ? std::clamp(root * root / sum, 1.0, static_cast<double>(m)) : static_cast<double>(m);
+        }
+    }
+    return total;
 }
 
 }  // namespace suite

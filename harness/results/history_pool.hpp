@@ -51,4 +51,20 @@ struct MachineNoise {
 // Fewer than 3 windows with a spread: no pooling (d0 = 0), each series its own.
 MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t min_runs);
 
+// How many independent tests a run's figures amount to, for the Bonferroni family of a run that
+// gates them all (band_alpha). `points`: the windows of each point's figures. The figures of one
+// point are measured on the same repetitions and move together (a rate and the task-clock of the
+// same repetitions are one test, not two); each point's count is Galwey's (2009) effective
+// number, (sum_i sqrt(l_i))^2 / sum_i l_i over the eigenvalues l_i of its figures' correlation
+// matrix (1 for figures that move as one, n for n that are independent), summed over the sets of
+// figures that correlate (the ratio is not additive: a pair that moves as one beside two figures
+// apart is 2.9 taken whole, 3 taken apart). At the tail probabilities a gate uses it is a little
+// below the exact count for two normal figures (1.14 against 1.17 at r = 0.99 and 0.5 % a figure;
+// bench: scipy's bivariate normal), less than the lower bound below gives back. Each correlation is that
+// of the residuals of the runs the two share, taken at its 75 % lower bound in size (Fisher's z);
+// a pair sharing fewer than 4 runs, or a series that never moves, at 0. Points are counted as
+// independent of each other, though the machine's slow states move them together: six runs
+// cannot tell how much, and a point alone is the conservative count. 0 for no figure.
+double effective_figures(const std::vector<std::vector<SeriesWindow>>& points, std::size_t min_runs);
+
 }  // namespace suite
