@@ -80,7 +80,8 @@ const char* const history_html_examples = R"(
 A static page (DIR/index.html, with Chart.js beside it, from Debian's libjs-chart.js) that opens
 from file:// with no network: a chart a series, the spread of its repetitions, the band of its
 last --window runs that history check will hold the next run against (at --alpha, shared among
-the series of a machine and build on the page), and its steps marked.
+the series of a machine and build on the page, counted as the independent tests they amount
+to), and its steps marked.
 
 Examples:
   ./suite history html --out results/history-html

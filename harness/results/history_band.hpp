@@ -43,7 +43,8 @@ struct HistoryRule {
     bool confirmed = false;    // --confirm: judged with a rerun (judge_pair)
 };
 
-// The two-sided chance a band leaves to one figure, for a run that gates `family` figures:
+// The two-sided chance a band leaves to one figure, for a run that gates `family` figures (as
+// independent tests: effective_figures, history_pool.hpp; at least 1):
 // 2 · alpha / family (Bonferroni), with or without a confirming rerun. Were two runs independent,
 // a confirmed gate could take 2 · sqrt(alpha / family) for the same guarantee (both runs stray at
 // one figure with its square), bands four times narrower at 90 figures; but this VM's slow states

@@ -51,8 +51,9 @@ Measure pool_entries(const std::vector<const SeriesEntry*>& entries, const Measu
 bool same_commit(const std::string& stored, const std::string& given);
 
 // `history check`: check_run against the pooled baseline, then each figure judged again with its
-// band (judge_with_band): one band a point and figure, each at alpha · 2 / (figures with a band)
-// (Bonferroni over the run's figures). rule_text says how; the notes name the figures gated
+// band (judge_with_band): one band a point and figure, each at alpha · 2 / F, F the figures
+// with a band as the independent tests they amount to (Bonferroni over the run's figures,
+// effective_figures in history_pool.hpp). rule_text says how; the notes name the figures gated
 // without a band.
 // `rerun` (--confirm): a rerun of the same build; each figure is then judged on both runs
 // together (judge_pair).
