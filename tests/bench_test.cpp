@@ -77,6 +77,16 @@ TEST(Bench, VsPeersKindsRunsThoseKindsAloneAndRefusesOthers) {
     EXPECT_EQ(kinds, (std::set<std::string>{"scale", "store"}));
     EXPECT_EQ(doc["rows"].size(), 4u) << doc.dump(1);  // 32 KiB and 1 MiB each
 
+    // Without likwid-bench, the line names what is missing from these kinds only: load is not asked for.
+    r = run_program({SUITE_PYTHON, script, "--quick", "--kinds=scale", "--suite", SUITE_BINARY, "--ref",
+                     SUITE_REF_STREAM, "--likwid", dir.file("no-likwid-bench"), "--out", dir.path().string()},
+                    300);
+    ASSERT_EQ(r.status, 0) << describe(r);
+    EXPECT_NE(r.err.find("vs_peers: likwid-bench not found at " + dir.file("no-likwid-bench") +
+                         ": its peers are left out (`make bench-deps` installs it)\n"),
+              std::string::npos)
+        << r.err;
+
     r = run_program({SUITE_PYTHON, script, "--kinds=copy,lod", "--suite", SUITE_BINARY, "--out", dir.path().string()},
                     60);
     EXPECT_EQ(r.status, 2) << describe(r);
