@@ -148,6 +148,31 @@ WindowBaseline window_baseline(const std::vector<Series>& series, const ResultFi
     return out;
 }
 
+namespace {
+
+// A counter of CPU time (task-clock, cpu-clock) is the repetitions' time read a second way: it
+// has no repetitions of its own in the file, so it takes its point's, each repetition's time
+// relative to their median (from the timed figure's samples), and its band is widened by the
+// same repetitions as the rate's. Without that a run whose bandwidth was inconclusive (its
+// repetitions spread) could regress on its task-clock, the same time, unwidened.
+Measure with_time_samples(const Measure& m, const LoadedPoint& p) {
+    const bool clock = m.name == "counter task-clock" || m.name == "counter cpu-clock";
+    if (!clock || !m.samples.empty() || !(m.median > 0)) return m;
+    for (const Measure& timed : p.measures) {
+        if (timed.samples.size() < 2 || !(timed.median > 0)) continue;
+        Measure out = m;
+        for (double x : timed.samples) {
+            if (!(x > 0)) return m;
+            const double time = timed.direction == Direction::higher_is_better ? timed.median / x : x / timed.median;
+            out.samples.push_back(m.median * time);
+        }
+        return out;
+    }
+    return m;
+}
+
+}  // namespace
+
 CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, const HistoryRule& rule,
                             const ResultFile* rerun) {
     CheckReport rep = check_run(base.file, run, rule.gate, true);
@@ -199,7 +224,9 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         band.typical_se = typical_standard_error(med->second.se);
         const auto rr = in_rerun.find(matching_key(f.key));
         const Measure* rrm = rr == in_rerun.end() ? nullptr : measure_of(rr->second, f.figure);
-        Finding g = rrm ? judge_pair(*bm, *rm, *rrm, band, rule) : judge_with_band(*bm, *rm, band, rule);
+        const Measure run_m = with_time_samples(*rm, *r->second);
+        Finding g = rrm ? judge_pair(*bm, run_m, with_time_samples(*rrm, *rr->second), band, rule)
+                        : judge_with_band(*bm, run_m, band, rule);
         if (rerun && !rrm && (g.verdict == Verdict::regressed || g.verdict == Verdict::improved)) {
             g.verdict = Verdict::inconclusive;
             g.note = "the rerun " + rerun->path + " lacks this figure: nothing confirms the change";

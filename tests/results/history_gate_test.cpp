@@ -4,6 +4,8 @@
 // too few unstable runs is inconclusive, of enough is gated. Then the same through `suite history check` (exit 0 / 1).
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "harness/results/check.hpp"
 #include "harness/results/history_gate.hpp"
 #include "tests/process.hpp"
@@ -111,6 +113,51 @@ TEST(HistoryGate, AWindowOfTooFewUnstableRunsIsInconclusiveAndOfEnoughIsGated) {
     parse_history_tolerance("auto", rule);
     const CheckReport banded = gate_with_bands(base, slow, rule);
     EXPECT_EQ(banded.count(Verdict::regressed), 3u) << render_check_text(banded);
+}
+
+TEST(HistoryGate, ATaskClockIsWidenedByItsPointsRepetitionsAsTheRateIs) {
+    // The task-clock a unit of work is the repetitions' time read again: where a run's spread
+    // repetitions leave its bandwidth inconclusive, its task-clock must not regress alone.
+    auto with_task_clock = [](json doc) {
+        for (auto& r : doc["results"]) {
+            const double t = r["time_s"]["median"].get<double>() * 1e6;
+            r["counters"] = {{"available", true},
+                             {"events",
+                              {{{"name", "task-clock"},
+                                {"available", true},
+                                {"per_element", t},
+                                {"per_call", {{"min", t * 1e6}, {"median", t * 1e6}, {"max", t * 1e6}}}}}}};
+        }
+        return doc;
+    };
+    GateFixture f;
+    {
+        History h = History::open_for_adding(f.db);
+        for (std::size_t i = 0; i < 6; ++i)
+            h.add({as_file(with_task_clock(steady_run(i, f.g)), "run.json")}, "", "main");
+    }
+    HistoryRule rule;
+    parse_history_tolerance("auto", rule);
+    auto verdicts = [&](double level, double spread) {
+        json doc = with_task_clock(fixture_run(3));
+        stamp(doc, 20);
+        for (auto& r : doc["results"]) set_times(r, noisy_times(r, level, spread, f.g));
+        doc = with_task_clock(doc);
+        const ResultFile run = as_file(doc, "run.json");
+        WindowBaseline base;
+        f.gate(run, 10, &base);
+        std::map<std::string, std::vector<Verdict>> out;
+        for (const Finding& x : gate_with_bands(base, run, rule).findings) out[x.figure].push_back(x.verdict);
+        return out;
+    };
+    // 30 % slower, repetitions 1 % apart: both figures regress at every point.
+    auto tight = verdicts(1.3, 0.01);
+    EXPECT_EQ(tight["bandwidth GB/s"], std::vector<Verdict>(3, Verdict::regressed));
+    EXPECT_EQ(tight["counter task-clock per element"], std::vector<Verdict>(3, Verdict::regressed));
+    // As slow, repetitions 30 % apart: the bandwidth is inconclusive, and so is the task-clock.
+    auto wide = verdicts(1.3, 0.3);
+    EXPECT_EQ(wide["bandwidth GB/s"], std::vector<Verdict>(3, Verdict::inconclusive));
+    EXPECT_EQ(wide["counter task-clock per element"], std::vector<Verdict>(3, Verdict::inconclusive));
 }
 
 TEST(HistoryGate, PoolingConcatenatesRepetitionsAndTakesTheirMedian) {
