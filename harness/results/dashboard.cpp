@@ -203,34 +203,29 @@ std::string page_html(const std::vector<Series>& series, const DashboardOptions&
         groups[charted[i]->fingerprint + " " + charted[i]->context_class + " " + charted[i]->figure + " " +
                charted[i]->unit]
             .push_back(i);
+    // Each series' window: its entries' indices, and their medians and runs.
     std::vector<std::vector<std::size_t>> windows(charted.size());
+    std::vector<SeriesWindow> series_windows(charted.size());
+    for (std::size_t i = 0; i < charted.size(); ++i) {
+        windows[i] = gate_window(*charted[i], options.window, min_runs);
+        for (std::size_t k : windows[i]) {
+            series_windows[i].medians.push_back(charted[i]->entries[k].median);
+            series_windows[i].runs.push_back(charted[i]->entries[k].run_id);
+        }
+    }
     std::vector<PooledSpread> pooled(charted.size());
     for (const auto& [name, members] : groups) {
         std::vector<SeriesWindow> w;
-        for (std::size_t i : members) {
-            windows[i] = gate_window(*charted[i], options.window, min_runs);
-            SeriesWindow sw;
-            for (std::size_t k : windows[i]) {
-                sw.medians.push_back(charted[i]->entries[k].median);
-                sw.runs.push_back(charted[i]->entries[k].run_id);
-            }
-            w.push_back(std::move(sw));
-        }
+        for (std::size_t i : members) w.push_back(series_windows[i]);
         const MachineNoise noise = pool_spreads(w, min_runs);
         for (std::size_t m = 0; m < members.size(); ++m) pooled[members[m]] = noise.series[m];
     }
     // The family, as history check counts it for the next run: the figures with a window long
     // enough for a band, as the independent tests they amount to (effective_figures).
     std::map<std::pair<std::string, std::string>, std::map<PointKey, std::vector<SeriesWindow>>> gated;
-    for (std::size_t i = 0; i < charted.size(); ++i) {
-        if (windows[i].size() < min_runs) continue;
-        SeriesWindow sw;
-        for (std::size_t k : windows[i]) {
-            sw.medians.push_back(charted[i]->entries[k].median);
-            sw.runs.push_back(charted[i]->entries[k].run_id);
-        }
-        gated[{charted[i]->fingerprint, charted[i]->context_class}][charted[i]->key].push_back(std::move(sw));
-    }
+    for (std::size_t i = 0; i < charted.size(); ++i)
+        if (windows[i].size() >= min_runs)
+            gated[{charted[i]->fingerprint, charted[i]->context_class}][charted[i]->key].push_back(series_windows[i]);
     std::map<std::pair<std::string, std::string>, double> family;
     for (auto& [machine, points] : gated) {
         std::vector<std::vector<SeriesWindow>> w;
@@ -240,9 +235,7 @@ std::string page_html(const std::vector<Series>& series, const DashboardOptions&
     for (std::size_t i = 0; i < charted.size(); ++i) {
         const Series& s = *charted[i];
         const double alpha = band_alpha(options.alpha, family[{s.fingerprint, s.context_class}]);
-        std::vector<double> medians;
-        for (std::size_t k : windows[i]) medians.push_back(s.entries[k].median);
-        const RunBand band = fit_band(medians, {}, alpha, min_runs, &pooled[i]);
+        const RunBand band = fit_band(series_windows[i].medians, {}, alpha, min_runs, &pooled[i]);
         doc["series"].push_back(
             series_json(s, band, windows[i].empty() ? s.entries.size() : windows[i].front(), alpha));
     }

@@ -77,6 +77,16 @@ double sd_of_logs(const std::vector<double>& medians) {
     return std::sqrt(ss / static_cast<double>(logs.size() - 1));
 }
 
+// The medians and runs of `entries`, as the noise model takes a window.
+SeriesWindow window_of(const std::vector<const SeriesEntry*>& entries) {
+    SeriesWindow out;
+    for (const SeriesEntry* e : entries) {
+        out.medians.push_back(e->median);
+        out.runs.push_back(e->run_id);
+    }
+    return out;
+}
+
 // The series of one machine, build and figure, whose spreads are pooled.
 struct Group {
     std::vector<const Series*> members;
@@ -92,12 +102,7 @@ RunBand pooled_band(const Group& g, std::size_t k, std::int64_t skip, std::int64
     std::vector<const SeriesEntry*> own;
     for (std::size_t i = 0; i < g.members.size(); ++i) {
         const auto w = nearest_window(*g.members[i], skip, also, window, g.flagged[i]);
-        SeriesWindow sw;
-        for (const SeriesEntry* e : w) {
-            sw.medians.push_back(e->median);
-            sw.runs.push_back(e->run_id);
-        }
-        windows.push_back(std::move(sw));
+        windows.push_back(window_of(w));
         if (i == k) own = w;
     }
     const MachineNoise pooled = pool_spreads(windows, min_runs);
@@ -145,13 +150,7 @@ NoiseReport measure_noise(const std::vector<Series>& series, std::size_t window,
             const bool has = skip < 0 || std::any_of(s.entries.begin(), s.entries.end(),
                                                      [&](const SeriesEntry& e) { return e.run_id == skip; });
             const auto w = nearest_window(s, skip, also, window, m.flagged[i]);
-            if (!has || w.size() < rule.min_runs) continue;
-            SeriesWindow sw;
-            for (const SeriesEntry* e : w) {
-                sw.medians.push_back(e->median);
-                sw.runs.push_back(e->run_id);
-            }
-            points[s.key].push_back(std::move(sw));
+            if (has && w.size() >= rule.min_runs) points[s.key].push_back(window_of(w));
         }
         std::vector<std::vector<SeriesWindow>> windows;
         for (auto& [key, w] : points) windows.push_back(std::move(w));
