@@ -263,6 +263,11 @@ int history_noise(const std::vector<std::string>& args) {
                                 (std::isfinite(m.shared) ? format_significant(m.shared, 2) : "-") + ", as " +
                                 format_significant(m.effective_series, 2) + " independent series"
                           : std::to_string(with) + " series with a spread: each its own (pooling needs 3)")
+                  << (!m.jumps.empty()
+                          ? "; " + std::to_string(m.jumps.size()) + " of the windows' " + std::to_string(m.jump_runs) +
+                                " runs jumped (up to " + format_significant((std::exp(m.largest_jump()) - 1) * 100, 2) +
+                                "%): every band takes such a jump in"
+                          : std::string())
                   << "\n";
     }
     std::cout << "\nspread: Qn of the runs' log medians (relative), pooled with the machine's series of the same "

@@ -82,7 +82,8 @@ std::vector<std::size_t> gate_window(const Series& s, std::size_t window, std::s
 }
 
 // The band `history check` would gate this series' next run against (history_band.hpp), fitted
-// as the gate fits it, its spread pooled with the machine's. "first" is the index of the
+// as the gate fits it, its spread pooled with the machine's and the machine's jumps taken in
+// (history_pool.hpp). "first" is the index of the
 // window's oldest entry, where the page starts to draw the band. A band too wide to tell a 2x
 // change from noise is not drawn: null, and the reason in "band_reason", as without one.
 void add_band(nlohmann::json& out, const RunBand& band, std::size_t first, double alpha) {

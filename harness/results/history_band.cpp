@@ -43,7 +43,7 @@ std::vector<double> logs_of(const std::vector<double>& v, bool& all_positive) {
 double RunBand::widened(double se) const {
     const double typical = std::isfinite(typical_se) ? typical_se : 0;
     if (!usable() || !std::isfinite(se) || se <= typical) return half_width;
-    return quantile * std::sqrt(runs_variance() + se * se - typical * typical);
+    return half_for(se * se - typical * typical);
 }
 
 double RunBand::runs_variance() const {
@@ -51,11 +51,44 @@ double RunBand::runs_variance() const {
     return spread * spread * (run_share + 1 / m);
 }
 
+double RunBand::half_for(double extra) const {
+    const double c = std::sqrt(std::max(0.0, runs_variance() + extra));
+    const double core = quantile * c;
+    if (jumps.empty() || !(jump_rate > 0) || !(c > 0) || !std::isfinite(core) || !(alpha > 0)) return core;
+    // At most 32 jumps, each standing for its share of the rest (their quantiles): a long history
+    // of a noisy machine must not cost a bisection over hundreds of them for every band.
+    std::vector<double> j = jumps;
+    std::sort(j.begin(), j.end());
+    if (j.size() > 32) {
+        std::vector<double> q;
+        for (std::size_t i = 0; i < 32; ++i) q.push_back(j[(2 * i + 1) * j.size() / 64]);
+        j = std::move(q);
+    }
+    const boost::math::students_t t(std::max(0.5, df));
+    auto tail = [&](double z) { return boost::math::cdf(boost::math::complement(t, z)); };
+    const double p = std::min(jump_rate, 1.0), k = static_cast<double>(j.size());
+    auto outside = [&](double h) {
+        double jumped = 0;
+        const double cj = std::sqrt(c * c + jump_spread * jump_spread);
+        for (double d : j) jumped += tail((h - d) / cj) + tail((h + d) / cj);
+        return (1 - p) * 2 * tail(h / c) + p / k * jumped;
+    };
+    // outside() falls with h; at the largest jump plus quantile * c_j each of its terms is at most
+    // its share of alpha.
+    double lo = core, hi = j.back() + core * std::sqrt(1 + jump_spread * jump_spread / (c * c));
+    if (outside(lo) <= alpha) return core;
+    for (int i = 0; i < 50 && hi - lo > 1e-9 * hi; ++i) {
+        const double mid = (lo + hi) / 2;
+        (outside(mid) > alpha ? lo : hi) = mid;
+    }
+    return hi;
+}
+
 RunBand RunBand::for_pair() const {
     RunBand b = *this;
     b.run_share = (1 + rerun_correlation) / 2;
     if (!usable()) return b;
-    b.half_width = quantile * std::sqrt(b.runs_variance());
+    b.half_width = b.half_for(0);
     b.low = centre * std::exp(-b.half_width);
     b.high = centre * std::exp(b.half_width);
     return b;
@@ -83,9 +116,15 @@ RunBand fit_band(const std::vector<double>& window, const std::vector<double>& c
         b.spread = pooled->sigma;
         b.df = pooled->df;
     }
+    if (pooled) {
+        b.jumps = pooled->jumps;
+        b.jump_rate = pooled->jump_rate;
+        b.jump_spread = pooled->jump_spread;
+    }
+    b.alpha = alpha;
     const boost::math::students_t t(std::max(0.5, b.df));
     b.quantile = boost::math::quantile(boost::math::complement(t, alpha / 2));
-    b.half_width = b.quantile * std::sqrt(b.runs_variance());  // centre_runs = lc.size() here
+    b.half_width = b.half_for(0);  // centre_runs = lc.size() here
     b.low = b.centre * std::exp(-b.half_width);
     b.high = b.centre * std::exp(b.half_width);
     return b;
@@ -138,8 +177,19 @@ Finding judge_with_band(const Measure& base, const Measure& run, const RunBand& 
     } else if (distance <= half) {
         // Outside the runs' band, inside what this run's own repetitions leave open: the
         // repetitions that would tell, were they as spread as these (se^2 = pi/2 noise^2 / n).
+        // The variance beyond the band's own that puts its edge at this distance (with jumps, by
+        // bisection: half_for rises with it).
         const double typical = std::isfinite(band.typical_se) ? band.typical_se : 0;
-        const double room = std::pow(distance / band.quantile, 2) - band.runs_variance() + typical * typical;
+        double extra = std::pow(distance / band.quantile, 2) - band.runs_variance();
+        if (!band.jumps.empty()) {
+            double lo = 0, hi = distance * distance;
+            for (int i = 0; i < 40 && hi - lo > 1e-9 * hi; ++i) {
+                const double mid = (lo + hi) / 2;
+                (band.half_for(mid) < distance ? lo : hi) = mid;
+            }
+            extra = lo;
+        }
+        const double room = extra + typical * typical;
         const double reps = std::ceil(std::acos(-1.0) / 2 * noise * noise / room);
         const bool below = run.median < band.centre;
         f.verdict = Verdict::inconclusive;

@@ -32,6 +32,15 @@ std::string pooled_note(const std::string& figure, const MachineNoise& n) {
            format_significant(n.effective_series, 2) + " independent series)";
 }
 
+// "bandwidth GB/s: 2 of the windows' 24 runs jumped (up to 31%, beyond 4 of their series'
+// spreads): the machine changed state, and every band of the figure takes such a jump in".
+std::string jumps_note(const std::string& figure, const MachineNoise& n) {
+    return figure + ": " + std::to_string(n.jumps.size()) + " of the windows' " + std::to_string(n.jump_runs) +
+           " runs jumped (up to " + format_significant((std::exp(n.largest_jump()) - 1) * 100, 2) + "%, beyond " +
+           format_significant(jump_sigmas, 2) +
+           " of their series' spreads): the machine changed state, and every band of the figure takes such a jump in";
+}
+
 }  // namespace
 
 Measure pool_entries(const std::vector<const SeriesEntry*>& entries, const Measure& like) {
@@ -211,6 +220,7 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
         const MachineNoise noise = pool_spreads(windows, rule.min_runs);
         for (std::size_t i = 0; i < members.size(); ++i) pooled[{members[i].first, figure}] = noise.series[i];
         if (noise.prior_df > 0) rep.notes.push_back(pooled_note(figure, noise));
+        if (!noise.jumps.empty()) rep.notes.push_back(jumps_note(figure, noise));
     }
     std::size_t without_band = 0;
     for (Finding& f : rep.findings) {
@@ -250,7 +260,8 @@ CheckReport gate_with_bands(const WindowBaseline& base, const ResultFile& run, c
                                    : percent(rule.gate.tolerance);
     rep.rule_text =
         "a change counts when the run's median leaves the band of the runs' medians (a t prediction interval, "
-        "the spread pooled with the machine's and widened by the run's own repetitions, at " +
+        "the spread pooled with the machine's, widened by the machine's jumps in the window and by the run's own "
+        "repetitions, at " +
         format_significant(alpha, 3) + " a figure: alpha " + format_significant(rule.gate.alpha, 3) +
         (rerun ? "; with a rerun, the two runs' mean against the band for a mean of two (their noise taken to "
                  "correlate " +

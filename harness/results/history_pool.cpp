@@ -82,9 +82,40 @@ double squared_correlation(const Fit& a, const Fit& b, double& r) {
     return std::clamp(1 - (1 - r * r) * (kk - 1) / (kk - 2), 0.0, 1.0);
 }
 
-}  // namespace
+void find_jumps(const std::vector<SeriesWindow>& windows, std::size_t min_runs, MachineNoise& out) {
+    for (std::size_t i = 0; i < windows.size(); ++i) {
+        const SeriesWindow& w = windows[i];
+        const double sigma = out.series[i].sigma;
+        if (!(sigma > 0) || w.medians.size() < std::max<std::size_t>(min_runs, 3)) continue;
+        std::vector<double> logs;
+        for (double m : w.medians)
+            if (m > 0 && std::isfinite(m)) logs.push_back(std::log(m));
+        if (logs.size() != w.medians.size()) continue;
+        const double n = static_cast<double>(logs.size());
+        const double limit = jump_sigmas * sigma * std::sqrt(1 + std::acos(-1.0) / (2 * (n - 1)));
+        for (std::size_t k = 0; k < logs.size(); ++k) {
+            std::vector<double> others = logs;
+            others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
+            const double d = std::fabs(logs[k] - median_of(others));
+            ++out.jump_runs;
+            if (d > limit) out.jumps.push_back(d);
+        }
+    }
+    const double rate = out.jump_runs ? static_cast<double>(out.jumps.size()) / static_cast<double>(out.jump_runs) : 0;
+    std::vector<double> spreads;
+    for (const PooledSpread& p : out.series)
+        if (p.sigma > 0) spreads.push_back(p.sigma);
+    const double typical = spreads.empty() ? 0 : median_of(spreads);
+    for (PooledSpread& p : out.series)
+        if (std::isfinite(p.sigma)) {
+            p.jumps = out.jumps;
+            p.jump_rate = rate;
+            p.jump_spread = typical;
+        }
+}
 
-MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t min_runs) {
+// The pooling proper (history_pool.hpp), without the jumps.
+MachineNoise pool_only(const std::vector<SeriesWindow>& windows, std::size_t min_runs) {
     MachineNoise out;
     out.series.resize(windows.size());
     std::vector<Fit> fits;
@@ -159,6 +190,16 @@ MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t 
         p.sigma = std::sqrt((d0 * s0 + f.df * p.own * p.own) / (d0 + f.df));
         p.df = d0 + f.df;
     }
+    return out;
+}
+
+}  // namespace
+
+double MachineNoise::largest_jump() const { return jumps.empty() ? 0 : *std::max_element(jumps.begin(), jumps.end()); }
+
+MachineNoise pool_spreads(const std::vector<SeriesWindow>& windows, std::size_t min_runs) {
+    MachineNoise out = pool_only(windows, min_runs);
+    find_jumps(windows, min_runs, out);
     return out;
 }
 
