@@ -38,15 +38,27 @@ def snapshot(root):
     return out
 
 
+def roofline_dram_size(run_file):
+    """--dram-size for a small roofline: 48 MiB, or twice the last level where hwloc says it holds more
+    (the roofline refuses a memory footprint the caches hold; some hosts report 1016 MiB), as
+    tests/cli/roofline_size.hpp sizes it, from the topology a run recorded."""
+    with open(run_file) as f:
+        caches = json.load(f)["context"]["topology"]["caches"]
+    top = max((c["level"] for c in caches), default=0)
+    llc = sum(c["size_bytes"] * c["instances"] for c in caches if c["level"] == top)
+    mib = max(48, (2 * llc + (1 << 20) - 1) >> 20)
+    return f"--dram-size={mib}MiB"
+
+
 def make_scratch(suite):
     d = tempfile.mkdtemp(prefix="suite-hostile-")
     subprocess.run([suite, "--kernel=triad", "--sizes=64KiB", "--threads=1", "--reps=2", "-q",
                     "--out=" + d + "/run.json"], check=True, timeout=120)
     subprocess.run([suite, "--kernel=peak-flops", "--isa=scalar", "--size=4096", "--threads=1", "--reps=2", "-q",
                     "--out=" + d + "/peak.json"], check=True, timeout=120)
-    subprocess.run([suite, "roofline", "--threads=1", "--min-time=0.02", "--dram-size=64MiB", "--no-png", "--no-probe",
-                    "--out=" + d + "/roof.json"], check=True, timeout=300, stdout=subprocess.DEVNULL,
-                   stderr=subprocess.DEVNULL)
+    subprocess.run([suite, "roofline", "--threads=1", "--min-time=0.02", roofline_dram_size(d + "/run.json"),
+                    "--no-png", "--no-probe", "--out=" + d + "/roof.json"], check=True, timeout=300,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     subprocess.run([suite, "history", "add", d + "/run.json", "--db=" + d + "/h.sqlite", "--commit=abcdef1"],
                    check=True, timeout=120, stdout=subprocess.DEVNULL)
     with open(d + "/notes.txt", "w") as f:
