@@ -55,27 +55,19 @@ double RunBand::half_for(double extra) const {
     const double c = std::sqrt(std::max(0.0, runs_variance() + extra));
     const double core = quantile * c;
     if (jumps.empty() || !(jump_rate > 0) || !(c > 0) || !std::isfinite(core) || !(alpha > 0)) return core;
-    // At most 32 jumps, each standing for its share of the rest (their quantiles): a long history
-    // of a noisy machine must not cost a bisection over hundreds of them for every band.
-    std::vector<double> j = jumps;
-    std::sort(j.begin(), j.end());
-    if (j.size() > 32) {
-        std::vector<double> q;
-        for (std::size_t i = 0; i < 32; ++i) q.push_back(j[(2 * i + 1) * j.size() / 64]);
-        j = std::move(q);
-    }
+    const std::vector<double>& j = jumps;  // sorted, at most 32 (find_jumps)
     const boost::math::students_t t(std::max(0.5, df));
     auto tail = [&](double z) { return boost::math::cdf(boost::math::complement(t, z)); };
     const double p = std::min(jump_rate, 1.0), k = static_cast<double>(j.size());
+    const double cj = std::sqrt(c * c + jump_spread * jump_spread);
     auto outside = [&](double h) {
         double jumped = 0;
-        const double cj = std::sqrt(c * c + jump_spread * jump_spread);
         for (double d : j) jumped += tail((h - d) / cj) + tail((h + d) / cj);
         return (1 - p) * 2 * tail(h / c) + p / k * jumped;
     };
     // outside() falls with h; at the largest jump plus quantile * c_j each of its terms is at most
     // its share of alpha.
-    double lo = core, hi = j.back() + core * std::sqrt(1 + jump_spread * jump_spread / (c * c));
+    double lo = core, hi = j.back() + quantile * cj;
     if (outside(lo) <= alpha) return core;
     for (int i = 0; i < 50 && hi - lo > 1e-9 * hi; ++i) {
         const double mid = (lo + hi) / 2;

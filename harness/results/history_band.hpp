@@ -79,8 +79,9 @@ struct RunBand {
     // the mean of a run and its rerun whose noise correlates rho (for_pair).
     double run_share = 1;
     double alpha = NAN;  // the two-sided chance the band leaves an unchanged run
-    // The machine's jumps in the window (history_pool.hpp): their distances (log units) and their
-    // share of the windows' runs. Whole for a pair too: a run and its rerun share the machine's state.
+    // The machine's jumps in the window (history_pool.hpp): their distances (log units, sorted,
+    // at most 32) and their share of the windows' runs. Whole for a pair too: a run and its
+    // rerun share the machine's state.
     std::vector<double> jumps;
     double jump_rate = 0;
     double jump_spread = 0;  // the machine's typical spread, beside the run's own for a jump

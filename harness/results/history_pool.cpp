@@ -102,13 +102,23 @@ void find_jumps(const std::vector<SeriesWindow>& windows, std::size_t min_runs, 
         }
     }
     const double rate = out.jump_runs ? static_cast<double>(out.jumps.size()) / static_cast<double>(out.jump_runs) : 0;
+    // What every band of the figure mixes in (RunBand::half_for), sorted, once: at most 32 jumps,
+    // each standing for its share of the rest (their quantiles), so that a long history of a
+    // noisy machine does not cost a bisection over hundreds of them for every band.
+    std::vector<double> mixed = out.jumps;
+    std::sort(mixed.begin(), mixed.end());
+    if (mixed.size() > 32) {
+        std::vector<double> q;
+        for (std::size_t i = 0; i < 32; ++i) q.push_back(mixed[(2 * i + 1) * mixed.size() / 64]);
+        mixed = std::move(q);
+    }
     std::vector<double> spreads;
     for (const PooledSpread& p : out.series)
         if (p.sigma > 0) spreads.push_back(p.sigma);
     const double typical = spreads.empty() ? 0 : median_of(spreads);
     for (PooledSpread& p : out.series)
         if (std::isfinite(p.sigma)) {
-            p.jumps = out.jumps;
+            p.jumps = mixed;
             p.jump_rate = rate;
             p.jump_spread = typical;
         }

@@ -57,8 +57,9 @@ struct PooledSpread {
     double own = NAN, own_df = 0;  // the series' own Qn of its log medians, and its degrees of freedom
     double sigma = NAN, df = 0;    // pooled with the machine's: what its band is built on
     // The machine's jumps (below), the same for every series of the figure: their distances (log
-    // units), their share of all the windows' runs, and the machine's typical spread (the median
-    // of the figure's pooled spreads), which a jump's landing is given beside the series' own.
+    // units; sorted, at most 32 standing for them all), their share of all the windows' runs, and
+    // the machine's typical spread (the median of the figure's pooled spreads), which a jump's
+    // landing is given beside the series' own.
     std::vector<double> jumps;
     double jump_rate = 0;
     double jump_spread = 0;
